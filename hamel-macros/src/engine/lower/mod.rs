@@ -1,0 +1,265 @@
+//! Lowering: the body of an ordinary Rust function over `f64` becomes graph nodes.
+//!
+//! The lowering is an abstract interpreter of the supported subset: locals map to graph
+//! values, `for` loops over constant ranges are unrolled, calls of other functions of the
+//! same impl are inlined, `if` becomes a `Select` (or, when its condition is known at compile
+//! time, only the taken branch is lowered). What is outside the subset is reported with the
+//! span of the offending piece; lowering then continues with a poison value so that one build
+//! reports every independent mistake.
+//!
+//! Split by job: `value.rs` (what an expression evaluates to), `env.rs` (locals and scopes),
+//! `expr.rs` (expressions), `stmt.rs` (statements, loops, branches), `call.rs` (elementary
+//! functions and inlined calls), `types.rs` (signatures and their shapes).
+
+mod call;
+mod env;
+mod expr;
+mod span;
+mod stmt;
+mod types;
+mod value;
+
+pub use env::Env;
+pub use types::Signature;
+pub use value::{Shape, Value};
+
+use crate::engine::graph::{Graph, NodeId, SpanRange};
+use proc_macro2::TokenStream;
+use quote::ToTokens;
+use std::collections::HashMap;
+use std::fmt::Display;
+
+/// Ceiling on the total number of unrolled loop iterations in one expansion.
+pub const MAX_UNROLLED_ITERATIONS: usize = 200_000;
+/// Ceiling on the depth of inlined calls.
+const MAX_CALL_DEPTH: usize = 64;
+
+/// The functions and associated constants of the impl block being expanded: what a body may
+/// call (`self.helper(..)`, `Self::helper(..)`) and read (`Self::N`).
+pub struct ImplContext<'a> {
+    fns: HashMap<String, &'a syn::ImplItemFn>,
+    consts: HashMap<String, &'a syn::ImplItemConst>,
+}
+
+impl<'a> ImplContext<'a> {
+    pub fn new(items: impl IntoIterator<Item = &'a syn::ImplItem>) -> Self {
+        let mut fns = HashMap::new();
+        let mut consts = HashMap::new();
+        for item in items {
+            match item {
+                syn::ImplItem::Fn(f) => {
+                    fns.insert(f.sig.ident.to_string(), f);
+                }
+                syn::ImplItem::Const(c) => {
+                    consts.insert(c.ident.to_string(), c);
+                }
+                _ => {}
+            }
+        }
+        ImplContext { fns, consts }
+    }
+
+    pub fn function(&self, name: &str) -> Option<&'a syn::ImplItemFn> {
+        self.fns.get(name).copied()
+    }
+
+    fn constant(&self, name: &str) -> Option<&'a syn::ImplItemConst> {
+        self.consts.get(name).copied()
+    }
+}
+
+/// A value the generated code reads from outside the body: a parameter `self.field`, or a
+/// constant defined outside the impl. Each becomes one graph input; `tokens` is the Rust
+/// expression that reads it, spanned at the user's first use so that rustc's own errors
+/// (no such field, wrong type) point at the user's code.
+#[derive(Clone)]
+pub struct External {
+    pub node: NodeId,
+    pub tokens: TokenStream,
+    pub name: String,
+}
+
+#[derive(Clone, Default)]
+pub struct Externals {
+    pub items: Vec<External>,
+    by_name: HashMap<String, usize>,
+}
+
+impl Externals {
+    fn get_or_insert(&mut self, graph: &mut Graph, name: String, tokens: TokenStream) -> NodeId {
+        if let Some(&i) = self.by_name.get(&name) {
+            return self.items[i].node;
+        }
+        let node = graph.new_input(name.clone());
+        self.by_name.insert(name.clone(), self.items.len());
+        self.items.push(External { node, tokens, name });
+        node
+    }
+
+    pub fn parameters(&self) -> impl Iterator<Item = &External> {
+        self.items.iter().filter(|e| e.name.starts_with("self."))
+    }
+}
+
+/// The lowering state for one expansion: several functions may be lowered into the same
+/// graph with the same lowerer (their parameters then share inputs).
+pub struct Lowerer<'a, 'g> {
+    pub graph: &'g mut Graph,
+    ctx: &'a ImplContext<'a>,
+    pub externals: Externals,
+    errors: Vec<syn::Error>,
+    call_stack: Vec<String>,
+    const_cache: HashMap<String, Value>,
+    const_stack: Vec<String>,
+    unrolled: usize,
+    reported_budget: bool,
+}
+
+impl<'a, 'g> Lowerer<'a, 'g> {
+    pub fn new(graph: &'g mut Graph, ctx: &'a ImplContext<'a>) -> Self {
+        Lowerer {
+            graph,
+            ctx,
+            externals: Externals::default(),
+            errors: Vec::new(),
+            call_stack: Vec::new(),
+            const_cache: HashMap::new(),
+            const_stack: Vec::new(),
+            unrolled: 0,
+            reported_budget: false,
+        }
+    }
+
+    /// Record an error at the span of `tokens`; returns poison to stand in for the value.
+    pub fn error(&mut self, tokens: impl ToTokens, message: impl Display) -> Value {
+        self.errors.push(syn::Error::new_spanned(tokens, message));
+        Value::Poison
+    }
+
+    pub fn error_at(&mut self, span: SpanRange, message: impl Display) -> Value {
+        self.errors.push(span.error(message));
+        Value::Poison
+    }
+
+    pub fn push_error(&mut self, error: syn::Error) {
+        self.errors.push(error);
+    }
+
+    pub fn has_errors(&self) -> bool {
+        !self.errors.is_empty()
+    }
+
+    /// All errors so far, combined into one (or `Ok` if there were none).
+    pub fn take_errors(&mut self) -> syn::Result<()> {
+        let mut errors = std::mem::take(&mut self.errors).into_iter();
+        match errors.next() {
+            None => Ok(()),
+            Some(mut first) => {
+                for e in errors {
+                    first.combine(e);
+                }
+                Err(first)
+            }
+        }
+    }
+
+    /// Lower a call of `f` with the given argument values (one per typed argument; the
+    /// receiver is implicit). `call_site` is what errors about the call itself point at.
+    pub fn call(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>, call_site: &dyn ToTokens) -> Value {
+        let name = f.sig.ident.to_string();
+        if self.call_stack.contains(&name) {
+            return self.error(
+                call_site.to_token_stream(),
+                format!(
+                    "`{name}` calls itself (through {}): recursive functions cannot be inlined; \
+                     rewrite the recursion as a `for` loop with a constant bound",
+                    self.call_stack.join(" → ")
+                ),
+            );
+        }
+        if self.call_stack.len() >= MAX_CALL_DEPTH {
+            return self.error(
+                call_site.to_token_stream(),
+                format!("calls nested more than {MAX_CALL_DEPTH} deep cannot be inlined"),
+            );
+        }
+        let Some(signature) = self.signature(f) else {
+            return Value::Poison;
+        };
+        if signature.args.len() != args.len() {
+            return self.error(
+                call_site.to_token_stream(),
+                format!(
+                    "`{name}` takes {} argument(s) besides `self`, but {} were given",
+                    signature.args.len(),
+                    args.len()
+                ),
+            );
+        }
+        let mut env = Env::default();
+        env.push();
+        for (arg, value) in signature.args.iter().zip(args) {
+            if !arg.shape.admits(&value) {
+                self.error(
+                    call_site.to_token_stream(),
+                    format!(
+                        "argument `{}` of `{name}` is {}, but {} was given",
+                        arg.pat.to_token_stream(),
+                        arg.shape.describe(),
+                        value.describe()
+                    ),
+                );
+                continue;
+            }
+            self.bind_pattern(&mut env, &arg.pat, value, false);
+        }
+        self.call_stack.push(name);
+        let result = self.block(&mut env, &f.block);
+        self.call_stack.pop();
+        if let Some(shape) = &signature.output
+            && !shape.admits(&result)
+        {
+            let tail = f.block.stmts.last().map(|s| s.to_token_stream()).unwrap_or_else(|| f.block.to_token_stream());
+            return self.error(
+                tail,
+                format!(
+                    "`{}` is declared to return {}, but its body evaluates to {}",
+                    f.sig.ident,
+                    shape.describe(),
+                    result.describe()
+                ),
+            );
+        }
+        result
+    }
+
+    /// Count unrolled iterations against the budget; false (with an error) when exhausted.
+    fn spend_iterations(&mut self, count: usize, at: &dyn ToTokens) -> bool {
+        self.unrolled = self.unrolled.saturating_add(count);
+        if self.unrolled > MAX_UNROLLED_ITERATIONS || self.graph.too_large() {
+            if !self.reported_budget {
+                self.reported_budget = true;
+                self.error(
+                    at.to_token_stream(),
+                    format!(
+                        "this loop unrolls into more than the {MAX_UNROLLED_ITERATIONS} iterations \
+                         (or {} graph nodes) a model may have; loops are unrolled at compile time, \
+                         so their bounds must be small constants",
+                        crate::engine::graph::MAX_NODES
+                    ),
+                );
+            }
+            return false;
+        }
+        true
+    }
+
+    /// Note the source of a freshly created real node.
+    fn note(&mut self, value: &Value, before: usize, e: &syn::Expr) {
+        if let Value::Real(id) = value
+            && id.index() >= before
+        {
+            self.graph.note_span(*id, span::expr_range(e));
+        }
+    }
+}

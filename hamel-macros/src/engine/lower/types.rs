@@ -1,0 +1,151 @@
+//! Signatures: which argument and result types a differentiated function may have.
+
+use super::value::{Shape, Value};
+use super::{Env, Lowerer};
+use quote::ToTokens;
+use syn::{FnArg, ReturnType, Type};
+
+pub const SUPPORTED_TYPES: &str = "`f64` or a fixed-size array `[f64; N]` (by value or by reference; \
+     arrays may nest); helpers called from a body may also take integers such as `usize`";
+
+/// One typed argument of a function.
+#[derive(Clone)]
+pub struct Arg {
+    pub pat: syn::Pat,
+    pub ty: Type,
+    pub shape: Shape,
+}
+
+/// What lowering needs to know of a signature.
+#[derive(Clone)]
+pub struct Signature {
+    /// Whether the function takes `self` (it then reads parameters as `self.field`).
+    pub receiver: bool,
+    pub args: Vec<Arg>,
+    /// `None` when the return type is not supported (already reported).
+    pub output: Option<Shape>,
+}
+
+fn is_integer_type(name: &str) -> bool {
+    matches!(
+        name,
+        "usize" | "isize" | "u8" | "u16" | "u32" | "u64" | "i8" | "i16" | "i32" | "i64"
+    )
+}
+
+impl<'a> Lowerer<'a, '_> {
+    /// Check a signature against the supported subset; errors are recorded, and `None`
+    /// comes back when the function cannot be lowered at all.
+    pub fn signature(&mut self, f: &syn::ImplItemFn) -> Option<Signature> {
+        let sig = &f.sig;
+        let mut ok = true;
+        if !sig.generics.params.is_empty() {
+            self.error(&sig.generics, "generic functions cannot be differentiated: write the function over `f64`");
+            ok = false;
+        }
+        if let Some(a) = &sig.asyncness {
+            self.error(a, "`async` functions cannot be differentiated");
+            ok = false;
+        }
+        if let Some(v) = &sig.variadic {
+            self.error(v, "variadic functions cannot be differentiated");
+            ok = false;
+        }
+        let mut receiver = false;
+        let mut args = Vec::new();
+        for input in &sig.inputs {
+            match input {
+                FnArg::Receiver(r) => {
+                    let by_mut_ref = matches!(r.kind, syn::ReceiverKind::Reference(_, _, Some(_)));
+                    if r.mutability.is_some() || by_mut_ref {
+                        self.error(r, "the model is read-only here: take `&self`, not `&mut self`");
+                        ok = false;
+                    }
+                    receiver = true;
+                }
+                FnArg::Typed(pt) => match self.shape_of(&pt.ty) {
+                    Some(shape) => args.push(Arg {
+                        pat: (*pt.pat).clone(),
+                        ty: (*pt.ty).clone(),
+                        shape,
+                    }),
+                    None => ok = false,
+                },
+            }
+        }
+        let output = match &sig.output {
+            ReturnType::Default => {
+                self.error(
+                    &sig.ident,
+                    format!("`{}` returns nothing: a differentiated function returns {SUPPORTED_TYPES}", sig.ident),
+                );
+                None
+            }
+            ReturnType::Type(_, ty) => self.shape_of(ty),
+        };
+        ok.then_some(Signature { receiver, args, output })
+    }
+
+    /// The shape of a supported type, or an error at the type.
+    pub fn shape_of(&mut self, ty: &Type) -> Option<Shape> {
+        match ty {
+            Type::Paren(p) => self.shape_of(&p.elem),
+            Type::Group(g) => self.shape_of(&g.elem),
+            Type::Reference(r) => {
+                if r.mutability.is_some() {
+                    self.error(ty, "mutable references cannot be differentiated: take the value or a shared reference");
+                    return None;
+                }
+                self.shape_of(&r.elem)
+            }
+            Type::Array(a) => {
+                let inner = self.shape_of(&a.elem)?;
+                if inner == Shape::Int {
+                    self.error(&a.elem, format!("arrays of integers are not supported; expected {SUPPORTED_TYPES}"));
+                    return None;
+                }
+                let len = self.const_int(&a.len, "an array length")?;
+                match usize::try_from(len) {
+                    Ok(n) => Some(Shape::Array(n, Box::new(inner))),
+                    Err(_) => {
+                        self.error(&a.len, "an array length cannot be negative");
+                        None
+                    }
+                }
+            }
+            Type::Path(p) if p.qself.is_none() => {
+                let name = p.path.to_token_stream().to_string();
+                if name == "f64" {
+                    Some(Shape::Real)
+                } else if is_integer_type(&name) {
+                    Some(Shape::Int)
+                } else {
+                    let hint = if name == "f32" { " (hamel computes in `f64`)" } else { "" };
+                    self.error(ty, format!("unsupported type `{name}`{hint}: expected {SUPPORTED_TYPES}"));
+                    None
+                }
+            }
+            _ => {
+                self.error(ty, format!("unsupported type: expected {SUPPORTED_TYPES}"));
+                None
+            }
+        }
+    }
+
+    /// Evaluate an expression that must be an integer known at compile time (array lengths,
+    /// loop bounds, indices).
+    pub fn const_int(&mut self, e: &syn::Expr, what: &str) -> Option<i64> {
+        let mut env = Env::default();
+        match self.expr(&mut env, e) {
+            Value::Int(n) => Some(n),
+            Value::Poison => None,
+            other => {
+                self.error(
+                    e,
+                    format!("{what} must be an integer known at compile time, found {}", other.describe()),
+                );
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! The compile-time differentiation engine: Rust function bodies → expression graph →
+//! derivative graphs → straight-line Rust.
+//!
+//! * `graph` — the hash-consed DAG with its simplifications;
+//! * `lower` — Rust syntax of the supported subset into graph values;
+//! * `diff` — tangent (forward) and adjoint (reverse) sweeps, and their compositions;
+//! * `emit` — the graph back to Rust;
+//! * `ops` — operation counts of what is emitted.
+
+pub mod diff;
+pub mod emit;
+pub mod graph;
+pub mod lower;
+pub mod ops;
