@@ -6,6 +6,7 @@
 
 mod differentiate;
 mod engine;
+mod system;
 
 use proc_macro::TokenStream;
 
@@ -13,6 +14,12 @@ use proc_macro::TokenStream;
 #[proc_macro_attribute]
 pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
     guarded(|| differentiate::expand(attr.into(), item.into())).into()
+}
+
+/// Turn a model into a simulator; see the `hamel` crate.
+#[proc_macro_attribute]
+pub fn hamel_system(attr: TokenStream, item: TokenStream) -> TokenStream {
+    guarded(|| system::expand(attr.into(), item.into())).into()
 }
 
 /// Run an expansion; should it ever panic, report an error instead of "proc macro panicked".

@@ -68,69 +68,73 @@ impl<'g> Emitter<'g> {
         }
     }
 
-    /// Name generated locals `{prefix}0, {prefix}1, ...` (to keep several emissions in one
-    /// function apart).
-    pub fn with_prefix(mut self, prefix: &str) -> Self {
-        self.prefix = prefix.into();
-        self
-    }
-
     /// The expression an input node reads.
     pub fn bind(&mut self, input: NodeId, tokens: TokenStream) {
         self.inputs.insert(input, tokens);
     }
 
-    pub fn is_bound(&self, input: NodeId) -> bool {
-        self.inputs.contains_key(&input)
-    }
-
     /// Straight-line code for `roots`. An input without a binding is an internal error,
     /// reported (never a panic).
     pub fn emit(&self, roots: &[NodeId]) -> syn::Result<Code> {
+        let mut stages = self.emit_stages(&[roots])?;
+        stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: no stage"))
+    }
+
+    /// Code in stages, run in order with other code in between (a numeric factorization):
+    /// each stage computes what its roots need and was not computed before; a value one
+    /// stage computes and a later one uses is kept in a `let`.
+    pub fn emit_stages(&self, stages: &[&[NodeId]]) -> syn::Result<Vec<Code>> {
         let g = self.graph;
-        let live = g.live_set(roots);
+        let all_roots: Vec<NodeId> = stages.iter().flat_map(|s| s.iter().copied()).collect();
         let mut uses: HashMap<NodeId, usize> = HashMap::new();
-        for &id in &live {
+        for id in g.live_set(&all_roots) {
             for &operand in g.node(id).operands().as_slice() {
                 *uses.entry(operand).or_default() += 1;
             }
         }
-        for &r in roots {
+        for &r in &all_roots {
             *uses.entry(r).or_default() += 2;
         }
         let mut refs: HashMap<NodeId, (TokenStream, Prec)> = HashMap::new();
-        let mut stmts = TokenStream::new();
         let mut counter = 0usize;
-        for id in live {
-            let node = g.node(id);
-            let (expr, prec) = match node {
-                Node::Const(bits) => self.constant(f64::from_bits(bits)),
-                Node::Bool(b) => (quote!(#b), Prec::Atom),
-                Node::Input(slot) => match self.inputs.get(&id) {
-                    Some(tokens) => (tokens.clone(), Prec::Atom),
-                    None => {
-                        return Err(syn::Error::new(
-                            Span::call_site(),
-                            format!(
-                                "hamel internal error: input `{}` has no binding; please report this",
-                                g.input_label(slot)
-                            ),
-                        ));
-                    }
-                },
-                _ => self.operation(node, &refs),
-            };
-            let trivial = matches!(node, Node::Const(_) | Node::Bool(_) | Node::Input(_));
-            if trivial || uses.get(&id).copied().unwrap_or(0) <= 1 {
-                refs.insert(id, (expr, prec));
-            } else {
-                let name = format_ident!("{}{}", self.prefix, counter);
-                counter += 1;
-                stmts.extend(quote!(let #name = #expr;));
-                refs.insert(id, (quote!(#name), Prec::Atom));
+        let mut out = Vec::with_capacity(stages.len());
+        for roots in stages {
+            let mut stmts = TokenStream::new();
+            for id in g.live_set(roots) {
+                if refs.contains_key(&id) {
+                    continue;
+                }
+                let node = g.node(id);
+                let (expr, prec) = match node {
+                    Node::Const(bits) => self.constant(f64::from_bits(bits)),
+                    Node::Bool(b) => (quote!(#b), Prec::Atom),
+                    Node::Input(slot) => match self.inputs.get(&id) {
+                        Some(tokens) => (tokens.clone(), Prec::Atom),
+                        None => {
+                            return Err(syn::Error::new(
+                                Span::call_site(),
+                                format!(
+                                    "hamel internal error: input `{}` has no binding; please report this",
+                                    g.input_label(slot)
+                                ),
+                            ));
+                        }
+                    },
+                    _ => self.operation(node, &refs),
+                };
+                let trivial = matches!(node, Node::Const(_) | Node::Bool(_) | Node::Input(_));
+                if trivial || uses.get(&id).copied().unwrap_or(0) <= 1 {
+                    refs.insert(id, (expr, prec));
+                } else {
+                    let name = format_ident!("{}{}", self.prefix, counter);
+                    counter += 1;
+                    stmts.extend(quote!(let #name = #expr;));
+                    refs.insert(id, (quote!(#name), Prec::Atom));
+                }
             }
+            out.push(Code { stmts, refs: refs.clone() });
         }
-        Ok(Code { stmts, refs })
+        Ok(out)
     }
 
     fn constant(&self, v: f64) -> (TokenStream, Prec) {

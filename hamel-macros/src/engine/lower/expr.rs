@@ -219,9 +219,10 @@ impl<'a> Lowerer<'a, '_> {
                 env.bind(name.to_string(), Value::Poison, true);
                 value
             }
-            ["Self", name] => match self.ctx.constant(name) {
-                Some(c) => self.assoc_const(name, c),
-                None => self.external(p.to_token_stream(), format!("Self::{name}")),
+            ["Self", name] => match (self.ctx.constant(name), self.ctx.generated_index(name)) {
+                (Some(c), _) => self.assoc_const(name, c),
+                (None, Some(index)) => Value::Int(index),
+                (None, None) => self.external(p.to_token_stream(), format!("Self::{name}")),
             },
             ["std" | "core", "f64", "consts", name] | ["f64", "consts", name] | ["consts", name] => {
                 match math_constant(name) {

@@ -39,6 +39,8 @@ const MAX_CALL_DEPTH: usize = 64;
 pub struct ImplContext<'a> {
     fns: HashMap<String, &'a syn::ImplItemFn>,
     consts: HashMap<String, &'a syn::ImplItemConst>,
+    /// Integer constants the expansion itself defines (`Self::ALPHA`, a coordinate's index).
+    generated: HashMap<String, i64>,
 }
 
 impl<'a> ImplContext<'a> {
@@ -56,7 +58,20 @@ impl<'a> ImplContext<'a> {
                 _ => {}
             }
         }
-        ImplContext { fns, consts }
+        ImplContext {
+            fns,
+            consts,
+            generated: HashMap::new(),
+        }
+    }
+
+    /// Make `Self::name` an integer constant known to bodies.
+    pub fn define_index(&mut self, name: String, value: i64) {
+        self.generated.insert(name, value);
+    }
+
+    fn generated_index(&self, name: &str) -> Option<i64> {
+        self.generated.get(name).copied()
     }
 
     pub fn function(&self, name: &str) -> Option<&'a syn::ImplItemFn> {
@@ -231,6 +246,11 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             );
         }
         result
+    }
+
+    /// Lower a role function of the model: errors about the call point at its name.
+    pub fn call_role(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Value {
+        self.call(f, args, &f.sig.ident)
     }
 
     /// Count unrolled iterations against the budget; false (with an error) when exhausted.

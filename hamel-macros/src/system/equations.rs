@@ -1,0 +1,510 @@
+//! Hamel's equations, assembled on the graph from derivatives of the user's functions
+//! (`../shared/design/HAMEL.md` has the mathematics; indices there are 1-based, here 0-based).
+//!
+//! With ω = A(q) q̇, q̇ = B(q) ω and k > p:
+//!
+//! ```text
+//! M ω̇ = f̃ + Bᵀ ∇_q L̃ − (∂²L̃/∂ω∂q) q̇ − Σ_j p_j γʲ ω,   M_kl = ∂²L̃/∂ω_k∂ω_l
+//! ```
+//!
+//! evaluated at ω = (0, …, 0, w). Two routes lead there:
+//!
+//! * **Hamel** — when L̃ is at hand: given directly (the paper's eq. 12), or composed as
+//!   L(q, B(q) ω) from a Lagrangian and a closed-form inverse. The γ term never builds the n³
+//!   tensor: with Φ(q, v) = pᵀ A(q) v it is Φ''[q̇, B_k] − Φ''[B_k, q̇].
+//! * **Projected Lagrange** — when B is only known numerically (LU of A(q) at run time), L̃
+//!   cannot be differentiated in q. Lagrange's equations are projected on the admissible
+//!   directions instead: Mᵣ = Bᵣᵀ H_vv Bᵣ and
+//!   Bᵣᵀ (f + ∇_q L − H_vq q̇ − H_vv Ḃω) with Ḃω = −B (D_q̇A) q̇.
+//!
+//! Directions in second derivatives (q̇, B_k, p) are fresh symbols while differentiating and
+//! are substituted afterwards: they depend on q themselves and must not be differentiated.
+
+use super::ldlt;
+use super::linearity::{self, Verdict, Why};
+use super::spec::{Energy, Spec};
+use crate::engine::diff;
+use crate::engine::graph::{Graph, NodeId};
+use crate::engine::lower::{Lowerer, Value};
+use quote::ToTokens;
+use std::collections::HashMap;
+
+/// Graph inputs of the generated methods.
+pub struct Inputs {
+    pub t: NodeId,
+    pub q: Vec<NodeId>,
+    /// The free quasi-velocities of the state.
+    pub w: Vec<NodeId>,
+    pub u: Vec<NodeId>,
+    /// The entries of B = A⁻¹ when it is computed numerically at run time.
+    pub b: Option<Vec<Vec<NodeId>>>,
+}
+
+pub struct Equations {
+    pub inputs: Inputs,
+    /// A(q), rows: constraints then quasi-velocities.
+    pub a: Vec<Vec<NodeId>>,
+    /// q̇ = Σ_{k>p} B_k w_k.
+    pub qd: Vec<NodeId>,
+    /// ω̇_{p+1…n}.
+    pub wdot: Vec<NodeId>,
+    /// Pivots of the LDLᵀ factorization of the mass matrix.
+    pub pivots: Vec<NodeId>,
+    pub mass: Vec<Vec<NodeId>>,
+    pub energy: NodeId,
+    /// γʲ_{l,k}, indexed [j][l − p][k − p].
+    pub gamma: Vec<Vec<Vec<NodeId>>>,
+}
+
+fn fresh(g: &mut Graph, name: &str, count: usize) -> Vec<NodeId> {
+    (0..count).map(|i| g.new_input(format!("{name}[{i}]"))).collect()
+}
+
+fn array(nodes: &[NodeId]) -> Value {
+    Value::Array(nodes.iter().map(|&n| Value::Real(n)).collect())
+}
+
+fn dot(g: &mut Graph, a: &[NodeId], b: &[NodeId]) -> NodeId {
+    let terms: Vec<NodeId> = a.iter().zip(b).map(|(&x, &y)| g.mul(x, y)).collect();
+    g.sum(&terms)
+}
+
+/// Substitute one map into many roots.
+fn subst(g: &mut Graph, roots: &[NodeId], map: &[(NodeId, NodeId)]) -> Vec<NodeId> {
+    let map: HashMap<NodeId, NodeId> = map.iter().copied().collect();
+    g.substitute(roots, &map)
+}
+
+fn pairs(keys: &[NodeId], values: &[NodeId]) -> Vec<(NodeId, NodeId)> {
+    keys.iter().copied().zip(values.iter().copied()).collect()
+}
+
+/// Lower a role function and flatten its result (None after an error, already reported).
+fn lower<'a>(lowerer: &mut Lowerer<'a, '_>, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Option<Vec<NodeId>> {
+    let value = lowerer.call_role(f, args);
+    if value.is_poison() {
+        return None;
+    }
+    value.flatten()
+}
+
+/// The coefficient matrix of rows that are linear in `vars`.
+fn coefficients(g: &mut Graph, rows: &[NodeId], vars: &[NodeId]) -> Vec<Vec<NodeId>> {
+    let zero = g.zero();
+    let one = g.one();
+    let columns: Vec<Vec<NodeId>> = (0..vars.len())
+        .map(|j| {
+            let unit: Vec<NodeId> = (0..vars.len()).map(|i| if i == j { one } else { zero }).collect();
+            subst(g, rows, &pairs(vars, &unit))
+        })
+        .collect();
+    (0..rows.len()).map(|i| columns.iter().map(|c| c[i]).collect()).collect()
+}
+
+/// The source of element `index` of a function's result, if its tail is an array literal.
+fn row_source(f: &syn::ImplItemFn, index: usize) -> proc_macro2::TokenStream {
+    if let Some(syn::Stmt::Expr(syn::Expr::Array(a), None)) = f.block.stmts.last()
+        && let Some(e) = a.elems.iter().nth(index)
+    {
+        return e.to_token_stream();
+    }
+    match &f.sig.output {
+        syn::ReturnType::Type(_, ty) => ty.to_token_stream(),
+        syn::ReturnType::Default => f.sig.ident.to_token_stream(),
+    }
+}
+
+/// Check that rows are linear and homogeneous in `vars`, reporting each offender.
+fn check_linear(
+    lowerer: &mut Lowerer<'_, '_>,
+    f: &syn::ImplItemFn,
+    rows: &[NodeId],
+    vars: &[NodeId],
+    what: &str,
+    var_name: &str,
+) -> bool {
+    let mut ok = true;
+    for (i, &row) in rows.iter().enumerate() {
+        let verdict = linearity::classify(lowerer.graph, row, vars);
+        let problem = match verdict {
+            Verdict::Linear => continue,
+            Verdict::Zero if what == "constraint" => format!(
+                "constraint row {i} is identically zero: it constrains nothing; remove it (and count \
+                 one constraint less)"
+            ),
+            Verdict::Zero => format!(
+                "{what} row {i} is identically zero, so A(q) is singular everywhere: each row must \
+                 depend on the velocities `{var_name}`"
+            ),
+            Verdict::Independent => format!(
+                "{what} row {i} does not depend on the velocities `{var_name}`: rows are linear in \
+                 `{var_name}`, of the form Σ a_j(q)·{var_name}[j]"
+            ),
+            Verdict::Broken(at, why) => {
+                let message = match why {
+                    Why::Product => format!("this product of velocities makes {what} row {i} nonlinear in `{var_name}`"),
+                    Why::Quotient => format!("dividing by a velocity makes {what} row {i} nonlinear in `{var_name}`"),
+                    Why::Function => format!("a nonlinear function of a velocity makes {what} row {i} nonlinear in `{var_name}`"),
+                    Why::Affine => format!(
+                        "{what} row {i} mixes terms with and without velocities: rows must be linear and \
+                         homogeneous in `{var_name}` (affine constraints a(q, t) are not supported yet)"
+                    ),
+                    Why::Condition => format!("{what} row {i} branches on a velocity, which is not linear in `{var_name}`"),
+                };
+                let message = format!("{message}; {what} rows must have the form Σ a_j(q)·{var_name}[j]");
+                match lowerer.graph.span(at) {
+                    Some(span) => lowerer.push_error(span.error(message)),
+                    None => lowerer.push_error(syn::Error::new_spanned(row_source(f, i), message)),
+                }
+                ok = false;
+                continue;
+            }
+        };
+        lowerer.push_error(syn::Error::new_spanned(row_source(f, i), problem));
+        ok = false;
+    }
+    ok
+}
+
+fn requires_velocities(lowerer: &mut Lowerer<'_, '_>, f: &syn::ImplItemFn, value: NodeId, vars: &[NodeId], what: &str) -> bool {
+    let active = lowerer.graph.depends_on(vars);
+    if active[value.index()] {
+        return true;
+    }
+    lowerer.push_error(syn::Error::new_spanned(
+        &f.sig.ident,
+        format!(
+            "{what} `{}` does not depend on the velocities: without kinetic energy there is no \
+             mass matrix and no motion to simulate",
+            f.sig.ident
+        ),
+    ));
+    false
+}
+
+pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equations> {
+    let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
+    let free = spec.dims.free();
+    let g = &mut *lowerer.graph;
+    let t = g.new_input("t");
+    let q = fresh(g, "q", n);
+    let w = fresh(g, "w", free);
+    let u = fresh(g, "u", m);
+    let v = fresh(g, "v", n);
+    let zero = g.zero();
+    let one = g.one();
+
+    // A(q) from the rows, which must be linear in the velocities.
+    let constraint_rows = lower(lowerer, spec.constraints, vec![array(&q), array(&v)]);
+    let quasi_rows = lower(lowerer, spec.quasi_velocities, vec![array(&q), array(&v)]);
+    let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
+    let linear = check_linear(lowerer, spec.constraints, &constraint_rows, &v, "constraint", "qd")
+        & check_linear(lowerer, spec.quasi_velocities, &quasi_rows, &v, "quasi-velocity", "qd");
+    let rows: Vec<NodeId> = constraint_rows.iter().chain(&quasi_rows).copied().collect();
+    let a = coefficients(lowerer.graph, &rows, &v);
+
+    // B(q): closed form from the user's inverse, or run-time inputs.
+    let omega = fresh(lowerer.graph, "omega", n);
+    let (b, numeric_b) = match spec.velocities {
+        Some(f) => {
+            let out = lower(lowerer, f, vec![array(&q), array(&omega)])?;
+            if !check_linear(lowerer, f, &out, &omega, "velocity", "w") {
+                return None;
+            }
+            (coefficients(lowerer.graph, &out, &omega), None)
+        }
+        None => {
+            let b: Vec<Vec<NodeId>> = (0..n).map(|i| fresh(lowerer.graph, &format!("B[{i}]"), n)).collect();
+            (b.clone(), Some(b))
+        }
+    };
+    let column = |b: &Vec<Vec<NodeId>>, k: usize| -> Vec<NodeId> { (0..n).map(|i| b[i][k]).collect() };
+    let b_free: Vec<Vec<NodeId>> = (p..n).map(|k| column(&b, k)).collect();
+    let qd: Vec<NodeId> = (0..n)
+        .map(|i| {
+            let row: Vec<NodeId> = (p..n).map(|k| b[i][k]).collect();
+            dot(lowerer.graph, &row, &w)
+        })
+        .collect();
+
+    // Generalized forces at the admissible velocity.
+    let forces = match spec.forces {
+        Some(f) => lower(lowerer, f, vec![Value::Real(t), array(&q), array(&qd), array(&u)])?,
+        None => vec![zero; n],
+    };
+
+    let assembled = match (&spec.energy, &numeric_b) {
+        (Energy::Quasi(f), _) => {
+            let lt = lower(lowerer, f, vec![array(&q), array(&omega)])?;
+            let lt = *lt.first()?;
+            if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
+                return None;
+            }
+            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b, &rows, &v, &forces, p)
+        }
+        (energy, None) => {
+            // L̃(q, ω) = L(q, B(q) ω)
+            let b_omega: Vec<NodeId> = (0..n).map(|i| dot(lowerer.graph, &b[i], &omega)).collect();
+            let (lt, f) = lagrangian(lowerer, energy, &q, &b_omega)?;
+            if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
+                return None;
+            }
+            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b, &rows, &v, &forces, p)
+        }
+        (energy, Some(_)) => {
+            let (l, f) = lagrangian(lowerer, energy, &q, &v)?;
+            if !requires_velocities(lowerer, f, l, &v, "the Lagrangian") {
+                return None;
+            }
+            projected(lowerer.graph, l, &q, &v, &qd, &b, &b_free, &rows, &forces)
+        }
+    };
+    if !linear {
+        return None;
+    }
+    let energy = match &spec.energy {
+        // T + V exactly, rather than through the Legendre transform.
+        Energy::Split { kinetic, potential } => {
+            let t_value = *lower(lowerer, kinetic, vec![array(&q), array(&qd)])?.first()?;
+            match potential {
+                Some(vf) => {
+                    let v_value = *lower(lowerer, vf, vec![array(&q)])?.first()?;
+                    lowerer.graph.add(t_value, v_value)
+                }
+                None => t_value,
+            }
+        }
+        _ => assembled.energy,
+    };
+
+    let g = &mut *lowerer.graph;
+    let solution = ldlt::solve(g, &assembled.mass, &assembled.rhs);
+    let gamma = gamma(g, &rows, &q, &v, &b_free);
+    let _ = one;
+    Some(Equations {
+        inputs: Inputs { t, q, w, u, b: numeric_b },
+        a,
+        qd,
+        wdot: solution.x,
+        pivots: solution.pivots,
+        mass: assembled.mass,
+        energy,
+        gamma,
+    })
+}
+
+/// The Lagrangian L(q, velocities) from the role functions, and the function to blame when
+/// it does not depend on the velocities.
+fn lagrangian<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    energy: &Energy<'a>,
+    q: &[NodeId],
+    velocities: &[NodeId],
+) -> Option<(NodeId, &'a syn::ImplItemFn)> {
+    match energy {
+        Energy::Lagrangian(f) => Some((*lower(lowerer, f, vec![array(q), array(velocities)])?.first()?, f)),
+        Energy::Split { kinetic, potential } => {
+            let t = *lower(lowerer, kinetic, vec![array(q), array(velocities)])?.first()?;
+            let l = match potential {
+                Some(vf) => {
+                    let v = *lower(lowerer, vf, vec![array(q)])?.first()?;
+                    lowerer.graph.sub(t, v)
+                }
+                None => t,
+            };
+            Some((l, kinetic))
+        }
+        Energy::Quasi(_) => None,
+    }
+}
+
+struct Assembled {
+    mass: Vec<Vec<NodeId>>,
+    rhs: Vec<NodeId>,
+    energy: NodeId,
+}
+
+/// Hamel's equations from L̃(q, ω) (`omega` are its velocity symbols).
+#[allow(clippy::too_many_arguments)]
+fn hamel(
+    g: &mut Graph,
+    lt: NodeId,
+    omega: &[NodeId],
+    q: &[NodeId],
+    w: &[NodeId],
+    qd: &[NodeId],
+    b: &[Vec<NodeId>],
+    rows: &[NodeId],
+    v: &[NodeId],
+    forces: &[NodeId],
+    p: usize,
+) -> Assembled {
+    let n = q.len();
+    let free = n - p;
+    let one = g.one();
+    let zero = g.zero();
+    let wrt: Vec<NodeId> = q.iter().chain(omega).copied().collect();
+    let gradient = diff::adjoint(g, &[lt], &[one], &wrt);
+    let (grad_q, momenta) = gradient.split_at(n);
+    let momenta_free = &momenta[p..];
+
+    // M_kl = ∂p_k/∂ω_l, one tangent sweep per column.
+    let columns: Vec<Vec<NodeId>> = (p..n)
+        .map(|l| diff::tangent(g, momenta_free, &[(omega[l], one)]))
+        .collect();
+    let mass: Vec<Vec<NodeId>> = (0..free).map(|k| columns.iter().map(|c| c[k]).collect()).collect();
+
+    // (∂p_k/∂q)·q̇ with q̇ held as a symbol.
+    let a_sym = fresh(g, "qd_direction", n);
+    let hq = diff::tangent(g, momenta_free, &pairs(q, &a_sym));
+
+    // γ term: Φ''[q̇, B_k] − Φ''[B_k, q̇] with Φ = Σ_j P_j·row_j(q, v).
+    let p_sym = fresh(g, "momentum", n);
+    let products: Vec<NodeId> = p_sym.iter().zip(rows).map(|(&pj, &r)| g.mul(pj, r)).collect();
+    let phi = g.sum(&products);
+    let dq = fresh(g, "q_direction", n);
+    let dv = fresh(g, "v_direction", n);
+    let second = diff::bidirectional(g, &[phi], &pairs(q, &dq), &pairs(v, &dv))[0];
+
+    let mut rhs = Vec::with_capacity(free);
+    for k in 0..free {
+        let bk: Vec<NodeId> = (0..n).map(|i| b[i][p + k]).collect();
+        let forward: Vec<NodeId> = dq.iter().chain(&dv).copied().collect();
+        let qd_bk: Vec<NodeId> = qd.iter().chain(&bk).copied().collect();
+        let bk_qd: Vec<NodeId> = bk.iter().chain(qd).copied().collect();
+        let d1 = subst(g, &[second], &pairs(&forward, &qd_bk))[0];
+        let d2 = subst(g, &[second], &pairs(&forward, &bk_qd))[0];
+        let gamma_term = g.sub(d1, d2);
+        let f_tilde = dot(g, &bk, forces);
+        let b_grad = dot(g, &bk, grad_q);
+        let s = g.add(f_tilde, b_grad);
+        let s = g.sub(s, hq[k]);
+        rhs.push(g.sub(s, gamma_term));
+    }
+    // Energy: Σ ω_k ∂L̃/∂ω_k − L̃.
+    let pw: Vec<NodeId> = momenta_free.to_vec();
+    let legendre = dot(g, &pw, &omega[p..]);
+    let energy = g.sub(legendre, lt);
+
+    // Evaluate at ω = (0, w); the symbols q̇ and p take their values.
+    let mut at_state: Vec<(NodeId, NodeId)> = (0..p).map(|j| (omega[j], zero)).collect();
+    at_state.extend(pairs(&omega[p..], w));
+    let momenta_now = subst(g, momenta, &at_state);
+    let mut all = at_state.clone();
+    all.extend(pairs(&a_sym, qd));
+    all.extend(pairs(&p_sym, &momenta_now));
+    let mut roots: Vec<NodeId> = mass.iter().flatten().copied().collect();
+    roots.extend(&rhs);
+    roots.push(energy);
+    let done = subst(g, &roots, &all);
+    let (mass_flat, rest) = done.split_at(free * free);
+    Assembled {
+        mass: mass_flat.chunks(free).map(<[NodeId]>::to_vec).collect(),
+        rhs: rest[..free].to_vec(),
+        energy: rest[free],
+    }
+}
+
+/// Lagrange's equations projected on the admissible directions, for a numeric B.
+#[allow(clippy::too_many_arguments)]
+fn projected(
+    g: &mut Graph,
+    l: NodeId,
+    q: &[NodeId],
+    v: &[NodeId],
+    qd: &[NodeId],
+    b: &[Vec<NodeId>],
+    b_free: &[Vec<NodeId>],
+    rows: &[NodeId],
+    forces: &[NodeId],
+) -> Assembled {
+    let n = q.len();
+    let one = g.one();
+    let wrt: Vec<NodeId> = q.iter().chain(v).copied().collect();
+    let gradient = diff::adjoint(g, &[l], &[one], &wrt);
+    let (grad_q, grad_v) = gradient.split_at(n);
+
+    // Mᵣ = Bᵣᵀ H_vv Bᵣ: one tangent of ∇_v L per free direction (B entries are inputs).
+    let h_b: Vec<Vec<NodeId>> = b_free.iter().map(|bl| diff::tangent(g, grad_v, &pairs(v, bl))).collect();
+    let mass: Vec<Vec<NodeId>> = b_free
+        .iter()
+        .map(|bk| h_b.iter().map(|hl| dot(g, bk, hl)).collect())
+        .collect();
+
+    // Ḃω = −B (D_q̇ A) q̇: the rows' derivative along a q-direction, at v = direction = q̇.
+    let a_sym = fresh(g, "qd_direction", n);
+    let along = diff::tangent(g, rows, &pairs(q, &a_sym));
+    let mut at_qd = pairs(v, qd);
+    at_qd.extend(pairs(&a_sym, qd));
+    let along = subst(g, &along, &at_qd);
+    let b_dot_omega: Vec<NodeId> = (0..n)
+        .map(|i| {
+            let d = dot(g, &b[i], &along);
+            g.neg(d)
+        })
+        .collect();
+
+    // d/dt ∂L/∂q̇ − H_vv·(B_free ω̇) = H_vq q̇ + H_vv Ḃω: one tangent with both directions.
+    let c_sym = fresh(g, "bdot_omega", n);
+    let mut seeds = pairs(q, &a_sym);
+    seeds.extend(pairs(v, &c_sym));
+    let drift = diff::tangent(g, grad_v, &seeds);
+    let rhs: Vec<NodeId> = b_free
+        .iter()
+        .map(|bk| {
+            let terms: Vec<NodeId> = (0..n)
+                .map(|i| {
+                    let s = g.add(forces[i], grad_q[i]);
+                    g.sub(s, drift[i])
+                })
+                .collect();
+            dot(g, bk, &terms)
+        })
+        .collect();
+    let legendre = dot(g, grad_v, v);
+    let energy = g.sub(legendre, l);
+
+    let mut all = pairs(v, qd);
+    all.extend(pairs(&a_sym, qd));
+    all.extend(pairs(&c_sym, &b_dot_omega));
+    let free = b_free.len();
+    let mut roots: Vec<NodeId> = mass.iter().flatten().copied().collect();
+    roots.extend(&rhs);
+    roots.push(energy);
+    let done = subst(g, &roots, &all);
+    let (mass_flat, rest) = done.split_at(free * free);
+    Assembled {
+        mass: mass_flat.chunks(free).map(<[NodeId]>::to_vec).collect(),
+        rhs: rest[..free].to_vec(),
+        energy: rest[free],
+    }
+}
+
+/// γʲ_{l,k} = Aⱼ''[B_l, B_k] − Aⱼ''[B_k, B_l] with Aⱼ''[a, c] = Σ ∂A^j_ν/∂q^σ a^σ c^ν.
+fn gamma(g: &mut Graph, rows: &[NodeId], q: &[NodeId], v: &[NodeId], b_free: &[Vec<NodeId>]) -> Vec<Vec<Vec<NodeId>>> {
+    let n = q.len();
+    let dq = fresh(g, "gamma_q_direction", n);
+    let dv = fresh(g, "gamma_v_direction", n);
+    let second = diff::bidirectional(g, rows, &pairs(q, &dq), &pairs(v, &dv));
+    let directions: Vec<NodeId> = dq.iter().chain(&dv).copied().collect();
+    second
+        .iter()
+        .map(|&d| {
+            b_free
+                .iter()
+                .map(|bl| {
+                    b_free
+                        .iter()
+                        .map(|bk| {
+                            let lk: Vec<NodeId> = bl.iter().chain(bk).copied().collect();
+                            let kl: Vec<NodeId> = bk.iter().chain(bl).copied().collect();
+                            let x = subst(g, &[d], &pairs(&directions, &lk))[0];
+                            let y = subst(g, &[d], &pairs(&directions, &kl))[0];
+                            g.sub(x, y)
+                        })
+                        .collect()
+                })
+                .collect()
+        })
+        .collect()
+}

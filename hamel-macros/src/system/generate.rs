@@ -1,0 +1,300 @@
+//! The generated code: `impl hamel::HamelSystem for Model` and the model's inherent items
+//! (index constants, `rhs_generic`).
+
+use super::equations::Equations;
+use super::spec::Spec;
+use crate::engine::emit::{Code, Emitter, Scalar};
+use crate::engine::graph::{Graph, NodeId};
+use crate::engine::lower::External;
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+/// Relative size below which a pivot of the mass matrix counts as zero (scaled by its
+/// largest diagonal entry).
+const PIVOT_TOLERANCE: f64 = 1e-13;
+
+fn lit(i: usize) -> Literal {
+    Literal::usize_unsuffixed(i)
+}
+
+/// Where a method reads its inputs from.
+#[derive(Clone, Copy, PartialEq)]
+enum Source {
+    /// `x: &State` (coordinates then speeds).
+    State,
+    /// `q: &Coordinates` only.
+    Coordinates,
+}
+
+struct Context<'g> {
+    graph: &'g Graph,
+    eq: &'g Equations,
+    externals: &'g [External],
+    n: usize,
+}
+
+impl<'g> Context<'g> {
+    /// An emitter with every input bound for a method reading from `source`.
+    fn emitter(&self, source: Source, scalar: Scalar) -> Emitter<'g> {
+        let mut e = Emitter::new(self.graph, scalar.clone());
+        let inputs = &self.eq.inputs;
+        let wrap = |tokens: TokenStream| match &scalar {
+            Scalar::F64 => tokens,
+            Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(#tokens)),
+        };
+        for (i, &node) in inputs.q.iter().enumerate() {
+            let i = lit(i);
+            e.bind(node, if source == Source::State { quote!(x[#i]) } else { quote!(q[#i]) });
+        }
+        for (k, &node) in inputs.w.iter().enumerate() {
+            let i = lit(self.n + k);
+            e.bind(node, quote!(x[#i]));
+        }
+        for (i, &node) in inputs.u.iter().enumerate() {
+            let i = lit(i);
+            e.bind(node, quote!(u[#i]));
+        }
+        e.bind(inputs.t, quote!(t));
+        if let Some(b) = &inputs.b {
+            for (i, row) in b.iter().enumerate() {
+                for (k, &node) in row.iter().enumerate() {
+                    let (i, k) = (lit(i), lit(k));
+                    e.bind(node, quote!(b[#i][#k]));
+                }
+            }
+        }
+        for ext in self.externals {
+            e.bind(ext.node, wrap(ext.tokens.clone()));
+        }
+        e
+    }
+
+    /// Code computing `roots`, preceded, when B is numeric, by A(q) and its inversion.
+    fn staged(&self, source: Source, scalar: Scalar, roots: &[NodeId]) -> syn::Result<(TokenStream, Code)> {
+        let emitter = self.emitter(source, scalar);
+        if self.eq.inputs.b.is_none() {
+            let code = emitter.emit(roots)?;
+            return Ok((TokenStream::new(), code));
+        }
+        let a_nodes: Vec<NodeId> = self.eq.a.iter().flatten().copied().collect();
+        let mut stages = emitter.emit_stages(&[&a_nodes, roots])?;
+        let code = stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: stages"))?;
+        let first = stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: stages"))?;
+        let rows = self.eq.a.iter().map(|row| {
+            let items = row.iter().map(|&id| first.value(id));
+            quote!([#(#items),*])
+        });
+        let stmts = &first.stmts;
+        let prelude = quote! {
+            #stmts
+            // B(q) = A(q)⁻¹ by LU with partial pivoting (no closed-form inverse was given).
+            let a = [#(#rows),*];
+            let b = ::hamel::linalg::invert(&a)?;
+        };
+        Ok((prelude, code))
+    }
+}
+
+pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[External], imp: &syn::ItemImpl) -> syn::Result<TokenStream> {
+    let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
+    let free = spec.dims.free();
+    let state = n + free;
+    let cx = Context { graph, eq, externals, n };
+    let ty = &imp.self_ty;
+    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    let (n_l, p_l, m_l, free_l, state_l) = (lit(n), lit(p), lit(m), lit(free), lit(state));
+
+    // Names.
+    let coordinate_names: Vec<String> = spec.coordinates.iter().map(ToString::to_string).collect();
+    let speed_names: Vec<String> = spec.speeds.iter().map(ToString::to_string).collect();
+    let input_names: Vec<String> = spec.inputs.iter().map(ToString::to_string).collect();
+    let state_names: Vec<&String> = coordinate_names.iter().chain(&speed_names).collect();
+    let constraint_fn = &spec.constraints.sig.ident;
+    let constraint_names: Vec<String> = (0..p).map(|i| format!("{constraint_fn}[{i}]")).collect();
+
+    // rhs, generic over the scalar type.
+    let s = Ident::new("S", Span::call_site());
+    let mut roots: Vec<NodeId> = eq.qd.clone();
+    roots.extend(&eq.wdot);
+    roots.extend(&eq.pivots);
+    let diagonal: Vec<NodeId> = (0..free).map(|k| eq.mass[k][k]).collect();
+    roots.extend(&diagonal);
+    let (prelude, code) = cx.staged(Source::State, Scalar::Generic(s.clone()), &roots)?;
+    let stmts = &code.stmts;
+    let re = |id: NodeId| {
+        let v = code.value(id);
+        quote!(::hamel::Scalar::re(#v))
+    };
+    let scale_terms = diagonal.iter().map(|&d| {
+        let v = re(d);
+        quote!(.max(#v.abs()))
+    });
+    let tolerance = PIVOT_TOLERANCE;
+    let checks = eq.pivots.iter().enumerate().map(|(j, &d)| {
+        let v = re(d);
+        let j = lit(j);
+        quote! {
+            let pivot = #v;
+            if !(pivot > #tolerance * scale) {
+                return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { pivot: #j, value: pivot });
+            }
+        }
+    });
+    let writes = eq.qd.iter().chain(&eq.wdot).enumerate().map(|(i, &id)| {
+        let v = code.value(id);
+        let i = lit(i);
+        quote!(dx[#i] = #v;)
+    });
+    let rhs_generic = quote! {
+        /// The right-hand side ẋ = F(t, x, u) over any [`hamel::Scalar`]: with dual numbers
+        /// it yields the Jacobian of F (linearization); with `f64` it is exactly
+        /// [`hamel::HamelSystem::rhs`]. Generated by `#[hamel_system]`.
+        #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
+        #[inline]
+        pub fn rhs_generic<#s: ::hamel::Scalar>(
+            &self,
+            t: #s,
+            x: &[#s; #state_l],
+            u: &[#s; #m_l],
+            dx: &mut [#s; #state_l],
+        ) -> ::core::result::Result<(), ::hamel::Singularity> {
+            #prelude
+            #stmts
+            let scale = 0.0f64 #(#scale_terms)*;
+            #(#checks)*
+            #(#writes)*
+            ::core::result::Result::Ok(())
+        }
+    };
+
+    // The f64 inspection methods.
+    let method = |source: Source, roots: &[NodeId], shape: &dyn Fn(&Code) -> TokenStream| -> syn::Result<TokenStream> {
+        let (prelude, code) = cx.staged(source, Scalar::F64, roots)?;
+        let stmts = &code.stmts;
+        let value = shape(&code);
+        Ok(quote! {
+            #prelude
+            #stmts
+            ::core::result::Result::Ok(#value)
+        })
+    };
+    let vector = |code: &Code, nodes: &[NodeId]| {
+        let items = nodes.iter().map(|&id| code.value(id));
+        quote!([#(#items),*])
+    };
+    let velocities_body = method(Source::State, &eq.qd, &|c| vector(c, &eq.qd))?;
+    let energy_body = method(Source::State, &[eq.energy], &|c| c.value(eq.energy))?;
+    let mass_flat: Vec<NodeId> = eq.mass.iter().flatten().copied().collect();
+    let mass_body = method(Source::State, &mass_flat, &|c| {
+        let rows = eq.mass.iter().map(|r| vector(c, r));
+        quote!([#(#rows),*])
+    })?;
+    let gamma_flat: Vec<NodeId> = eq.gamma.iter().flatten().flatten().copied().collect();
+    let gamma_body = method(Source::Coordinates, &gamma_flat, &|c| {
+        let planes = eq.gamma.iter().map(|plane| {
+            let rows = plane.iter().map(|r| vector(c, r));
+            quote!([#(#rows),*])
+        });
+        quote!([#(#planes),*])
+    })?;
+
+    // The user's own row functions answer constraint_residual and speeds.
+    let call = |f: &syn::ImplItemFn| {
+        let name = &f.sig.ident;
+        let args = f.sig.inputs.iter().filter_map(|a| match a {
+            syn::FnArg::Typed(pt) => Some(matches!(*pt.ty, syn::Type::Reference(_))),
+            syn::FnArg::Receiver(_) => None,
+        });
+        let passed = args.zip([quote!(q), quote!(qd)]).map(|(by_ref, name)| {
+            if by_ref { name } else { quote!(*#name) }
+        });
+        let receiver = if f.sig.receiver().is_some() { quote!(self.) } else { quote!(Self::) };
+        quote!(#receiver #name(#(#passed),*))
+    };
+    let constraint_call = call(spec.constraints);
+    let speeds_call = call(spec.quasi_velocities);
+
+    // Index constants: `Model::ALPHA` is the index of `alpha` in q.
+    let index_consts = |idents: &[syn::Ident], what: &str| -> Vec<TokenStream> {
+        idents
+            .iter()
+            .enumerate()
+            .map(|(i, id)| {
+                let name = format_ident!("{}", id.to_string().to_uppercase(), span = id.span());
+                let doc = format!("Index of `{id}` among the {what}.");
+                let i = lit(i);
+                quote!(#[doc = #doc] pub const #name: usize = #i;)
+            })
+            .collect()
+    };
+    let coordinate_consts = index_consts(&spec.coordinates, "coordinates");
+    let speed_consts = index_consts(&spec.speeds, "speeds");
+    let input_consts = index_consts(&spec.inputs, "inputs");
+
+    let allow = quote!(#[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
+    Ok(quote! {
+        #imp
+
+        impl #impl_generics #ty #where_clause {
+            #(#coordinate_consts)*
+            #(#speed_consts)*
+            #(#input_consts)*
+            #rhs_generic
+        }
+
+        impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
+            type Coordinates = [f64; #n_l];
+            type Speeds = [f64; #free_l];
+            type Constraints = [f64; #p_l];
+            type State = [f64; #state_l];
+            type Inputs = [f64; #m_l];
+            type MassMatrix = [[f64; #free_l]; #free_l];
+            type Gamma = [[[f64; #free_l]; #free_l]; #n_l];
+
+            const COORDINATES: &'static [&'static str] = &[#(#coordinate_names),*];
+            const SPEEDS: &'static [&'static str] = &[#(#speed_names),*];
+            const CONSTRAINTS: &'static [&'static str] = &[#(#constraint_names),*];
+            const INPUTS: &'static [&'static str] = &[#(#input_names),*];
+            const STATE: &'static [&'static str] = &[#(#state_names),*];
+
+            #[inline]
+            fn rhs(
+                &self,
+                t: f64,
+                x: &[f64; #state_l],
+                u: &[f64; #m_l],
+                dx: &mut [f64; #state_l],
+            ) -> ::core::result::Result<(), ::hamel::Singularity> {
+                self.rhs_generic::<f64>(t, x, u, dx)
+            }
+
+            #allow
+            fn velocities(&self, x: &[f64; #state_l]) -> ::core::result::Result<[f64; #n_l], ::hamel::Singularity> {
+                #velocities_body
+            }
+
+            #allow
+            fn energy(&self, x: &[f64; #state_l]) -> ::core::result::Result<f64, ::hamel::Singularity> {
+                #energy_body
+            }
+
+            fn constraint_residual(&self, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #p_l] {
+                #constraint_call
+            }
+
+            fn speeds(&self, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #free_l] {
+                #speeds_call
+            }
+
+            #allow
+            fn mass_matrix(&self, x: &[f64; #state_l]) -> ::core::result::Result<[[f64; #free_l]; #free_l], ::hamel::Singularity> {
+                #mass_body
+            }
+
+            #allow
+            fn gamma(&self, q: &[f64; #n_l]) -> ::core::result::Result<[[[f64; #free_l]; #free_l]; #n_l], ::hamel::Singularity> {
+                #gamma_body
+            }
+        }
+    })
+}

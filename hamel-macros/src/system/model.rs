@@ -1,0 +1,202 @@
+//! What the user wrote: the names in `#[hamel_system(..)]` and the role of each function.
+
+use proc_macro2::{Span, TokenStream};
+use quote::ToTokens;
+use std::collections::HashMap;
+use syn::spanned::Spanned;
+
+/// The roles a function of the model can play, each marked by an attribute of that name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Role {
+    /// L(q, q̇)
+    Lagrangian,
+    /// T(q, q̇)
+    KineticEnergy,
+    /// V(q)
+    PotentialEnergy,
+    /// L̃(q, ω), the Lagrangian in quasi-velocities (the paper's eq. 12)
+    QuasiLagrangian,
+    /// ω¹…ωᵖ(q, q̇), zero on every motion
+    Constraints,
+    /// ω^{p+1}…ωⁿ(q, q̇), completing the constraints to an invertible ω = A(q) q̇
+    QuasiVelocities,
+    /// q̇ = B(q) ω, the inverse (optional)
+    Velocities,
+    /// f(t, q, q̇, u) (optional)
+    Forces,
+}
+
+impl Role {
+    pub const ALL: [Role; 8] = [
+        Role::Lagrangian,
+        Role::KineticEnergy,
+        Role::PotentialEnergy,
+        Role::QuasiLagrangian,
+        Role::Constraints,
+        Role::QuasiVelocities,
+        Role::Velocities,
+        Role::Forces,
+    ];
+
+    pub fn attribute(self) -> &'static str {
+        match self {
+            Role::Lagrangian => "lagrangian",
+            Role::KineticEnergy => "kinetic_energy",
+            Role::PotentialEnergy => "potential_energy",
+            Role::QuasiLagrangian => "quasi_lagrangian",
+            Role::Constraints => "constraints",
+            Role::QuasiVelocities => "quasi_velocities",
+            Role::Velocities => "velocities",
+            Role::Forces => "forces",
+        }
+    }
+
+    fn from_attribute(attr: &syn::Attribute) -> Option<Role> {
+        let ident = attr.path().get_ident()?;
+        Role::ALL.into_iter().find(|r| ident == r.attribute())
+    }
+
+    /// The signature the role's function must have, for messages.
+    pub fn expected_signature(self) -> &'static str {
+        match self {
+            Role::Lagrangian | Role::KineticEnergy => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> f64",
+            Role::PotentialEnergy => "fn(&self, q: &[f64; N]) -> f64",
+            Role::QuasiLagrangian => "fn(&self, q: &[f64; N], w: &[f64; N]) -> f64",
+            Role::Constraints => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; P]",
+            Role::QuasiVelocities => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; N - P]",
+            Role::Velocities => "fn(&self, q: &[f64; N], w: &[f64; N]) -> [f64; N]",
+            Role::Forces => "fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]",
+        }
+    }
+}
+
+/// Names given in `#[hamel_system(coordinates(..), speeds(..), inputs(..))]`.
+#[derive(Default)]
+pub struct Names {
+    pub coordinates: Option<(Span, Vec<syn::Ident>)>,
+    pub speeds: Option<(Span, Vec<syn::Ident>)>,
+    pub inputs: Vec<syn::Ident>,
+}
+
+pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)` and `inputs(..)`";
+
+/// Parse the attribute's arguments, collecting every mistake.
+pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
+    let mut names = Names::default();
+    if attr.is_empty() {
+        return names;
+    }
+    let parser = syn::meta::parser(|meta| {
+        let key = meta.path.get_ident().map(ToString::to_string).unwrap_or_default();
+        let mut list = Vec::new();
+        let span = meta.path.span();
+        let result = meta.parse_nested_meta(|inner| match inner.path.get_ident() {
+            Some(ident) if inner.input.is_empty() || inner.input.peek(syn::Token![,]) => {
+                list.push(ident.clone());
+                Ok(())
+            }
+            _ => Err(inner.error("expected a name (an identifier)")),
+        });
+        if let Err(e) = result {
+            errors.push(e);
+        }
+        let slot = match key.as_str() {
+            "coordinates" => &mut names.coordinates,
+            "speeds" | "quasi_velocities" => &mut names.speeds,
+            "inputs" => {
+                names.inputs = list;
+                return Ok(());
+            }
+            _ => {
+                errors.push(meta.error(format!(
+                    "unknown key `{}`: `#[hamel_system]` on an impl block takes {NAME_KEYS}",
+                    meta.path.to_token_stream()
+                )));
+                return Ok(());
+            }
+        };
+        if slot.is_some() {
+            errors.push(meta.error(format!("`{key}` is given twice")));
+        }
+        *slot = Some((span, list));
+        Ok(())
+    });
+    if let Err(e) = syn::parse::Parser::parse2(parser, attr) {
+        errors.push(e);
+    }
+    names
+}
+
+/// A function with a role, and where its role attribute is.
+pub struct RoleFn<'a> {
+    pub f: &'a syn::ImplItemFn,
+    pub attr: &'a syn::Attribute,
+}
+
+/// The roles found in an impl block. Role attributes are removed from the emitted code.
+pub struct Roles<'a> {
+    pub by_role: HashMap<Role, RoleFn<'a>>,
+}
+
+impl<'a> Roles<'a> {
+    pub fn find(items: &'a [syn::ImplItem], errors: &mut Vec<syn::Error>) -> Self {
+        let mut by_role: HashMap<Role, RoleFn<'a>> = HashMap::new();
+        for item in items {
+            let syn::ImplItem::Fn(f) = item else { continue };
+            let mut mine: Option<Role> = None;
+            for attr in &f.attrs {
+                let Some(role) = Role::from_attribute(attr) else { continue };
+                if !matches!(attr.meta, syn::Meta::Path(_)) {
+                    errors.push(syn::Error::new_spanned(
+                        attr,
+                        format!("`#[{}]` takes no arguments", role.attribute()),
+                    ));
+                }
+                if let Some(other) = mine {
+                    errors.push(syn::Error::new_spanned(
+                        attr,
+                        format!(
+                            "`{}` already has the role `#[{}]`: a function plays one role",
+                            f.sig.ident,
+                            other.attribute()
+                        ),
+                    ));
+                    continue;
+                }
+                mine = Some(role);
+                if let Some(previous) = by_role.get(&role) {
+                    errors.push(syn::Error::new_spanned(
+                        attr,
+                        format!(
+                            "a second `#[{}]`: `{}` already has this role",
+                            role.attribute(),
+                            previous.f.sig.ident
+                        ),
+                    ));
+                    continue;
+                }
+                by_role.insert(role, RoleFn { f, attr });
+            }
+        }
+        Roles { by_role }
+    }
+
+    pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {
+        self.by_role.get(&role)
+    }
+
+    pub fn has(&self, role: Role) -> bool {
+        self.by_role.contains_key(&role)
+    }
+}
+
+/// The impl block with the role attributes removed (they are ours, not rustc's).
+pub fn strip_role_attributes(imp: &syn::ItemImpl) -> syn::ItemImpl {
+    let mut imp = imp.clone();
+    for item in &mut imp.items {
+        if let syn::ImplItem::Fn(f) = item {
+            f.attrs.retain(|a| Role::from_attribute(a).is_none());
+        }
+    }
+    imp
+}

@@ -1,0 +1,169 @@
+//! The traits a model implements: [`Parameters`] (generated from the parameter struct) and
+//! [`HamelSystem`] (generated from the model's impl block by `#[hamel_system]`).
+
+use crate::error::{Error, Singularity};
+use crate::named::NamedValues;
+use crate::vector::Vector;
+
+/// A model's parameters: a struct of named `f64` fields.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` does not describe its parameters",
+    label = "annotate the parameter struct `{Self}` with `#[hamel_system]`",
+    note = "`#[hamel_system]` goes on both the parameter struct and the model's impl block"
+)]
+pub trait Parameters {
+    /// Field names, in declaration order.
+    const NAMES: &'static [&'static str];
+    /// The fields' doc comments (empty where there is none), for `--help` texts.
+    const DOCS: &'static [&'static str];
+
+    /// The value of the parameter `name`.
+    fn get(&self, name: &str) -> Option<f64>;
+
+    /// Set a parameter by name; an unknown name is an error that lists the known ones.
+    fn set(&mut self, name: &str, value: f64) -> Result<(), Error>;
+
+    /// Every parameter must be a finite number.
+    fn validate(&self) -> Result<(), Error> {
+        for name in Self::NAMES {
+            let value = self.get(name).unwrap_or(f64::NAN);
+            if !value.is_finite() {
+                return Err(Error::InvalidParameter { name: (*name).to_string(), value });
+            }
+        }
+        Ok(())
+    }
+
+    /// All parameters with their names (for `Debug`-style reports).
+    fn parameter_values(&self) -> NamedValues {
+        let values: Vec<f64> = Self::NAMES.iter().map(|n| self.get(n).unwrap_or(f64::NAN)).collect();
+        NamedValues::new(Self::NAMES, &values)
+    }
+}
+
+/// A nonholonomic mechanical system with n coordinates and p constraints, reduced by Hamel's
+/// equations to an ODE of dimension 2n − p in the state x = (q, ω_{p+1}, …, ω_n): the
+/// coordinates and the quasi-velocities that are not constrained to zero.
+///
+/// Implemented by `#[hamel_system]`; the methods are straight-line code generated from the
+/// model's Lagrangian, constraints and forces.
+pub trait HamelSystem: Parameters {
+    /// `[f64; n]`
+    type Coordinates: Vector;
+    /// `[f64; n − p]`: the free quasi-velocities ("speeds").
+    type Speeds: Vector;
+    /// `[f64; p]`
+    type Constraints: Vector;
+    /// `[f64; 2n − p]`
+    type State: Vector;
+    /// `[f64; m]`: the inputs (motor torques, ...).
+    type Inputs: Vector;
+    /// `[[f64; n − p]; n − p]`
+    type MassMatrix: Copy + core::fmt::Debug;
+    /// `[[[f64; n − p]; n − p]; n]`: γʲ_{l,k} for j = 1…n and l, k = p+1…n.
+    type Gamma: Copy + core::fmt::Debug;
+
+    /// Names of the coordinates q.
+    const COORDINATES: &'static [&'static str];
+    /// Names of the free quasi-velocities.
+    const SPEEDS: &'static [&'static str];
+    /// Names of the constraints (the rows of the constraint function).
+    const CONSTRAINTS: &'static [&'static str];
+    /// Names of the inputs.
+    const INPUTS: &'static [&'static str];
+    /// Names of the state components: the coordinates, then the speeds.
+    const STATE: &'static [&'static str];
+
+    /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
+    fn rhs(&self, t: f64, x: &Self::State, u: &Self::Inputs, dx: &mut Self::State) -> Result<(), Singularity>;
+
+    /// The generalized velocities q̇ = Σ_{k>p} B_k(q) ω_k of a state.
+    fn velocities(&self, x: &Self::State) -> Result<Self::Coordinates, Singularity>;
+
+    /// The energy T + V of a state (for a general Lagrangian, q̇·∂L/∂q̇ − L).
+    fn energy(&self, x: &Self::State) -> Result<f64, Singularity>;
+
+    /// The constraint rows A_c(q) q̇ (zero on every admissible motion).
+    fn constraint_residual(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Constraints;
+
+    /// The quasi-velocities ω_{p+1…n} of a configuration and velocity.
+    fn speeds(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Speeds;
+
+    /// The reduced mass matrix M_kl = ∂²L̃/∂ω_k∂ω_l (k, l > p) at a state.
+    fn mass_matrix(&self, x: &Self::State) -> Result<Self::MassMatrix, Singularity>;
+
+    /// The coefficients γʲ_{l,k} of Hamel's equations at a configuration.
+    fn gamma(&self, q: &Self::Coordinates) -> Result<Self::Gamma, Singularity>;
+
+    /// The state of a configuration and velocities, after checking that the parameters and
+    /// values are finite and that the velocities satisfy the constraints.
+    fn state_from_velocities(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Result<Self::State, Error> {
+        self.validate()?;
+        check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        check_finite(Self::COORDINATES, qd.as_ref(), "d/dt ")?;
+        let residual = self.constraint_residual(q, qd);
+        let scale = qd.as_ref().iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let tolerance = CONSTRAINT_TOLERANCE * scale;
+        for (name, r) in Self::CONSTRAINTS.iter().zip(residual.as_ref()) {
+            if !(r.abs() <= tolerance) {
+                return Err(Error::ConstraintViolation {
+                    name: (*name).to_string(),
+                    residual: *r,
+                    tolerance,
+                });
+            }
+        }
+        let speeds = self.speeds(q, qd);
+        Ok(join::<Self>(q, &speeds))
+    }
+
+    /// The state of a configuration and the free quasi-velocities (always admissible).
+    fn state_from_speeds(&self, q: &Self::Coordinates, speeds: &Self::Speeds) -> Result<Self::State, Error> {
+        self.validate()?;
+        check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
+        Ok(join::<Self>(q, speeds))
+    }
+
+    /// The coordinates part of a state.
+    fn coordinates_of(x: &Self::State) -> Self::Coordinates {
+        let mut q = Self::Coordinates::zeros();
+        let n = Self::Coordinates::LEN;
+        q.as_mut().copy_from_slice(&x.as_ref()[..n]);
+        q
+    }
+
+    /// The speeds part of a state.
+    fn speeds_of(x: &Self::State) -> Self::Speeds {
+        let mut w = Self::Speeds::zeros();
+        let n = Self::Coordinates::LEN;
+        w.as_mut().copy_from_slice(&x.as_ref()[n..]);
+        w
+    }
+
+    /// A state with its component names, for messages and `Debug` output.
+    fn named_state(x: &Self::State) -> NamedValues {
+        NamedValues::new(Self::STATE, x.as_ref())
+    }
+}
+
+/// Relative tolerance on the constraint residual of initial velocities (scaled by the
+/// largest velocity component, or 1): rounding, not modelling, errors pass.
+pub const CONSTRAINT_TOLERANCE: f64 = 1e-10;
+
+fn check_finite(names: &[&str], values: &[f64], prefix: &str) -> Result<(), Error> {
+    for (name, v) in names.iter().zip(values) {
+        if !v.is_finite() {
+            return Err(Error::NonFiniteInitialValue { name: format!("{prefix}{name}"), value: *v });
+        }
+    }
+    Ok(())
+}
+
+fn join<S: HamelSystem + ?Sized>(q: &S::Coordinates, w: &S::Speeds) -> S::State {
+    let mut x = S::State::zeros();
+    let n = S::Coordinates::LEN;
+    x.as_mut()[..n].copy_from_slice(q.as_ref());
+    x.as_mut()[n..].copy_from_slice(w.as_ref());
+    x
+}

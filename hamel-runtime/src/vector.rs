@@ -1,0 +1,28 @@
+//! Fixed-size vectors: the state, coordinates and inputs of a system live on the stack.
+
+use core::fmt::Debug;
+
+/// A fixed-size array of `f64` (`[f64; N]` for every `N`): what generated systems use for
+/// states, coordinates and inputs, so that no evaluation touches the heap.
+pub trait Vector: Copy + Debug + PartialEq + AsRef<[f64]> + AsMut<[f64]> + Send + Sync + 'static {
+    const LEN: usize;
+
+    fn zeros() -> Self;
+
+    /// The vector with these components, or `None` if the length is wrong.
+    fn from_slice(values: &[f64]) -> Option<Self> {
+        let mut v = Self::zeros();
+        (values.len() == Self::LEN).then(|| {
+            v.as_mut().copy_from_slice(values);
+            v
+        })
+    }
+}
+
+impl<const N: usize> Vector for [f64; N] {
+    const LEN: usize = N;
+
+    fn zeros() -> Self {
+        [0.0; N]
+    }
+}

@@ -1,0 +1,6 @@
+//! A catalogue of models: the paper's robot and the classic nonholonomic systems the test
+//! suite validates against. Each is an ordinary `#[hamel_system]` model; read its source.
+
+pub mod mobile_robot;
+
+pub use mobile_robot::{MobileRobot, MobileRobotPaper};
