@@ -18,8 +18,18 @@ impl Singularity {
     /// The full error, at time `t` and state `state`.
     pub fn at(self, t: f64, state: NamedValues) -> Error {
         match self {
-            Singularity::MassMatrix { pivot, value } => Error::SingularMassMatrix { t, pivot, value, state },
-            Singularity::Transformation { pivot, value } => Error::SingularTransformation { t, pivot, value, state },
+            Singularity::MassMatrix { pivot, value } => Error::SingularMassMatrix {
+                t,
+                pivot,
+                value,
+                state,
+            },
+            Singularity::Transformation { pivot, value } => Error::SingularTransformation {
+                t,
+                pivot,
+                value,
+                state,
+            },
         }
     }
 }
@@ -40,20 +50,43 @@ pub enum Error {
          tolerance {tolerance:e}; choose velocities that satisfy the constraints, or start from the \
          quasi-velocities with `state_from_speeds`"
     )]
-    ConstraintViolation { name: String, residual: f64, tolerance: f64 },
+    ConstraintViolation {
+        name: String,
+        residual: f64,
+        tolerance: f64,
+    },
 
     #[error(
         "singular reduced mass matrix at t = {t}: pivot {pivot} of its factorization is {value:e}; \
          state: {state}"
     )]
-    SingularMassMatrix { t: f64, pivot: usize, value: f64, state: NamedValues },
+    SingularMassMatrix {
+        t: f64,
+        pivot: usize,
+        value: f64,
+        state: NamedValues,
+    },
 
     #[error(
         "singular velocity transformation at t = {t}: the constraints and quasi-velocities are not \
          independent at this configuration (pivot {pivot} of A(q) is {value:e}); choose \
          quasi-velocities that complete the constraints here; state: {state}"
     )]
-    SingularTransformation { t: f64, pivot: usize, value: f64, state: NamedValues },
+    SingularTransformation {
+        t: f64,
+        pivot: usize,
+        value: f64,
+        state: NamedValues,
+    },
+
+    #[error(
+        "the `#[velocities]` function is not the inverse of the constraints and quasi-velocities: \
+         A(q)·B(q) differs from the identity by {defect:e} at {configuration}"
+    )]
+    InverseMismatch {
+        defect: f64,
+        configuration: NamedValues,
+    },
 
     #[error("step size underflow at t = {t}: the step shrank to {h:e}; state: {state}")]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
@@ -62,7 +95,11 @@ pub enum Error {
     NonFiniteState { t: f64, state: NamedValues },
 
     #[error("invalid setting `{name}` = {value}: {reason}")]
-    InvalidSetting { name: &'static str, value: f64, reason: &'static str },
+    InvalidSetting {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
 
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },

@@ -66,7 +66,9 @@ impl Scalar for f64 {
         self
     }
 
-    forward!(sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, exp, ln, log10, sqrt, cbrt, abs, signum);
+    forward!(
+        sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, exp, ln, log10, sqrt, cbrt, abs, signum
+    );
 
     #[inline(always)]
     fn powi(self, n: i32) -> Self {

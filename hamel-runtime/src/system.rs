@@ -28,7 +28,10 @@ pub trait Parameters {
         for name in Self::NAMES {
             let value = self.get(name).unwrap_or(f64::NAN);
             if !value.is_finite() {
-                return Err(Error::InvalidParameter { name: (*name).to_string(), value });
+                return Err(Error::InvalidParameter {
+                    name: (*name).to_string(),
+                    value,
+                });
             }
         }
         Ok(())
@@ -36,7 +39,10 @@ pub trait Parameters {
 
     /// All parameters with their names (for `Debug`-style reports).
     fn parameter_values(&self) -> NamedValues {
-        let values: Vec<f64> = Self::NAMES.iter().map(|n| self.get(n).unwrap_or(f64::NAN)).collect();
+        let values: Vec<f64> = Self::NAMES
+            .iter()
+            .map(|n| self.get(n).unwrap_or(f64::NAN))
+            .collect();
         NamedValues::new(Self::NAMES, &values)
     }
 }
@@ -75,7 +81,13 @@ pub trait HamelSystem: Parameters {
     const STATE: &'static [&'static str];
 
     /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
-    fn rhs(&self, t: f64, x: &Self::State, u: &Self::Inputs, dx: &mut Self::State) -> Result<(), Singularity>;
+    fn rhs(
+        &self,
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+        dx: &mut Self::State,
+    ) -> Result<(), Singularity>;
 
     /// The generalized velocities q̇ = Σ_{k>p} B_k(q) ω_k of a state.
     fn velocities(&self, x: &Self::State) -> Result<Self::Coordinates, Singularity>;
@@ -84,7 +96,11 @@ pub trait HamelSystem: Parameters {
     fn energy(&self, x: &Self::State) -> Result<f64, Singularity>;
 
     /// The constraint rows A_c(q) q̇ (zero on every admissible motion).
-    fn constraint_residual(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Constraints;
+    fn constraint_residual(
+        &self,
+        q: &Self::Coordinates,
+        qd: &Self::Coordinates,
+    ) -> Self::Constraints;
 
     /// The quasi-velocities ω_{p+1…n} of a configuration and velocity.
     fn speeds(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Speeds;
@@ -95,11 +111,34 @@ pub trait HamelSystem: Parameters {
     /// The coefficients γʲ_{l,k} of Hamel's equations at a configuration.
     fn gamma(&self, q: &Self::Coordinates) -> Result<Self::Gamma, Singularity>;
 
-    /// The state of a configuration and velocities, after checking that the parameters and
-    /// values are finite and that the velocities satisfy the constraints.
-    fn state_from_velocities(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Result<Self::State, Error> {
+    /// max |(A(q)·B(q) − I)ᵢⱼ| when the model gives the inverse B in closed form (zero when B
+    /// is computed from A): how far the given inverse is from being one.
+    fn inverse_defect(&self, q: &Self::Coordinates) -> Result<f64, Singularity>;
+
+    /// Check the parameters, and that a closed-form inverse B really inverts A at `q`.
+    fn check_configuration(&self, q: &Self::Coordinates) -> Result<(), Error> {
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        let defect = self
+            .inverse_defect(q)
+            .map_err(|s| s.at(0.0, NamedValues::new(Self::COORDINATES, q.as_ref())))?;
+        if !(defect <= INVERSE_TOLERANCE) {
+            return Err(Error::InverseMismatch {
+                defect,
+                configuration: NamedValues::new(Self::COORDINATES, q.as_ref()),
+            });
+        }
+        Ok(())
+    }
+
+    /// The state of a configuration and velocities, after checking that the parameters and
+    /// values are finite and that the velocities satisfy the constraints.
+    fn state_from_velocities(
+        &self,
+        q: &Self::Coordinates,
+        qd: &Self::Coordinates,
+    ) -> Result<Self::State, Error> {
+        self.check_configuration(q)?;
         check_finite(Self::COORDINATES, qd.as_ref(), "d/dt ")?;
         let residual = self.constraint_residual(q, qd);
         let scale = qd.as_ref().iter().fold(1.0f64, |m, v| m.max(v.abs()));
@@ -118,9 +157,12 @@ pub trait HamelSystem: Parameters {
     }
 
     /// The state of a configuration and the free quasi-velocities (always admissible).
-    fn state_from_speeds(&self, q: &Self::Coordinates, speeds: &Self::Speeds) -> Result<Self::State, Error> {
-        self.validate()?;
-        check_finite(Self::COORDINATES, q.as_ref(), "")?;
+    fn state_from_speeds(
+        &self,
+        q: &Self::Coordinates,
+        speeds: &Self::Speeds,
+    ) -> Result<Self::State, Error> {
+        self.check_configuration(q)?;
         check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
         Ok(join::<Self>(q, speeds))
     }
@@ -147,6 +189,9 @@ pub trait HamelSystem: Parameters {
     }
 }
 
+/// Largest entry of A·B − I accepted from a closed-form inverse: rounding, not a typo.
+pub const INVERSE_TOLERANCE: f64 = 1e-9;
+
 /// Relative tolerance on the constraint residual of initial velocities (scaled by the
 /// largest velocity component, or 1): rounding, not modelling, errors pass.
 pub const CONSTRAINT_TOLERANCE: f64 = 1e-10;
@@ -154,7 +199,10 @@ pub const CONSTRAINT_TOLERANCE: f64 = 1e-10;
 fn check_finite(names: &[&str], values: &[f64], prefix: &str) -> Result<(), Error> {
     for (name, v) in names.iter().zip(values) {
         if !v.is_finite() {
-            return Err(Error::NonFiniteInitialValue { name: format!("{prefix}{name}"), value: *v });
+            return Err(Error::NonFiniteInitialValue {
+                name: format!("{prefix}{name}"),
+                value: *v,
+            });
         }
     }
     Ok(())

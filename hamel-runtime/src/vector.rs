@@ -4,7 +4,9 @@ use core::fmt::Debug;
 
 /// A fixed-size array of `f64` (`[f64; N]` for every `N`): what generated systems use for
 /// states, coordinates and inputs, so that no evaluation touches the heap.
-pub trait Vector: Copy + Debug + PartialEq + AsRef<[f64]> + AsMut<[f64]> + Send + Sync + 'static {
+pub trait Vector:
+    Copy + Debug + PartialEq + AsRef<[f64]> + AsMut<[f64]> + Send + Sync + 'static
+{
     const LEN: usize;
 
     fn zeros() -> Self;

@@ -39,11 +39,25 @@ pub struct MobileRobot {
 
 impl Default for MobileRobot {
     fn default() -> Self {
-        MobileRobot { m0: 10.0, mw: 1.0, jx: 0.4, jy: 0.3, jz: 0.2, r: 0.1, b: 0.5, l: 0.2, g: 9.81 }
+        MobileRobot {
+            m0: 10.0,
+            mw: 1.0,
+            jx: 0.4,
+            jy: 0.3,
+            jz: 0.2,
+            r: 0.1,
+            b: 0.5,
+            l: 0.2,
+            g: 9.81,
+        }
     }
 }
 
-#[hamel_system(coordinates(x, y, alpha, phi1, phi2), speeds(w3, w4, w5), inputs(tau1, tau2))]
+#[hamel_system(
+    coordinates(x, y, alpha, phi1, phi2),
+    speeds(w3, w4, w5),
+    inputs(tau1, tau2)
+)]
 impl MobileRobot {
     /// T of the body and the wheels. The body's centre of gravity sits l·(sin α e_f + cos α e_z)
     /// from the axle's centre (e_f: forward, e_a: along the axle, to the left); the yaw
@@ -96,7 +110,11 @@ impl MobileRobot {
     #[quasi_velocities]
     pub fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
         let theta = self.r * (q[3] - q[4]) / self.b;
-        [qd[2], qd[0] * theta.cos() + qd[1] * theta.sin(), self.r / self.b * (qd[3] - qd[4])]
+        [
+            qd[2],
+            qd[0] * theta.cos() + qd[1] * theta.sin(),
+            self.r / self.b * (qd[3] - qd[4]),
+        ]
     }
 
     /// The motor torques act between the body and each wheel, on the relative angles φᵢ.
@@ -132,7 +150,17 @@ pub struct MobileRobotPaper {
 
 impl From<&MobileRobot> for MobileRobotPaper {
     fn from(p: &MobileRobot) -> Self {
-        MobileRobotPaper { m0: p.m0, mw: p.mw, jx: p.jx, jy: p.jy, jz: p.jz, r: p.r, b: p.b, l: p.l, g: p.g }
+        MobileRobotPaper {
+            m0: p.m0,
+            mw: p.mw,
+            jx: p.jx,
+            jy: p.jy,
+            jz: p.jz,
+            r: p.r,
+            b: p.b,
+            l: p.l,
+            g: p.g,
+        }
     }
 }
 
@@ -142,7 +170,11 @@ impl Default for MobileRobotPaper {
     }
 }
 
-#[hamel_system(coordinates(x, y, alpha, phi1, phi2), speeds(w3, w4, w5), inputs(tau1, tau2))]
+#[hamel_system(
+    coordinates(x, y, alpha, phi1, phi2),
+    speeds(w3, w4, w5),
+    inputs(tau1, tau2)
+)]
 impl MobileRobotPaper {
     /// The paper's eq. (12), ω indexed from 0 here (w[0] = ω¹).
     #[quasi_lagrangian]
@@ -177,7 +209,11 @@ impl MobileRobotPaper {
     #[quasi_velocities]
     pub fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
         let theta = self.r * (q[3] - q[4]) / self.b;
-        [qd[2], qd[0] * theta.cos() + qd[1] * theta.sin(), self.r / self.b * (qd[3] - qd[4])]
+        [
+            qd[2],
+            qd[0] * theta.cos() + qd[1] * theta.sin(),
+            self.r / self.b * (qd[3] - qd[4]),
+        ]
     }
 
     /// q̇ = B(q) ω, the inverse of the five rows above.
@@ -187,7 +223,13 @@ impl MobileRobotPaper {
         let (s, c) = theta.sin_cos();
         let roll = (w[1] + w[3]) / self.r - w[2];
         let turn = 0.5 * self.b / self.r * w[4];
-        [w[0] * s + w[3] * c, -w[0] * c + w[3] * s, w[2], roll + turn, roll - turn]
+        [
+            w[0] * s + w[3] * c,
+            -w[0] * c + w[3] * s,
+            w[2],
+            roll + turn,
+            roll - turn,
+        ]
     }
 
     #[forces]

@@ -117,7 +117,14 @@ fn unary_partial(g: &mut Graph, f: Func, a: NodeId, y: NodeId) -> NodeId {
     }
 }
 
-fn binary_partial(g: &mut Graph, f: Func2, a: NodeId, b: NodeId, y: NodeId, which: usize) -> NodeId {
+fn binary_partial(
+    g: &mut Graph,
+    f: Func2,
+    a: NodeId,
+    b: NodeId,
+    y: NodeId,
+    which: usize,
+) -> NodeId {
     match f {
         Func2::Powf => {
             if which == 0 {

@@ -46,7 +46,9 @@ impl Code {
     pub fn value(&self, id: NodeId) -> TokenStream {
         match self.refs.get(&id) {
             Some((tokens, _)) => tokens.clone(),
-            None => quote!(::core::compile_error!("hamel internal error: a root was not emitted")),
+            None => quote!(::core::compile_error!(
+                "hamel internal error: a root was not emitted"
+            )),
         }
     }
 }
@@ -77,7 +79,9 @@ impl<'g> Emitter<'g> {
     /// reported (never a panic).
     pub fn emit(&self, roots: &[NodeId]) -> syn::Result<Code> {
         let mut stages = self.emit_stages(&[roots])?;
-        stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: no stage"))
+        stages
+            .pop()
+            .ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: no stage"))
     }
 
     /// Code in stages, run in order with other code in between (a numeric factorization):
@@ -132,7 +136,10 @@ impl<'g> Emitter<'g> {
                     refs.insert(id, (quote!(#name), Prec::Atom));
                 }
             }
-            out.push(Code { stmts, refs: refs.clone() });
+            out.push(Code {
+                stmts,
+                refs: refs.clone(),
+            });
         }
         Ok(out)
     }
@@ -156,13 +163,19 @@ impl<'g> Emitter<'g> {
         (scalar, Prec::Atom)
     }
 
-    fn operation(&self, node: Node, refs: &HashMap<NodeId, (TokenStream, Prec)>) -> (TokenStream, Prec) {
+    fn operation(
+        &self,
+        node: Node,
+        refs: &HashMap<NodeId, (TokenStream, Prec)>,
+    ) -> (TokenStream, Prec) {
         // An operand, parenthesized if it binds weaker than `need`.
         let at = |id: NodeId, need: Prec| -> TokenStream {
             match refs.get(&id) {
                 Some((tokens, prec)) if *prec >= need => tokens.clone(),
                 Some((tokens, _)) => quote!((#tokens)),
-                None => quote!(::core::compile_error!("hamel internal error: operand emitted out of order")),
+                None => quote!(::core::compile_error!(
+                    "hamel internal error: operand emitted out of order"
+                )),
             }
         };
         // A method receiver must have a known type: `2.0.powf(x)` does not compile, `2f64.powf(x)` does.
@@ -171,7 +184,11 @@ impl<'g> Emitter<'g> {
                 (Node::Const(bits), Scalar::F64) if f64::from_bits(bits).is_finite() => {
                     let v = f64::from_bits(bits);
                     let lit = Literal::f64_suffixed(v.abs());
-                    if v.is_sign_negative() { quote!((-#lit)) } else { quote!(#lit) }
+                    if v.is_sign_negative() {
+                        quote!((-#lit))
+                    } else {
+                        quote!(#lit)
+                    }
                 }
                 _ => at(id, Prec::Atom),
             }
@@ -213,7 +230,11 @@ impl<'g> Emitter<'g> {
                 (quote!(#a.#m(#b)), Prec::Atom)
             }
             Node::Select(c, a, b) => {
-                let (c, a, b) = (at(c, Prec::Select), at(a, Prec::Select), at(b, Prec::Select));
+                let (c, a, b) = (
+                    at(c, Prec::Select),
+                    at(a, Prec::Select),
+                    at(b, Prec::Select),
+                );
                 (quote!(if #c { #a } else { #b }), Prec::Select)
             }
             Node::Compare(op, a, b) => {
@@ -240,9 +261,12 @@ impl<'g> Emitter<'g> {
                 let a = at(a, Prec::Prefix);
                 (quote!(!#a), Prec::Prefix)
             }
-            Node::Const(_) | Node::Input(_) | Node::Bool(_) => {
-                (quote!(::core::compile_error!("hamel internal error: leaf emitted as operation")), Prec::Atom)
-            }
+            Node::Const(_) | Node::Input(_) | Node::Bool(_) => (
+                quote!(::core::compile_error!(
+                    "hamel internal error: leaf emitted as operation"
+                )),
+                Prec::Atom,
+            ),
         }
     }
 }

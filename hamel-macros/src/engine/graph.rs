@@ -331,7 +331,7 @@ impl Graph {
         }
     }
 
-    fn intern(&mut self, node: Node) -> NodeId {
+    pub(super) fn intern(&mut self, node: Node) -> NodeId {
         if let Some(&id) = self.interned.get(&node) {
             return id;
         }
@@ -352,6 +352,11 @@ impl Graph {
             Node::Const(bits) => self.constant(-f64::from_bits(bits)),
             Node::Neg(inner) => inner,
             Node::Sub(x, y) => self.sub(y, x),
+            // A product with a constant in front takes the sign into its constant.
+            Node::Mul(k, x) if self.const_value(k).is_some() => {
+                let c = -self.const_value(k).unwrap_or(1.0);
+                self.scale_by(c, x)
+            }
             _ => self.intern(Node::Neg(a)),
         }
     }
@@ -366,11 +371,17 @@ impl Graph {
         if self.is_zero(b) {
             return a;
         }
+        if let Some(normal) = self.normal_sum(a, b, 1.0) {
+            return normal;
+        }
+        if let Some(factored) = self.common_factor(a, b, false) {
+            return factored;
+        }
         if let Node::Neg(y) = self.node(b) {
-            return self.sub(a, y);
+            return self.intern(Node::Sub(a, y));
         }
         if let Node::Neg(x) = self.node(a) {
-            return self.sub(b, x);
+            return self.intern(Node::Sub(b, x));
         }
         let (a, b) = Self::ordered(a, b);
         self.intern(Node::Add(a, b))
@@ -389,8 +400,15 @@ impl Graph {
         if a == b {
             return self.zero();
         }
+        if let Some(normal) = self.normal_sum(a, b, -1.0) {
+            return normal;
+        }
+        if let Some(factored) = self.common_factor(a, b, true) {
+            return factored;
+        }
         if let Node::Neg(y) = self.node(b) {
-            return self.add(a, y);
+            let (a, y) = Self::ordered(a, y);
+            return self.intern(Node::Add(a, y));
         }
         self.intern(Node::Sub(a, b))
     }
@@ -429,8 +447,62 @@ impl Graph {
             }
             _ => {}
         }
+        // Constants in front, folded together: 2·(0.5·x) is x, and x·(2·y) is 2·(x·y).
+        if let Some(c) = self.const_value(b) {
+            return self.scale_by(c, a);
+        }
+        if let Some(c) = self.const_value(a) {
+            return self.scale_by(c, b);
+        }
+        if let Some(c) = self.cancelled_product(a, b, false) {
+            return c;
+        }
+        if let Some((k, y)) = self.leading_constant(b) {
+            let p = self.mul(a, y);
+            return self.scale_by(k, p);
+        }
+        if let Some((k, x)) = self.leading_constant(a) {
+            let p = self.mul(x, b);
+            return self.scale_by(k, p);
+        }
         let (a, b) = Self::ordered(a, b);
         self.intern(Node::Mul(a, b))
+    }
+
+    /// `(k, y)` when `x` is `k·y` with a constant `k`.
+    fn leading_constant(&self, x: NodeId) -> Option<(f64, NodeId)> {
+        match self.node(x) {
+            Node::Mul(k, y) => self.const_value(k).map(|kv| (kv, y)),
+            _ => None,
+        }
+    }
+
+    /// k·x ± k·y as k·(x ± y): one multiplication instead of two.
+    fn common_factor(&mut self, a: NodeId, b: NodeId, subtract: bool) -> Option<NodeId> {
+        let (ka, x) = self.leading_constant(a)?;
+        let (kb, y) = self.leading_constant(b)?;
+        if ka != kb {
+            return None;
+        }
+        let inner = if subtract {
+            self.sub(x, y)
+        } else {
+            self.add(x, y)
+        };
+        Some(self.scale_by(ka, inner))
+    }
+
+    /// c·x with the constant in front, merged with a constant already in front of x.
+    fn scale_by(&mut self, c: f64, x: NodeId) -> NodeId {
+        if let Node::Mul(k, y) = self.node(x)
+            && let Some(kv) = self.const_value(k)
+        {
+            let product = c * kv;
+            let k = self.constant(product);
+            return self.mul(k, y);
+        }
+        let k = self.constant(c);
+        self.intern(Node::Mul(k, x))
     }
 
     pub fn div(&mut self, a: NodeId, b: NodeId) -> NodeId {
@@ -458,6 +530,9 @@ impl Graph {
             }
             _ => {}
         }
+        if let Some(c) = self.cancelled_product(a, b, true) {
+            return c;
+        }
         self.intern(Node::Div(a, b))
     }
 
@@ -467,7 +542,10 @@ impl Graph {
         }
         match (f, self.node(a)) {
             // Odd and even symmetries keep negations outside, where `mul` can cancel them.
-            (Func::Sin | Func::Tan | Func::Asin | Func::Atan | Func::Sinh | Func::Tanh, Node::Neg(x))
+            (
+                Func::Sin | Func::Tan | Func::Asin | Func::Atan | Func::Sinh | Func::Tanh,
+                Node::Neg(x),
+            )
             | (Func::Cbrt, Node::Neg(x)) => {
                 let inner = self.unary(f, x);
                 self.neg(inner)
@@ -577,7 +655,11 @@ impl Graph {
 
     /// Rebuild the cone of `roots` with some inputs replaced by other nodes. Simplification
     /// runs again on the way, so substituting zeros prunes the terms they multiply.
-    pub fn substitute(&mut self, roots: &[NodeId], replace: &HashMap<NodeId, NodeId>) -> Vec<NodeId> {
+    pub fn substitute(
+        &mut self,
+        roots: &[NodeId],
+        replace: &HashMap<NodeId, NodeId>,
+    ) -> Vec<NodeId> {
         let live = self.live_set(roots);
         let mut image: HashMap<NodeId, NodeId> = HashMap::new();
         for id in live {

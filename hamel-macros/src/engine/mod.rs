@@ -11,4 +11,6 @@ pub mod diff;
 pub mod emit;
 pub mod graph;
 pub mod lower;
+mod normal;
 pub mod ops;
+

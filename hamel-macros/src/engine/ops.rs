@@ -31,7 +31,9 @@ pub fn count(graph: &Graph, roots: &[NodeId]) -> OpCount {
             Node::Mul(..) => c.mul += 1,
             Node::Div(..) => c.div += 1,
             Node::Unary(..) | Node::Powi(..) | Node::Binary(..) => c.func += 1,
-            Node::Select(..) | Node::Compare(..) | Node::And(..) | Node::Or(..) | Node::Not(_) => c.branch += 1,
+            Node::Select(..) | Node::Compare(..) | Node::And(..) | Node::Or(..) | Node::Not(_) => {
+                c.branch += 1
+            }
         }
     }
     c

@@ -22,6 +22,7 @@
 
 use super::ldlt;
 use super::linearity::{self, Verdict, Why};
+use super::sparse_lu::SparseLu;
 use super::spec::{Energy, Spec};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
@@ -36,14 +37,19 @@ pub struct Inputs {
     /// The free quasi-velocities of the state.
     pub w: Vec<NodeId>,
     pub u: Vec<NodeId>,
-    /// The entries of B = A⁻¹ when it is computed numerically at run time.
-    pub b: Option<Vec<Vec<NodeId>>>,
+}
+
+/// Pivots of the run-time LU factorization of A(q) (when no inverse is given), with the
+/// entries of A that set their scale: a generated method that uses B checks them first.
+pub struct TransformationPivots {
+    pub pivots: Vec<NodeId>,
+    pub entries: Vec<NodeId>,
 }
 
 pub struct Equations {
     pub inputs: Inputs,
-    /// A(q), rows: constraints then quasi-velocities.
-    pub a: Vec<Vec<NodeId>>,
+    /// Present when B is computed from A at run time.
+    pub transformation: Option<TransformationPivots>,
     /// q̇ = Σ_{k>p} B_k w_k.
     pub qd: Vec<NodeId>,
     /// ω̇_{p+1…n}.
@@ -54,10 +60,14 @@ pub struct Equations {
     pub energy: NodeId,
     /// γʲ_{l,k}, indexed [j][l − p][k − p].
     pub gamma: Vec<Vec<Vec<NodeId>>>,
+    /// A(q)·B(q) − I when the user gave B (checks that it is the inverse).
+    pub inverse_defect: Option<Vec<NodeId>>,
 }
 
 fn fresh(g: &mut Graph, name: &str, count: usize) -> Vec<NodeId> {
-    (0..count).map(|i| g.new_input(format!("{name}[{i}]"))).collect()
+    (0..count)
+        .map(|i| g.new_input(format!("{name}[{i}]")))
+        .collect()
 }
 
 fn array(nodes: &[NodeId]) -> Value {
@@ -80,7 +90,11 @@ fn pairs(keys: &[NodeId], values: &[NodeId]) -> Vec<(NodeId, NodeId)> {
 }
 
 /// Lower a role function and flatten its result (None after an error, already reported).
-fn lower<'a>(lowerer: &mut Lowerer<'a, '_>, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Option<Vec<NodeId>> {
+fn lower<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    f: &'a syn::ImplItemFn,
+    args: Vec<Value>,
+) -> Option<Vec<NodeId>> {
     let value = lowerer.call_role(f, args);
     if value.is_poison() {
         return None;
@@ -94,11 +108,15 @@ fn coefficients(g: &mut Graph, rows: &[NodeId], vars: &[NodeId]) -> Vec<Vec<Node
     let one = g.one();
     let columns: Vec<Vec<NodeId>> = (0..vars.len())
         .map(|j| {
-            let unit: Vec<NodeId> = (0..vars.len()).map(|i| if i == j { one } else { zero }).collect();
+            let unit: Vec<NodeId> = (0..vars.len())
+                .map(|i| if i == j { one } else { zero })
+                .collect();
             subst(g, rows, &pairs(vars, &unit))
         })
         .collect();
-    (0..rows.len()).map(|i| columns.iter().map(|c| c[i]).collect()).collect()
+    (0..rows.len())
+        .map(|i| columns.iter().map(|c| c[i]).collect())
+        .collect()
 }
 
 /// The source of element `index` of a function's result, if its tail is an array literal.
@@ -142,16 +160,25 @@ fn check_linear(
             ),
             Verdict::Broken(at, why) => {
                 let message = match why {
-                    Why::Product => format!("this product of velocities makes {what} row {i} nonlinear in `{var_name}`"),
-                    Why::Quotient => format!("dividing by a velocity makes {what} row {i} nonlinear in `{var_name}`"),
-                    Why::Function => format!("a nonlinear function of a velocity makes {what} row {i} nonlinear in `{var_name}`"),
+                    Why::Product => format!(
+                        "this product of velocities makes {what} row {i} nonlinear in `{var_name}`"
+                    ),
+                    Why::Quotient => format!(
+                        "dividing by a velocity makes {what} row {i} nonlinear in `{var_name}`"
+                    ),
+                    Why::Function => format!(
+                        "a nonlinear function of a velocity makes {what} row {i} nonlinear in `{var_name}`"
+                    ),
                     Why::Affine => format!(
                         "{what} row {i} mixes terms with and without velocities: rows must be linear and \
                          homogeneous in `{var_name}` (affine constraints a(q, t) are not supported yet)"
                     ),
-                    Why::Condition => format!("{what} row {i} branches on a velocity, which is not linear in `{var_name}`"),
+                    Why::Condition => format!(
+                        "{what} row {i} branches on a velocity, which is not linear in `{var_name}`"
+                    ),
                 };
-                let message = format!("{message}; {what} rows must have the form Σ a_j(q)·{var_name}[j]");
+                let message =
+                    format!("{message}; {what} rows must have the form Σ a_j(q)·{var_name}[j]");
                 match lowerer.graph.span(at) {
                     Some(span) => lowerer.push_error(span.error(message)),
                     None => lowerer.push_error(syn::Error::new_spanned(row_source(f, i), message)),
@@ -166,7 +193,13 @@ fn check_linear(
     ok
 }
 
-fn requires_velocities(lowerer: &mut Lowerer<'_, '_>, f: &syn::ImplItemFn, value: NodeId, vars: &[NodeId], what: &str) -> bool {
+fn requires_velocities(
+    lowerer: &mut Lowerer<'_, '_>,
+    f: &syn::ImplItemFn,
+    value: NodeId,
+    vars: &[NodeId],
+    what: &str,
+) -> bool {
     let active = lowerer.graph.depends_on(vars);
     if active[value.index()] {
         return true;
@@ -198,65 +231,110 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let constraint_rows = lower(lowerer, spec.constraints, vec![array(&q), array(&v)]);
     let quasi_rows = lower(lowerer, spec.quasi_velocities, vec![array(&q), array(&v)]);
     let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
-    let linear = check_linear(lowerer, spec.constraints, &constraint_rows, &v, "constraint", "qd")
-        & check_linear(lowerer, spec.quasi_velocities, &quasi_rows, &v, "quasi-velocity", "qd");
+    let linear = check_linear(
+        lowerer,
+        spec.constraints,
+        &constraint_rows,
+        &v,
+        "constraint",
+        "qd",
+    ) & check_linear(
+        lowerer,
+        spec.quasi_velocities,
+        &quasi_rows,
+        &v,
+        "quasi-velocity",
+        "qd",
+    );
     let rows: Vec<NodeId> = constraint_rows.iter().chain(&quasi_rows).copied().collect();
     let a = coefficients(lowerer.graph, &rows, &v);
 
-    // B(q): closed form from the user's inverse, or run-time inputs.
+    // B(q): closed form from the user's inverse, or by LU of A(q) at run time.
     let omega = fresh(lowerer.graph, "omega", n);
-    let (b, numeric_b) = match spec.velocities {
+    let mut transformation = None;
+    let (b_free, solver) = match spec.velocities {
         Some(f) => {
             let out = lower(lowerer, f, vec![array(&q), array(&omega)])?;
             if !check_linear(lowerer, f, &out, &omega, "velocity", "w") {
                 return None;
             }
-            (coefficients(lowerer.graph, &out, &omega), None)
+            let b = coefficients(lowerer.graph, &out, &omega);
+            let columns: Vec<Vec<NodeId>> = (0..n).map(|k| (0..n).map(|i| b[i][k]).collect()).collect();
+            (columns[p..].to_vec(), Solver::Closed(b))
         }
         None => {
-            let b: Vec<Vec<NodeId>> = (0..n).map(|i| fresh(lowerer.graph, &format!("B[{i}]"), n)).collect();
-            (b.clone(), Some(b))
+            let lu = match SparseLu::new(lowerer.graph, &a) {
+                Ok(lu) => lu,
+                Err(singular) => {
+                    let name = &spec.coordinates[singular.column];
+                    lowerer.push_error(syn::Error::new_spanned(
+                        &spec.quasi_velocities.sig.ident,
+                        format!(
+                            "the constraints and quasi-velocities cannot be inverted for any q: \
+                             together they do not determine the velocity of `{name}` (A(q) is \
+                             structurally singular); choose quasi-velocities that complete the \
+                             constraints"
+                        ),
+                    ));
+                    return None;
+                }
+            };
+            let g = &mut *lowerer.graph;
+            let mut pivots = Vec::new();
+            let columns: Vec<Vec<NodeId>> = (p..n)
+                .map(|k| {
+                    let unit: Vec<NodeId> = (0..n).map(|i| if i == k { one } else { zero }).collect();
+                    let (x, used) = lu.solve(g, &unit);
+                    pivots = used;
+                    x
+                })
+                .collect();
+            let entries = a.iter().flatten().copied().filter(|&e| !g.is_zero(e)).collect();
+            transformation = Some(TransformationPivots { pivots, entries });
+            (columns, Solver::Numeric(lu))
         }
     };
-    let column = |b: &Vec<Vec<NodeId>>, k: usize| -> Vec<NodeId> { (0..n).map(|i| b[i][k]).collect() };
-    let b_free: Vec<Vec<NodeId>> = (p..n).map(|k| column(&b, k)).collect();
     let qd: Vec<NodeId> = (0..n)
         .map(|i| {
-            let row: Vec<NodeId> = (p..n).map(|k| b[i][k]).collect();
+            let row: Vec<NodeId> = b_free.iter().map(|col| col[i]).collect();
             dot(lowerer.graph, &row, &w)
         })
         .collect();
 
     // Generalized forces at the admissible velocity.
     let forces = match spec.forces {
-        Some(f) => lower(lowerer, f, vec![Value::Real(t), array(&q), array(&qd), array(&u)])?,
+        Some(f) => lower(
+            lowerer,
+            f,
+            vec![Value::Real(t), array(&q), array(&qd), array(&u)],
+        )?,
         None => vec![zero; n],
     };
 
-    let assembled = match (&spec.energy, &numeric_b) {
+    let assembled = match (&spec.energy, &solver) {
         (Energy::Quasi(f), _) => {
             let lt = lower(lowerer, f, vec![array(&q), array(&omega)])?;
             let lt = *lt.first()?;
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b, &rows, &v, &forces, p)
+            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b_free, &rows, &v, &forces, p)
         }
-        (energy, None) => {
+        (energy, Solver::Closed(b)) => {
             // L̃(q, ω) = L(q, B(q) ω)
             let b_omega: Vec<NodeId> = (0..n).map(|i| dot(lowerer.graph, &b[i], &omega)).collect();
             let (lt, f) = lagrangian(lowerer, energy, &q, &b_omega)?;
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b, &rows, &v, &forces, p)
+            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b_free, &rows, &v, &forces, p)
         }
-        (energy, Some(_)) => {
+        (energy, Solver::Numeric(lu)) => {
             let (l, f) = lagrangian(lowerer, energy, &q, &v)?;
             if !requires_velocities(lowerer, f, l, &v, "the Lagrangian") {
                 return None;
             }
-            projected(lowerer.graph, l, &q, &v, &qd, &b, &b_free, &rows, &forces)
+            projected(lowerer.graph, l, &q, &v, &qd, lu, &b_free, &rows, &forces)
         }
     };
     if !linear {
@@ -278,18 +356,33 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     };
 
     let g = &mut *lowerer.graph;
+    let inverse_defect = match &solver {
+        Solver::Closed(b) => {
+            let mut defect = Vec::with_capacity(n * n);
+            for (i, row) in a.iter().enumerate() {
+                for k in 0..n {
+                    let col: Vec<NodeId> = (0..n).map(|r| b[r][k]).collect();
+                    let product = dot(g, row, &col);
+                    let identity = if i == k { one } else { zero };
+                    defect.push(g.sub(product, identity));
+                }
+            }
+            Some(defect)
+        }
+        Solver::Numeric(_) => None,
+    };
     let solution = ldlt::solve(g, &assembled.mass, &assembled.rhs);
     let gamma = gamma(g, &rows, &q, &v, &b_free);
-    let _ = one;
     Some(Equations {
-        inputs: Inputs { t, q, w, u, b: numeric_b },
-        a,
+        inputs: Inputs { t, q, w, u },
+        transformation,
         qd,
         wdot: solution.x,
         pivots: solution.pivots,
         mass: assembled.mass,
         energy,
         gamma,
+        inverse_defect,
     })
 }
 
@@ -302,7 +395,10 @@ fn lagrangian<'a>(
     velocities: &[NodeId],
 ) -> Option<(NodeId, &'a syn::ImplItemFn)> {
     match energy {
-        Energy::Lagrangian(f) => Some((*lower(lowerer, f, vec![array(q), array(velocities)])?.first()?, f)),
+        Energy::Lagrangian(f) => Some((
+            *lower(lowerer, f, vec![array(q), array(velocities)])?.first()?,
+            f,
+        )),
         Energy::Split { kinetic, potential } => {
             let t = *lower(lowerer, kinetic, vec![array(q), array(velocities)])?.first()?;
             let l = match potential {
@@ -316,6 +412,12 @@ fn lagrangian<'a>(
         }
         Energy::Quasi(_) => None,
     }
+}
+
+/// How B is known: in closed form (n×n entries), or through the run-time LU of A.
+enum Solver {
+    Closed(Vec<Vec<NodeId>>),
+    Numeric(SparseLu),
 }
 
 struct Assembled {
@@ -333,7 +435,7 @@ fn hamel(
     q: &[NodeId],
     w: &[NodeId],
     qd: &[NodeId],
-    b: &[Vec<NodeId>],
+    b_free: &[Vec<NodeId>],
     rows: &[NodeId],
     v: &[NodeId],
     forces: &[NodeId],
@@ -352,7 +454,9 @@ fn hamel(
     let columns: Vec<Vec<NodeId>> = (p..n)
         .map(|l| diff::tangent(g, momenta_free, &[(omega[l], one)]))
         .collect();
-    let mass: Vec<Vec<NodeId>> = (0..free).map(|k| columns.iter().map(|c| c[k]).collect()).collect();
+    let mass: Vec<Vec<NodeId>> = (0..free)
+        .map(|k| columns.iter().map(|c| c[k]).collect())
+        .collect();
 
     // (∂p_k/∂q)·q̇ with q̇ held as a symbol.
     let a_sym = fresh(g, "qd_direction", n);
@@ -360,23 +464,26 @@ fn hamel(
 
     // γ term: Φ''[q̇, B_k] − Φ''[B_k, q̇] with Φ = Σ_j P_j·row_j(q, v).
     let p_sym = fresh(g, "momentum", n);
-    let products: Vec<NodeId> = p_sym.iter().zip(rows).map(|(&pj, &r)| g.mul(pj, r)).collect();
+    let products: Vec<NodeId> = p_sym
+        .iter()
+        .zip(rows)
+        .map(|(&pj, &r)| g.mul(pj, r))
+        .collect();
     let phi = g.sum(&products);
     let dq = fresh(g, "q_direction", n);
     let dv = fresh(g, "v_direction", n);
     let second = diff::bidirectional(g, &[phi], &pairs(q, &dq), &pairs(v, &dv))[0];
 
     let mut rhs = Vec::with_capacity(free);
-    for k in 0..free {
-        let bk: Vec<NodeId> = (0..n).map(|i| b[i][p + k]).collect();
+    for (k, bk) in b_free.iter().enumerate() {
         let forward: Vec<NodeId> = dq.iter().chain(&dv).copied().collect();
-        let qd_bk: Vec<NodeId> = qd.iter().chain(&bk).copied().collect();
+        let qd_bk: Vec<NodeId> = qd.iter().chain(bk).copied().collect();
         let bk_qd: Vec<NodeId> = bk.iter().chain(qd).copied().collect();
         let d1 = subst(g, &[second], &pairs(&forward, &qd_bk))[0];
         let d2 = subst(g, &[second], &pairs(&forward, &bk_qd))[0];
         let gamma_term = g.sub(d1, d2);
-        let f_tilde = dot(g, &bk, forces);
-        let b_grad = dot(g, &bk, grad_q);
+        let f_tilde = dot(g, bk, forces);
+        let b_grad = dot(g, bk, grad_q);
         let s = g.add(f_tilde, b_grad);
         let s = g.sub(s, hq[k]);
         rhs.push(g.sub(s, gamma_term));
@@ -413,7 +520,7 @@ fn projected(
     q: &[NodeId],
     v: &[NodeId],
     qd: &[NodeId],
-    b: &[Vec<NodeId>],
+    lu: &SparseLu,
     b_free: &[Vec<NodeId>],
     rows: &[NodeId],
     forces: &[NodeId],
@@ -425,7 +532,10 @@ fn projected(
     let (grad_q, grad_v) = gradient.split_at(n);
 
     // Mᵣ = Bᵣᵀ H_vv Bᵣ: one tangent of ∇_v L per free direction (B entries are inputs).
-    let h_b: Vec<Vec<NodeId>> = b_free.iter().map(|bl| diff::tangent(g, grad_v, &pairs(v, bl))).collect();
+    let h_b: Vec<Vec<NodeId>> = b_free
+        .iter()
+        .map(|bl| diff::tangent(g, grad_v, &pairs(v, bl)))
+        .collect();
     let mass: Vec<Vec<NodeId>> = b_free
         .iter()
         .map(|bk| h_b.iter().map(|hl| dot(g, bk, hl)).collect())
@@ -437,12 +547,8 @@ fn projected(
     let mut at_qd = pairs(v, qd);
     at_qd.extend(pairs(&a_sym, qd));
     let along = subst(g, &along, &at_qd);
-    let b_dot_omega: Vec<NodeId> = (0..n)
-        .map(|i| {
-            let d = dot(g, &b[i], &along);
-            g.neg(d)
-        })
-        .collect();
+    let (solved, _) = lu.solve(g, &along);
+    let b_dot_omega: Vec<NodeId> = solved.into_iter().map(|d| g.neg(d)).collect();
 
     // d/dt ∂L/∂q̇ − H_vv·(B_free ω̇) = H_vq q̇ + H_vv Ḃω: one tangent with both directions.
     let c_sym = fresh(g, "bdot_omega", n);
@@ -481,7 +587,13 @@ fn projected(
 }
 
 /// γʲ_{l,k} = Aⱼ''[B_l, B_k] − Aⱼ''[B_k, B_l] with Aⱼ''[a, c] = Σ ∂A^j_ν/∂q^σ a^σ c^ν.
-fn gamma(g: &mut Graph, rows: &[NodeId], q: &[NodeId], v: &[NodeId], b_free: &[Vec<NodeId>]) -> Vec<Vec<Vec<NodeId>>> {
+fn gamma(
+    g: &mut Graph,
+    rows: &[NodeId],
+    q: &[NodeId],
+    v: &[NodeId],
+    b_free: &[Vec<NodeId>],
+) -> Vec<Vec<Vec<NodeId>>> {
     let n = q.len();
     let dq = fresh(g, "gamma_q_direction", n);
     let dv = fresh(g, "gamma_v_direction", n);

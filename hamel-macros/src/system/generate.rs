@@ -55,51 +55,67 @@ impl<'g> Context<'g> {
             e.bind(node, quote!(u[#i]));
         }
         e.bind(inputs.t, quote!(t));
-        if let Some(b) = &inputs.b {
-            for (i, row) in b.iter().enumerate() {
-                for (k, &node) in row.iter().enumerate() {
-                    let (i, k) = (lit(i), lit(k));
-                    e.bind(node, quote!(b[#i][#k]));
-                }
-            }
-        }
         for ext in self.externals {
             e.bind(ext.node, wrap(ext.tokens.clone()));
         }
         e
     }
 
-    /// Code computing `roots`, preceded, when B is numeric, by A(q) and its inversion.
-    fn staged(&self, source: Source, scalar: Scalar, roots: &[NodeId]) -> syn::Result<(TokenStream, Code)> {
+    /// Code computing `roots`, then, when B comes from a run-time LU of A(q), the checks of
+    /// its pivots: a singular transformation returns an error before any result is used.
+    fn emit(&self, source: Source, scalar: Scalar, roots: &[NodeId]) -> syn::Result<(Code, TokenStream)> {
+        let generic = matches!(scalar, Scalar::Generic(_));
         let emitter = self.emitter(source, scalar);
-        if self.eq.inputs.b.is_none() {
-            let code = emitter.emit(roots)?;
-            return Ok((TokenStream::new(), code));
-        }
-        let a_nodes: Vec<NodeId> = self.eq.a.iter().flatten().copied().collect();
-        let mut stages = emitter.emit_stages(&[&a_nodes, roots])?;
-        let code = stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: stages"))?;
-        let first = stages.pop().ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: stages"))?;
-        let rows = self.eq.a.iter().map(|row| {
-            let items = row.iter().map(|&id| first.value(id));
-            quote!([#(#items),*])
-        });
-        let stmts = &first.stmts;
-        let prelude = quote! {
-            #stmts
-            // B(q) = A(q)⁻¹ by LU with partial pivoting (no closed-form inverse was given).
-            let a = [#(#rows),*];
-            let b = ::hamel::linalg::invert(&a)?;
+        let Some(t) = &self.eq.transformation else {
+            return Ok((emitter.emit(roots)?, TokenStream::new()));
         };
-        Ok((prelude, code))
+        let mut all = roots.to_vec();
+        all.extend(&t.pivots);
+        all.extend(&t.entries);
+        let code = emitter.emit(&all)?;
+        let re = |id: NodeId| {
+            let v = code.value(id);
+            if generic { quote!(::hamel::Scalar::re(#v)) } else { quote!(f64::from(#v)) }
+        };
+        let scale = t.entries.iter().map(|&e| {
+            let v = re(e);
+            quote!(.max(#v.abs()))
+        });
+        let tolerance = (self.n as f64) * f64::EPSILON;
+        let checks = t.pivots.iter().enumerate().map(|(j, &p)| {
+            let v = re(p);
+            let j = lit(j);
+            quote! {
+                let pivot = #v;
+                if !(pivot.abs() > #tolerance * scale_a) {
+                    return ::core::result::Result::Err(::hamel::Singularity::Transformation { pivot: #j, value: pivot });
+                }
+            }
+        });
+        let checks = quote! {
+            let scale_a = 0.0f64 #(#scale)*;
+            #(#checks)*
+        };
+        Ok((code, checks))
     }
 }
 
-pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[External], imp: &syn::ItemImpl) -> syn::Result<TokenStream> {
+pub fn generate(
+    spec: &Spec<'_>,
+    eq: &Equations,
+    graph: &Graph,
+    externals: &[External],
+    imp: &syn::ItemImpl,
+) -> syn::Result<TokenStream> {
     let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
     let free = spec.dims.free();
     let state = n + free;
-    let cx = Context { graph, eq, externals, n };
+    let cx = Context {
+        graph,
+        eq,
+        externals,
+        n,
+    };
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
     let (n_l, p_l, m_l, free_l, state_l) = (lit(n), lit(p), lit(m), lit(free), lit(state));
@@ -119,7 +135,7 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
     roots.extend(&eq.pivots);
     let diagonal: Vec<NodeId> = (0..free).map(|k| eq.mass[k][k]).collect();
     roots.extend(&diagonal);
-    let (prelude, code) = cx.staged(Source::State, Scalar::Generic(s.clone()), &roots)?;
+    let (code, transformation_checks) = cx.emit(Source::State, Scalar::Generic(s.clone()), &roots)?;
     let stmts = &code.stmts;
     let re = |id: NodeId| {
         let v = code.value(id);
@@ -158,8 +174,8 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
             u: &[#s; #m_l],
             dx: &mut [#s; #state_l],
         ) -> ::core::result::Result<(), ::hamel::Singularity> {
-            #prelude
             #stmts
+            #transformation_checks
             let scale = 0.0f64 #(#scale_terms)*;
             #(#checks)*
             #(#writes)*
@@ -168,13 +184,16 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
     };
 
     // The f64 inspection methods.
-    let method = |source: Source, roots: &[NodeId], shape: &dyn Fn(&Code) -> TokenStream| -> syn::Result<TokenStream> {
-        let (prelude, code) = cx.staged(source, Scalar::F64, roots)?;
+    let method = |source: Source,
+                  roots: &[NodeId],
+                  shape: &dyn Fn(&Code) -> TokenStream|
+     -> syn::Result<TokenStream> {
+        let (code, checks) = cx.emit(source, Scalar::F64, roots)?;
         let stmts = &code.stmts;
         let value = shape(&code);
         Ok(quote! {
-            #prelude
             #stmts
+            #checks
             ::core::result::Result::Ok(#value)
         })
     };
@@ -198,6 +217,18 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
         quote!([#(#planes),*])
     })?;
 
+    // max |A(q)·B(q) − I| for a user-given inverse; zero when B is computed from A.
+    let defect_body = match &eq.inverse_defect {
+        Some(defect) => method(Source::Coordinates, defect, &|c| {
+            let terms = defect.iter().map(|&id| {
+                let v = c.value(id);
+                quote!(.max(f64::abs(#v)))
+            });
+            quote!(0.0f64 #(#terms)*)
+        })?,
+        None => quote!(::core::result::Result::Ok(0.0)),
+    };
+
     // The user's own row functions answer constraint_residual and speeds.
     let call = |f: &syn::ImplItemFn| {
         let name = &f.sig.ident;
@@ -205,10 +236,14 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
             syn::FnArg::Typed(pt) => Some(matches!(*pt.ty, syn::Type::Reference(_))),
             syn::FnArg::Receiver(_) => None,
         });
-        let passed = args.zip([quote!(q), quote!(qd)]).map(|(by_ref, name)| {
-            if by_ref { name } else { quote!(*#name) }
-        });
-        let receiver = if f.sig.receiver().is_some() { quote!(self.) } else { quote!(Self::) };
+        let passed = args
+            .zip([quote!(q), quote!(qd)])
+            .map(|(by_ref, name)| if by_ref { name } else { quote!(*#name) });
+        let receiver = if f.sig.receiver().is_some() {
+            quote!(self.)
+        } else {
+            quote!(Self::)
+        };
         quote!(#receiver #name(#(#passed),*))
     };
     let constraint_call = call(spec.constraints);
@@ -289,6 +324,11 @@ pub fn generate(spec: &Spec<'_>, eq: &Equations, graph: &Graph, externals: &[Ext
             #allow
             fn mass_matrix(&self, x: &[f64; #state_l]) -> ::core::result::Result<[[f64; #free_l]; #free_l], ::hamel::Singularity> {
                 #mass_body
+            }
+
+            #allow
+            fn inverse_defect(&self, q: &[f64; #n_l]) -> ::core::result::Result<f64, ::hamel::Singularity> {
+                #defect_body
             }
 
             #allow

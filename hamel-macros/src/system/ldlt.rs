@@ -73,7 +73,11 @@ mod tests {
         let x = g.evaluate(&s.x, &vals);
         let (a, c, d, j) = (4.0, 1.0, 3.0, 2.0);
         let det = a * d - c * c;
-        let expect = [(d * 1.0 - c * 2.0) / det, (a * 2.0 - c * 1.0) / det, 3.0 / j];
+        let expect = [
+            (d * 1.0 - c * 2.0) / det,
+            (a * 2.0 - c * 1.0) / det,
+            3.0 / j,
+        ];
         for (got, want) in x.iter().zip(expect) {
             assert!((got - want).abs() < 1e-15, "{got} vs {want}");
         }

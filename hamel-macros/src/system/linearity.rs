@@ -69,7 +69,9 @@ pub fn classify(g: &Graph, root: NodeId, velocities: &[NodeId]) -> Verdict {
                     (x, _) => x,
                 },
                 Node::Select(cond, a, b) => match (c(cond), c(a), c(b)) {
-                    (Class::Broken(..), ..) | (Class::Linear, ..) => Class::Broken(id, Why::Condition),
+                    (Class::Broken(..), ..) | (Class::Linear, ..) => {
+                        Class::Broken(id, Why::Condition)
+                    }
                     (_, b @ Class::Broken(..), _) | (_, _, b @ Class::Broken(..)) => b,
                     (_, Class::Zero, x) | (_, x, Class::Zero) => x,
                     (_, x, y) if x == y => x,
@@ -122,7 +124,10 @@ mod tests {
         let e = g.add(lin, sv);
         assert!(matches!(classify(&g, e, &[v]), Verdict::Broken(at, Why::Function) if at == sv));
         let aff = g.add(lin, s);
-        assert!(matches!(classify(&g, aff, &[v]), Verdict::Broken(_, Why::Affine)));
+        assert!(matches!(
+            classify(&g, aff, &[v]),
+            Verdict::Broken(_, Why::Affine)
+        ));
         assert!(matches!(classify(&g, s, &[v]), Verdict::Independent));
         let z = g.zero();
         assert!(matches!(classify(&g, z, &[v]), Verdict::Zero));

@@ -12,6 +12,7 @@ mod ldlt;
 mod linearity;
 mod model;
 mod parameters;
+mod sparse_lu;
 mod spec;
 
 use crate::engine::graph::Graph;
@@ -61,7 +62,11 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStrea
 
     // Bodies may index with the generated constants: `q[Self::ALPHA]`.
     let mut ctx = ImplContext::new(&imp.items);
-    let lists = [names.coordinates.as_ref().map(|(_, l)| l), names.speeds.as_ref().map(|(_, l)| l), Some(&names.inputs)];
+    let lists = [
+        names.coordinates.as_ref().map(|(_, l)| l),
+        names.speeds.as_ref().map(|(_, l)| l),
+        Some(&names.inputs),
+    ];
     for list in lists.into_iter().flatten() {
         for (i, ident) in list.iter().enumerate() {
             ctx.define_index(ident.to_string().to_uppercase(), i as i64);
@@ -74,12 +79,17 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStrea
         lowerer.push_error(e);
     }
     let spec = spec::check(names, &roles, &mut lowerer, imp.impl_token.span());
-    let equations = spec.as_ref().and_then(|s| equations::build(s, &mut lowerer));
+    let equations = spec
+        .as_ref()
+        .and_then(|s| equations::build(s, &mut lowerer));
     lowerer.take_errors()?;
     let externals = lowerer.externals.items.clone();
     drop(lowerer);
     let (Some(spec), Some(equations)) = (spec, equations) else {
-        return Err(syn::Error::new(imp.impl_token.span(), "hamel internal error: model not built, but no error reported"));
+        return Err(syn::Error::new(
+            imp.impl_token.span(),
+            "hamel internal error: model not built, but no error reported",
+        ));
     };
     let stripped = model::strip_role_attributes(imp);
     generate::generate(&spec, &equations, &graph, &externals, &stripped)

@@ -2,7 +2,7 @@
 
 use proc_macro2::{Span, TokenStream};
 use quote::ToTokens;
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use syn::spanned::Spanned;
 
 /// The roles a function of the model can play, each marked by an attribute of that name.
@@ -59,13 +59,17 @@ impl Role {
     /// The signature the role's function must have, for messages.
     pub fn expected_signature(self) -> &'static str {
         match self {
-            Role::Lagrangian | Role::KineticEnergy => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> f64",
+            Role::Lagrangian | Role::KineticEnergy => {
+                "fn(&self, q: &[f64; N], qd: &[f64; N]) -> f64"
+            }
             Role::PotentialEnergy => "fn(&self, q: &[f64; N]) -> f64",
             Role::QuasiLagrangian => "fn(&self, q: &[f64; N], w: &[f64; N]) -> f64",
             Role::Constraints => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; P]",
             Role::QuasiVelocities => "fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; N - P]",
             Role::Velocities => "fn(&self, q: &[f64; N], w: &[f64; N]) -> [f64; N]",
-            Role::Forces => "fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]",
+            Role::Forces => {
+                "fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]"
+            }
         }
     }
 }
@@ -87,7 +91,11 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
         return names;
     }
     let parser = syn::meta::parser(|meta| {
-        let key = meta.path.get_ident().map(ToString::to_string).unwrap_or_default();
+        let key = meta
+            .path
+            .get_ident()
+            .map(ToString::to_string)
+            .unwrap_or_default();
         let mut list = Vec::new();
         let span = meta.path.span();
         let result = meta.parse_nested_meta(|inner| match inner.path.get_ident() {
@@ -135,17 +143,19 @@ pub struct RoleFn<'a> {
 
 /// The roles found in an impl block. Role attributes are removed from the emitted code.
 pub struct Roles<'a> {
-    pub by_role: HashMap<Role, RoleFn<'a>>,
+    pub by_role: BTreeMap<Role, RoleFn<'a>>,
 }
 
 impl<'a> Roles<'a> {
     pub fn find(items: &'a [syn::ImplItem], errors: &mut Vec<syn::Error>) -> Self {
-        let mut by_role: HashMap<Role, RoleFn<'a>> = HashMap::new();
+        let mut by_role: BTreeMap<Role, RoleFn<'a>> = BTreeMap::new();
         for item in items {
             let syn::ImplItem::Fn(f) = item else { continue };
             let mut mine: Option<Role> = None;
             for attr in &f.attrs {
-                let Some(role) = Role::from_attribute(attr) else { continue };
+                let Some(role) = Role::from_attribute(attr) else {
+                    continue;
+                };
                 if !matches!(attr.meta, syn::Meta::Path(_)) {
                     errors.push(syn::Error::new_spanned(
                         attr,

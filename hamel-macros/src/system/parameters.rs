@@ -32,9 +32,14 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> syn::Result<TokenStream> 
         }
     };
     for field in &fields {
-        let is_f64 = matches!(&field.ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
+        let is_f64 =
+            matches!(&field.ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
         if !is_f64 {
-            let name = field.ident.as_ref().map(ToString::to_string).unwrap_or_default();
+            let name = field
+                .ident
+                .as_ref()
+                .map(ToString::to_string)
+                .unwrap_or_default();
             errors.push(syn::Error::new_spanned(
                 &field.ty,
                 format!(
@@ -93,7 +98,10 @@ fn doc_comment(attrs: &[syn::Attribute]) -> String {
         .filter(|a| a.path().is_ident("doc"))
         .filter_map(|a| match &a.meta {
             syn::Meta::NameValue(nv) => match &nv.value {
-                syn::Expr::Lit(syn::ExprLit { lit: syn::Lit::Str(s), .. }) => Some(s.value().trim().to_string()),
+                syn::Expr::Lit(syn::ExprLit {
+                    lit: syn::Lit::Str(s),
+                    ..
+                }) => Some(s.value().trim().to_string()),
                 _ => None,
             },
             _ => None,

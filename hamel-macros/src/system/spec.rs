@@ -51,17 +51,28 @@ pub struct Spec<'a> {
 
 /// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
 /// model cannot be built at all.
-pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>, at: Span) -> Option<Spec<'a>> {
+pub fn check<'a>(
+    names: Names,
+    roles: &Roles<'a>,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: Span,
+) -> Option<Spec<'a>> {
     let mut ok = true;
 
     let coordinates = match names.coordinates {
         Some((span, list)) if list.is_empty() => {
-            fail(lowerer, &mut ok, syn::Error::new(span, "a model needs at least one coordinate"));
+            fail(
+                lowerer,
+                &mut ok,
+                syn::Error::new(span, "a model needs at least one coordinate"),
+            );
             Vec::new()
         }
         Some((_, list)) => list,
         None => {
-            fail(lowerer, &mut ok,
+            fail(
+                lowerer,
+                &mut ok,
                 syn::Error::new(
                     at,
                     "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
@@ -75,12 +86,24 @@ pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>,
     let m = names.inputs.len();
 
     let energy = energy_roles(roles, lowerer, at, &mut ok);
-    let constraints = required(roles, Role::Constraints, lowerer, at, &mut ok,
+    let constraints = required(
+        roles,
+        Role::Constraints,
+        lowerer,
+        at,
+        &mut ok,
         "constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion (without nonholonomic \
-         constraints a system is holonomic, and hamel is not the tool for it)");
-    let quasi_velocities = required(roles, Role::QuasiVelocities, lowerer, at, &mut ok,
+         constraints a system is holonomic, and hamel is not the tool for it)",
+    );
+    let quasi_velocities = required(
+        roles,
+        Role::QuasiVelocities,
+        lowerer,
+        at,
+        &mut ok,
         "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
-         transformation ω = A(q)·qd");
+         transformation ω = A(q)·qd",
+    );
 
     if n == 0 {
         return None;
@@ -101,9 +124,18 @@ pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>,
     });
     if let (Some(p), Some(c)) = (p, constraints) {
         if p == 0 {
-            fail(lowerer, &mut ok, error_at_output(c.f, "`#[constraints]` returns no constraint: a model needs at least one"));
+            fail(
+                lowerer,
+                &mut ok,
+                error_at_output(
+                    c.f,
+                    "`#[constraints]` returns no constraint: a model needs at least one",
+                ),
+            );
         } else if p >= n {
-            fail(lowerer, &mut ok,
+            fail(
+                lowerer,
+                &mut ok,
                 error_at_output(
                     c.f,
                     format!(
@@ -122,18 +154,33 @@ pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>,
     let w = ("w", real_array(n));
     for (role, rf) in &roles.by_role {
         let (expected_args, expected_out): (Vec<(&str, Shape)>, Option<Shape>) = match role {
-            Role::Lagrangian | Role::KineticEnergy => (vec![q.clone(), qd.clone()], Some(Shape::Real)),
+            Role::Lagrangian | Role::KineticEnergy => {
+                (vec![q.clone(), qd.clone()], Some(Shape::Real))
+            }
             Role::PotentialEnergy => (vec![q.clone()], Some(Shape::Real)),
             Role::QuasiLagrangian => (vec![q.clone(), w.clone()], Some(Shape::Real)),
             Role::Constraints => (vec![q.clone(), qd.clone()], None),
             Role::QuasiVelocities => (vec![q.clone(), qd.clone()], p.map(|p| real_array(n - p))),
             Role::Velocities => (vec![q.clone(), w.clone()], Some(real_array(n))),
             Role::Forces => (
-                vec![("t", Shape::Real), q.clone(), qd.clone(), ("u", real_array(m))],
+                vec![
+                    ("t", Shape::Real),
+                    q.clone(),
+                    qd.clone(),
+                    ("u", real_array(m)),
+                ],
                 Some(real_array(n)),
             ),
         };
-        if !check_signature(*role, rf, &expected_args, expected_out.as_ref(), lowerer, &coordinates, p) {
+        if !check_signature(
+            *role,
+            rf,
+            &expected_args,
+            expected_out.as_ref(),
+            lowerer,
+            &coordinates,
+            p,
+        ) {
             ok = false;
         }
     }
@@ -141,7 +188,9 @@ pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>,
     // Names of the speeds: given, or w{p+1}…w{n} as in the paper.
     let speeds = match (names.speeds, p) {
         (Some((span, list)), Some(p)) if list.len() != n - p => {
-            fail(lowerer, &mut ok,
+            fail(
+                lowerer,
+                &mut ok,
                 syn::Error::new(
                     span,
                     format!(
@@ -159,8 +208,13 @@ pub fn check<'a>(names: Names, roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>,
     };
     let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
     for ident in coordinates.iter().chain(&speeds).chain(&names.inputs) {
-        if seen.insert(ident.to_string().to_uppercase(), ident).is_some() {
-            fail(lowerer, &mut ok,
+        if seen
+            .insert(ident.to_string().to_uppercase(), ident)
+            .is_some()
+        {
+            fail(
+                lowerer,
+                &mut ok,
                 syn::Error::new(
                     ident.span(),
                     format!(
@@ -218,7 +272,12 @@ fn required<'r, 'a>(
 }
 
 /// Exactly one way of giving the energy.
-fn energy_roles<'a>(roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>, at: Span, ok: &mut bool) -> Option<Energy<'a>> {
+fn energy_roles<'a>(
+    roles: &Roles<'a>,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: Span,
+    ok: &mut bool,
+) -> Option<Energy<'a>> {
     let l = roles.get(Role::Lagrangian);
     let t = roles.get(Role::KineticEnergy);
     let v = roles.get(Role::PotentialEnergy);
@@ -226,7 +285,10 @@ fn energy_roles<'a>(roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>, at: Span, 
     let mut conflict = |second: &RoleFn<'_>, first: Role, message: &str| {
         lowerer.push_error(syn::Error::new_spanned(
             second.attr,
-            format!("ambiguous energy: this model already has a `#[{}]`; {message}", first.attribute()),
+            format!(
+                "ambiguous energy: this model already has a `#[{}]`; {message}",
+                first.attribute()
+            ),
         ));
         *ok = false;
     };
@@ -234,11 +296,25 @@ fn energy_roles<'a>(roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>, at: Span, 
                 `#[potential_energy]` V), or a `#[quasi_lagrangian]` L̃(q, w) — exactly one of these";
     match (l, t, v, lq) {
         (Some(_), Some(t), _, _) => conflict(t, Role::Lagrangian, give),
-        (Some(_), None, Some(v), _) => conflict(v, Role::Lagrangian, "a Lagrangian already contains the potential energy (L = T − V)"),
-        (_, _, _, Some(lq)) if l.is_some() || t.is_some() => {
-            conflict(lq, if l.is_some() { Role::Lagrangian } else { Role::KineticEnergy }, give)
-        }
-        (None, None, Some(v), Some(_)) => conflict(v, Role::QuasiLagrangian, "L̃ already contains the potential energy"),
+        (Some(_), None, Some(v), _) => conflict(
+            v,
+            Role::Lagrangian,
+            "a Lagrangian already contains the potential energy (L = T − V)",
+        ),
+        (_, _, _, Some(lq)) if l.is_some() || t.is_some() => conflict(
+            lq,
+            if l.is_some() {
+                Role::Lagrangian
+            } else {
+                Role::KineticEnergy
+            },
+            give,
+        ),
+        (None, None, Some(v), Some(_)) => conflict(
+            v,
+            Role::QuasiLagrangian,
+            "L̃ already contains the potential energy",
+        ),
         (None, None, Some(v), None) => {
             lowerer.push_error(syn::Error::new_spanned(
                 v.attr,
@@ -260,7 +336,10 @@ fn energy_roles<'a>(roles: &Roles<'a>, lowerer: &mut Lowerer<'_, '_>, at: Span, 
     }
     match (l, t, lq) {
         (Some(l), None, None) => Some(Energy::Lagrangian(l.f)),
-        (None, Some(t), None) => Some(Energy::Split { kinetic: t.f, potential: v.map(|v| v.f) }),
+        (None, Some(t), None) => Some(Energy::Split {
+            kinetic: t.f,
+            potential: v.map(|v| v.f),
+        }),
         (None, None, Some(lq)) => Some(Energy::Quasi(lq.f)),
         _ => None,
     }
@@ -305,7 +384,9 @@ fn check_signature(
     for (arg, (name, shape)) in sig.args.iter().zip(expected) {
         if arg.shape != *shape {
             let why = match shape {
-                Shape::Array(len, _) if *name == "u" => format!("one per input ({len} declared in `inputs(..)`)"),
+                Shape::Array(len, _) if *name == "u" => {
+                    format!("one per input ({len} declared in `inputs(..)`)")
+                }
                 Shape::Array(..) => format!("one per coordinate: {}", names.join(", ")),
                 _ => "the time".to_string(),
             };
@@ -332,7 +413,9 @@ fn check_signature(
                 coordinates.len(),
                 coordinates.len() - p
             ),
-            (Role::Velocities | Role::Forces, _) => format!("one per coordinate: {}", names.join(", ")),
+            (Role::Velocities | Role::Forces, _) => {
+                format!("one per coordinate: {}", names.join(", "))
+            }
             _ => "a scalar".to_string(),
         };
         lowerer.push_error(error_at_output(
@@ -357,6 +440,9 @@ fn render(args: &[(&str, Shape)], output: Option<&Shape>) -> String {
             other => format!("{n}: &{}", other.describe().trim_matches('`')),
         })
         .collect();
-    let out = output.map_or_else(|| "[f64; P]".to_string(), |s| s.describe().trim_matches('`').to_string());
+    let out = output.map_or_else(
+        || "[f64; P]".to_string(),
+        |s| s.describe().trim_matches('`').to_string(),
+    );
     format!("fn(&self, {}) -> {out}", args.join(", "))
 }

@@ -78,7 +78,10 @@ impl<'a> Lowerer<'a, '_> {
             return match receiver {
                 Value::Array(items) => Value::Int(items.len() as i64),
                 Value::Poison => Value::Poison,
-                other => self.error(&m.receiver, format!("`len` needs an array, this is {}", other.describe())),
+                other => self.error(
+                    &m.receiver,
+                    format!("`len` needs an array, this is {}", other.describe()),
+                ),
             };
         }
         if name == "sin_cos" && m.args.is_empty() {
@@ -89,7 +92,10 @@ impl<'a> Lowerer<'a, '_> {
                     Value::Tuple(vec![Value::Real(s), Value::Real(c)])
                 }
                 Value::Poison => Value::Poison,
-                other => self.error(&m.receiver, format!("`sin_cos` needs an `f64`, this is {}", other.describe())),
+                other => self.error(
+                    &m.receiver,
+                    format!("`sin_cos` needs an `f64`, this is {}", other.describe()),
+                ),
             };
         }
         let args: Vec<Value> = m.args.iter().map(|a| self.expr(env, a)).collect();
@@ -100,7 +106,12 @@ impl<'a> Lowerer<'a, '_> {
         let Expr::Path(p) = &*c.func else {
             return self.error(&c.func, "only named functions can be called");
         };
-        let segments: Vec<String> = p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+        let segments: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
         let segs: Vec<&str> = segments.iter().map(String::as_str).collect();
         match segs.as_slice() {
             ["f64", name] | ["std" | "core", "f64", name] => {
@@ -156,7 +167,11 @@ impl<'a> Lowerer<'a, '_> {
         if args.len() != f.arity() {
             return self.error(
                 call.to_token_stream(),
-                format!("`{name}` takes {} argument(s) besides the receiver, {} given", f.arity(), args.len()),
+                format!(
+                    "`{name}` takes {} argument(s) besides the receiver, {} given",
+                    f.arity(),
+                    args.len()
+                ),
             );
         }
         if receiver.is_poison() || args.iter().any(Value::is_poison) {
@@ -170,7 +185,10 @@ impl<'a> Lowerer<'a, '_> {
             };
             return self.error(
                 call.to_token_stream(),
-                format!("`{name}` needs an `f64` receiver, this is {}{hint}", receiver.describe()),
+                format!(
+                    "`{name}` needs an `f64` receiver, this is {}{hint}",
+                    receiver.describe()
+                ),
             );
         };
         let g = &mut *self.graph;
@@ -182,14 +200,21 @@ impl<'a> Lowerer<'a, '_> {
             }
             (Elementary::Powi, [Value::Int(n)]) => match i32::try_from(*n) {
                 Ok(n) => Value::Real(g.powi(x, n)),
-                Err(_) => self.error(call.to_token_stream(), "the exponent of `powi` does not fit in an `i32`"),
+                Err(_) => self.error(
+                    call.to_token_stream(),
+                    "the exponent of `powi` does not fit in an `i32`",
+                ),
             },
             (Elementary::Powi, [other]) => self.error(
                 call.to_token_stream(),
                 format!(
                     "the exponent of `powi` must be an integer known at compile time, found {}{}",
                     other.describe(),
-                    if matches!(other, Value::Real(_)) { " (use `powf` for a real exponent)" } else { "" }
+                    if matches!(other, Value::Real(_)) {
+                        " (use `powf` for a real exponent)"
+                    } else {
+                        ""
+                    }
                 ),
             ),
             (Elementary::Binary(func), [Value::Real(y)]) => Value::Real(g.binary(func, x, *y)),
@@ -200,7 +225,11 @@ impl<'a> Lowerer<'a, '_> {
                 Value::Real(g.add(p, *b))
             }
             (Elementary::Min | Elementary::Max, [Value::Real(y)]) => {
-                let op = if matches!(f, Elementary::Min) { Cmp::Lt } else { Cmp::Gt };
+                let op = if matches!(f, Elementary::Min) {
+                    Cmp::Lt
+                } else {
+                    Cmp::Gt
+                };
                 let c = g.compare(op, x, *y);
                 Value::Real(g.select(c, x, *y))
             }
@@ -226,7 +255,9 @@ impl<'a> Lowerer<'a, '_> {
         let args: Vec<Value> = args.map(|a| self.expr(env, a)).collect();
         let Some(f) = self.ctx.function(name) else {
             let hint = if Elementary::by_name(name).is_some() {
-                format!(" (`{name}` is an elementary function: call it on a number, `x.{name}(..)`)")
+                format!(
+                    " (`{name}` is an elementary function: call it on a number, `x.{name}(..)`)"
+                )
             } else {
                 String::new()
             };
@@ -240,7 +271,11 @@ impl<'a> Lowerer<'a, '_> {
         };
         let takes_self = f.sig.receiver().is_some();
         if takes_self != with_self {
-            let how = if takes_self { format!("self.{name}(..)") } else { format!("Self::{name}(..)") };
+            let how = if takes_self {
+                format!("self.{name}(..)")
+            } else {
+                format!("Self::{name}(..)")
+            };
             return self.error(call.to_token_stream(), format!("call `{name}` as `{how}`"));
         }
         if args.iter().any(Value::is_poison) {

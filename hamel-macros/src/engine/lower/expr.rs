@@ -54,7 +54,9 @@ fn f64_constant(name: &str) -> Option<f64> {
 
 fn is_constant_name(name: &str) -> bool {
     name.chars().any(|c| c.is_ascii_uppercase())
-        && name.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+        && name
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
 }
 
 impl<'a> Lowerer<'a, '_> {
@@ -159,7 +161,10 @@ impl<'a> Lowerer<'a, '_> {
                         Value::Poison
                     }
                 },
-                s => self.error(f, format!("`{s}` literals are not supported: hamel computes in `f64`")),
+                s => self.error(
+                    f,
+                    format!("`{s}` literals are not supported: hamel computes in `f64`"),
+                ),
             },
             syn::Lit::Int(i) => match i.suffix() {
                 "f64" => match i.base10_parse::<f64>() {
@@ -169,7 +174,10 @@ impl<'a> Lowerer<'a, '_> {
                         Value::Poison
                     }
                 },
-                "f32" => self.error(i, "`f32` literals are not supported: hamel computes in `f64`"),
+                "f32" => self.error(
+                    i,
+                    "`f32` literals are not supported: hamel computes in `f64`",
+                ),
                 _ => match i.base10_parse::<i64>() {
                     Ok(v) => Value::Int(v),
                     Err(e) => {
@@ -187,7 +195,12 @@ impl<'a> Lowerer<'a, '_> {
         if p.qself.is_some() {
             return self.error(p, "qualified paths `<T as Trait>::..` are not supported");
         }
-        let segments: Vec<String> = p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+        let segments: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
         if p.path.segments.iter().any(|s| !s.arguments.is_none()) {
             return self.error(p, "generic arguments are not supported here");
         }
@@ -224,12 +237,15 @@ impl<'a> Lowerer<'a, '_> {
                 (None, Some(index)) => Value::Int(index),
                 (None, None) => self.external(p.to_token_stream(), format!("Self::{name}")),
             },
-            ["std" | "core", "f64", "consts", name] | ["f64", "consts", name] | ["consts", name] => {
-                match math_constant(name) {
-                    Some(v) => Value::Real(self.graph.constant(v)),
-                    None => self.error(p, format!("`{name}` is not a constant of `std::f64::consts`")),
-                }
-            }
+            ["std" | "core", "f64", "consts", name]
+            | ["f64", "consts", name]
+            | ["consts", name] => match math_constant(name) {
+                Some(v) => Value::Real(self.graph.constant(v)),
+                None => self.error(
+                    p,
+                    format!("`{name}` is not a constant of `std::f64::consts`"),
+                ),
+            },
             ["std" | "core", "f64", name] | ["f64", name] => match f64_constant(name) {
                 Some(v) => Value::Real(self.graph.constant(v)),
                 None => self.error(p, format!("`f64::{name}` is not supported here")),
@@ -238,7 +254,10 @@ impl<'a> Lowerer<'a, '_> {
                 let key = segments.join("::");
                 self.external(p.to_token_stream(), key)
             }
-            _ => self.error(p, format!("unsupported path `{}`: {SUBSET}", segments.join("::"))),
+            _ => self.error(
+                p,
+                format!("unsupported path `{}`: {SUBSET}", segments.join("::")),
+            ),
         }
     }
 
@@ -253,7 +272,10 @@ impl<'a> Lowerer<'a, '_> {
             return v.clone();
         }
         if self.const_stack.iter().any(|n| n == name) {
-            return self.error(&c.ident, format!("the constant `Self::{name}` is defined in terms of itself"));
+            return self.error(
+                &c.ident,
+                format!("the constant `Self::{name}` is defined in terms of itself"),
+            );
         }
         self.const_stack.push(name.to_string());
         let shape = self.shape_of(&c.ty);
@@ -262,7 +284,11 @@ impl<'a> Lowerer<'a, '_> {
         let value = match shape {
             Some(shape) if !shape.admits(&value) => self.error(
                 &c.expr,
-                format!("`Self::{name}` is declared {} but its value is {}", shape.describe(), value.describe()),
+                format!(
+                    "`Self::{name}` is declared {} but its value is {}",
+                    shape.describe(),
+                    value.describe()
+                ),
             ),
             Some(_) => value,
             None => Value::Poison,
@@ -384,7 +410,10 @@ impl<'a> Lowerer<'a, '_> {
                 };
                 match result {
                     Some(v) => Value::Int(v),
-                    None => self.error(at, "integer overflow or division by zero in a compile-time expression"),
+                    None => self.error(
+                        at,
+                        "integer overflow or division by zero in a compile-time expression",
+                    ),
                 }
             }
             (Value::Bool(a), Value::Bool(c)) => match op {
@@ -396,12 +425,23 @@ impl<'a> Lowerer<'a, '_> {
                     let nc = g.not(c);
                     let neither = g.and(na, nc);
                     let equal = g.or(both, neither);
-                    Value::Bool(if matches!(op, BinOp::Eq(_)) { equal } else { g.not(equal) })
+                    Value::Bool(if matches!(op, BinOp::Eq(_)) {
+                        equal
+                    } else {
+                        g.not(equal)
+                    })
                 }
-                _ => self.error(op, "on `bool`, only `&&`, `||`, `==` and `!=` are supported"),
+                _ => self.error(
+                    op,
+                    "on `bool`, only `&&`, `||`, `==` and `!=` are supported",
+                ),
             },
             (l @ (Value::Real(_) | Value::Int(_)), Value::Real(_) | Value::Int(_)) => {
-                let int_side = if matches!(l, Value::Int(_)) { &at.left } else { &at.right };
+                let int_side = if matches!(l, Value::Int(_)) {
+                    &at.left
+                } else {
+                    &at.right
+                };
                 self.error(
                     int_side,
                     "this is an integer but the other operand is `f64`: write a float literal such as \
@@ -410,7 +450,11 @@ impl<'a> Lowerer<'a, '_> {
             }
             (l, r) => self.error(
                 at,
-                format!("this operator cannot combine {} and {}", l.describe(), r.describe()),
+                format!(
+                    "this operator cannot combine {} and {}",
+                    l.describe(),
+                    r.describe()
+                ),
             ),
         }
     }
@@ -426,7 +470,14 @@ impl<'a> Lowerer<'a, '_> {
                 None => self.error(u, "integer overflow"),
             },
             (UnOp::Not(_), Value::Bool(a)) => Value::Bool(self.graph.not(a)),
-            (op, v) => self.error(u, format!("`{}` cannot be applied to {}", op.to_token_stream(), v.describe())),
+            (op, v) => self.error(
+                u,
+                format!(
+                    "`{}` cannot be applied to {}",
+                    op.to_token_stream(),
+                    v.describe()
+                ),
+            ),
         }
     }
 
@@ -439,9 +490,24 @@ impl<'a> Lowerer<'a, '_> {
             return self.error(a, "empty arrays are not supported");
         }
         let first = items[0].describe();
-        if let Some((i, odd)) = items.iter().enumerate().find(|(_, v)| v.describe() != first) {
-            let at = a.elems.iter().nth(i).map(|e| e.to_token_stream()).unwrap_or_else(|| a.to_token_stream());
-            return self.error(at, format!("array elements must all have the same type: {first} and {}", odd.describe()));
+        if let Some((i, odd)) = items
+            .iter()
+            .enumerate()
+            .find(|(_, v)| v.describe() != first)
+        {
+            let at = a
+                .elems
+                .iter()
+                .nth(i)
+                .map(|e| e.to_token_stream())
+                .unwrap_or_else(|| a.to_token_stream());
+            return self.error(
+                at,
+                format!(
+                    "array elements must all have the same type: {first} and {}",
+                    odd.describe()
+                ),
+            );
         }
         Value::Array(items)
     }
@@ -453,7 +519,10 @@ impl<'a> Lowerer<'a, '_> {
         };
         match usize::try_from(n) {
             Ok(n) if n > 0 && n <= 1 << 20 => Value::Array(vec![item; n]),
-            _ => self.error(&r.len, "the length of `[value; N]` must be between 1 and 2^20"),
+            _ => self.error(
+                &r.len,
+                "the length of `[value; N]` must be between 1 and 2^20",
+            ),
         }
     }
 
@@ -503,7 +572,10 @@ impl<'a> Lowerer<'a, '_> {
                 return;
             }
             _ => {
-                self.error(target, "only `let mut` locals (or their elements) can be assigned to");
+                self.error(
+                    target,
+                    "only `let mut` locals (or their elements) can be assigned to",
+                );
                 return;
             }
         };
@@ -515,7 +587,10 @@ impl<'a> Lowerer<'a, '_> {
                 other => {
                     self.error(
                         index,
-                        format!("an index must be an integer known at compile time, found {}", other.describe()),
+                        format!(
+                            "an index must be an integer known at compile time, found {}",
+                            other.describe()
+                        ),
                     );
                     return;
                 }
@@ -550,7 +625,10 @@ impl<'a> Lowerer<'a, '_> {
             match (usize::try_from(k).ok().filter(|&k| k < len), slot) {
                 (Some(k), Value::Array(items)) => slot = &mut items[k],
                 _ => {
-                    self.error(at, format!("index {k} is out of bounds for an array of length {len}"));
+                    self.error(
+                        at,
+                        format!("index {k} is out of bounds for an array of length {len}"),
+                    );
                     return;
                 }
             }
@@ -575,7 +653,9 @@ impl<'a> Lowerer<'a, '_> {
 fn same_kind(old: &Value, new: &Value) -> bool {
     match (old, new) {
         (Value::Poison, _) | (_, Value::Poison) => true,
-        (Value::Real(_), Value::Real(_)) | (Value::Int(_), Value::Int(_)) | (Value::Bool(_), Value::Bool(_)) => true,
+        (Value::Real(_), Value::Real(_))
+        | (Value::Int(_), Value::Int(_))
+        | (Value::Bool(_), Value::Bool(_)) => true,
         (Value::Array(a), Value::Array(b)) | (Value::Tuple(a), Value::Tuple(b)) => {
             a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same_kind(x, y))
         }

@@ -180,7 +180,12 @@ impl<'a, 'g> Lowerer<'a, 'g> {
 
     /// Lower a call of `f` with the given argument values (one per typed argument; the
     /// receiver is implicit). `call_site` is what errors about the call itself point at.
-    pub fn call(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>, call_site: &dyn ToTokens) -> Value {
+    pub fn call(
+        &mut self,
+        f: &'a syn::ImplItemFn,
+        args: Vec<Value>,
+        call_site: &dyn ToTokens,
+    ) -> Value {
         let name = f.sig.ident.to_string();
         if self.call_stack.contains(&name) {
             return self.error(
@@ -234,7 +239,12 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         if let Some(shape) = &signature.output
             && !shape.admits(&result)
         {
-            let tail = f.block.stmts.last().map(|s| s.to_token_stream()).unwrap_or_else(|| f.block.to_token_stream());
+            let tail = f
+                .block
+                .stmts
+                .last()
+                .map(|s| s.to_token_stream())
+                .unwrap_or_else(|| f.block.to_token_stream());
             return self.error(
                 tail,
                 format!(

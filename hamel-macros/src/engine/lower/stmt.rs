@@ -82,7 +82,11 @@ impl<'a> Lowerer<'a, '_> {
                 } else if let Some((at, _)) = &p.subpat {
                     self.error(at, "`@` patterns are not supported");
                 } else {
-                    env.bind(p.ident.to_string(), value, mutable || p.mutability.is_some());
+                    env.bind(
+                        p.ident.to_string(),
+                        value,
+                        mutable || p.mutability.is_some(),
+                    );
                 }
             }
             Pat::Type(p) => {
@@ -92,7 +96,11 @@ impl<'a> Lowerer<'a, '_> {
                     } else {
                         self.error(
                             &p.ty,
-                            format!("declared {} but the value is {}", shape.describe(), value.describe()),
+                            format!(
+                                "declared {} but the value is {}",
+                                shape.describe(),
+                                value.describe()
+                            ),
                         );
                         self.bind_pattern(env, &p.pat, Value::Poison, mutable);
                     }
@@ -208,7 +216,9 @@ impl<'a> Lowerer<'a, '_> {
                 items.reverse();
                 Some(items)
             }
-            Expr::MethodCall(m) if (m.method == "iter" || m.method == "into_iter") && m.args.is_empty() => {
+            Expr::MethodCall(m)
+                if (m.method == "iter" || m.method == "into_iter") && m.args.is_empty() =>
+            {
                 self.loop_items(env, &m.receiver)
             }
             other => match self.expr(env, other) {
@@ -257,7 +267,13 @@ impl<'a> Lowerer<'a, '_> {
             Value::Bool(c) => Some(c),
             Value::Poison => None,
             other => {
-                self.error(&i.cond, format!("an `if` condition must be a comparison, found {}", other.describe()));
+                self.error(
+                    &i.cond,
+                    format!(
+                        "an `if` condition must be a comparison, found {}",
+                        other.describe()
+                    ),
+                );
                 None
             }
         };
@@ -297,7 +313,14 @@ impl<'a> Lowerer<'a, '_> {
     }
 
     /// Join the values of the two branches of an `if` at run time.
-    fn merge(&mut self, c: crate::engine::graph::NodeId, a: Value, b: Value, at: &syn::ExprIf, what: &str) -> Value {
+    fn merge(
+        &mut self,
+        c: crate::engine::graph::NodeId,
+        a: Value,
+        b: Value,
+        at: &syn::ExprIf,
+        what: &str,
+    ) -> Value {
         match (a, b) {
             (Value::Poison, _) | (_, Value::Poison) => Value::Poison,
             (Value::Real(x), Value::Real(y)) => Value::Real(self.graph.select(c, x, y)),

@@ -40,7 +40,10 @@ impl<'a> Lowerer<'a, '_> {
         let sig = &f.sig;
         let mut ok = true;
         if !sig.generics.params.is_empty() {
-            self.error(&sig.generics, "generic functions cannot be differentiated: write the function over `f64`");
+            self.error(
+                &sig.generics,
+                "generic functions cannot be differentiated: write the function over `f64`",
+            );
             ok = false;
         }
         if let Some(a) = &sig.asyncness {
@@ -58,7 +61,10 @@ impl<'a> Lowerer<'a, '_> {
                 FnArg::Receiver(r) => {
                     let by_mut_ref = matches!(r.kind, syn::ReceiverKind::Reference(_, _, Some(_)));
                     if r.mutability.is_some() || by_mut_ref {
-                        self.error(r, "the model is read-only here: take `&self`, not `&mut self`");
+                        self.error(
+                            r,
+                            "the model is read-only here: take `&self`, not `&mut self`",
+                        );
                         ok = false;
                     }
                     receiver = true;
@@ -77,13 +83,20 @@ impl<'a> Lowerer<'a, '_> {
             ReturnType::Default => {
                 self.error(
                     &sig.ident,
-                    format!("`{}` returns nothing: a differentiated function returns {SUPPORTED_TYPES}", sig.ident),
+                    format!(
+                        "`{}` returns nothing: a differentiated function returns {SUPPORTED_TYPES}",
+                        sig.ident
+                    ),
                 );
                 None
             }
             ReturnType::Type(_, ty) => self.shape_of(ty),
         };
-        ok.then_some(Signature { receiver, args, output })
+        ok.then_some(Signature {
+            receiver,
+            args,
+            output,
+        })
     }
 
     /// The shape of a supported type, or an error at the type.
@@ -101,7 +114,10 @@ impl<'a> Lowerer<'a, '_> {
             Type::Array(a) => {
                 let inner = self.shape_of(&a.elem)?;
                 if inner == Shape::Int {
-                    self.error(&a.elem, format!("arrays of integers are not supported; expected {SUPPORTED_TYPES}"));
+                    self.error(
+                        &a.elem,
+                        format!("arrays of integers are not supported; expected {SUPPORTED_TYPES}"),
+                    );
                     return None;
                 }
                 let len = self.const_int(&a.len, "an array length")?;
@@ -120,8 +136,15 @@ impl<'a> Lowerer<'a, '_> {
                 } else if is_integer_type(&name) {
                     Some(Shape::Int)
                 } else {
-                    let hint = if name == "f32" { " (hamel computes in `f64`)" } else { "" };
-                    self.error(ty, format!("unsupported type `{name}`{hint}: expected {SUPPORTED_TYPES}"));
+                    let hint = if name == "f32" {
+                        " (hamel computes in `f64`)"
+                    } else {
+                        ""
+                    };
+                    self.error(
+                        ty,
+                        format!("unsupported type `{name}`{hint}: expected {SUPPORTED_TYPES}"),
+                    );
                     None
                 }
             }
@@ -142,7 +165,10 @@ impl<'a> Lowerer<'a, '_> {
             other => {
                 self.error(
                     e,
-                    format!("{what} must be an integer known at compile time, found {}", other.describe()),
+                    format!(
+                        "{what} must be an integer known at compile time, found {}",
+                        other.describe()
+                    ),
                 );
                 None
             }

@@ -30,7 +30,11 @@ impl Value {
             Value::Bool(_) => "`bool`".into(),
             Value::Int(_) => "an integer".into(),
             Value::Array(items) => match items.first() {
-                Some(first) => format!("`[{}; {}]`", first.describe().trim_matches('`'), items.len()),
+                Some(first) => format!(
+                    "`[{}; {}]`",
+                    first.describe().trim_matches('`'),
+                    items.len()
+                ),
                 None => "an empty array".into(),
             },
             Value::Tuple(items) => format!("a tuple of {} elements", items.len()),

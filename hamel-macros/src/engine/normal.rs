@@ -1,0 +1,414 @@
+//! Sums in normal form, so that the graph sees cancellations.
+//!
+//! Derivative code is full of terms that cancel only up to association: the γ terms of
+//! Hamel's equations produce `sin·(cos·ω) − cos·(sin·ω)`, the kinematics `(a + b − c) −
+//! (a − b − c)`, rotations `m·sin²x + m·cos²x`. Hash-consing alone cannot see these.
+//!
+//! A sum is flattened into coefficient·term pairs, and terms are compared by the multiset of
+//! their factors, so `sin·(cos·ω)` and `cos·(sin·ω)` are recognized as the same term without
+//! restructuring either product (restructuring products would lose shared sub-products such
+//! as `m·l`). When flattening merges or cancels terms, combines constants, or finds
+//! `P·sin²x + P·cos²x`, the sum is rebuilt from what is left; when nothing merges it stays the
+//! binary node it was, which keeps shared partial sums shared.
+//!
+//! Flattening stops at a small number of pieces: this is a local simplification, not a
+//! computer-algebra system, and its cost stays bounded per node.
+
+use super::graph::{Func, Graph, Node, NodeId};
+
+/// Most terms a sum is flattened into before normalization gives up on it.
+const MAX_TERMS: usize = 16;
+/// Most factors a term is flattened into when comparing terms.
+const MAX_FACTORS: usize = 8;
+
+/// One term of a flattened sum: `coefficient · node`, where `node` is the product of
+/// `factors` (sorted ids) times its own constant `scale`.
+struct Term {
+    coefficient: f64,
+    node: NodeId,
+    factors: Vec<NodeId>,
+    scale: f64,
+}
+
+impl Term {
+    /// The value of the term as a multiple of the bare product of its factors.
+    fn weight(&self) -> f64 {
+        self.coefficient * self.scale
+    }
+}
+
+impl Graph {
+    /// `a + sign·b` in normal form when flattening finds something to simplify, else `None`.
+    pub(super) fn normal_sum(&mut self, a: NodeId, b: NodeId, sign: f64) -> Option<NodeId> {
+        let mut raw = Vec::new();
+        let mut constants = Vec::new();
+        if !self.collect_terms(a, 1.0, &mut raw, &mut constants)
+            || !self.collect_terms(b, sign, &mut raw, &mut constants)
+        {
+            return None;
+        }
+        let count = raw.len();
+        let mut terms: Vec<Term> = Vec::with_capacity(count);
+        for (coefficient, node) in raw {
+            let mut factors = Vec::new();
+            let mut scale = 1.0;
+            if !self.factors(node, &mut factors, &mut scale) {
+                factors = vec![node];
+                scale = 1.0;
+            }
+            factors.sort_unstable();
+            match terms.iter_mut().find(|t| t.factors == factors) {
+                Some(t) => t.coefficient += coefficient * scale / t.scale,
+                None => terms.push(Term {
+                    coefficient,
+                    node,
+                    factors,
+                    scale,
+                }),
+            }
+        }
+        terms.retain(|t| t.coefficient != 0.0);
+        let mut constant: f64 = constants.iter().sum();
+        let pythagoras = self.pythagoras(&mut terms, &mut constant);
+        if terms.len() == count && constants.len() <= 1 && !pythagoras {
+            return None;
+        }
+        Some(self.rebuild_sum(&terms, constant))
+    }
+
+    fn collect_terms(
+        &self,
+        id: NodeId,
+        c: f64,
+        terms: &mut Vec<(f64, NodeId)>,
+        constants: &mut Vec<f64>,
+    ) -> bool {
+        match self.node(id) {
+            Node::Add(a, b) => {
+                self.collect_terms(a, c, terms, constants)
+                    && self.collect_terms(b, c, terms, constants)
+            }
+            Node::Sub(a, b) => {
+                self.collect_terms(a, c, terms, constants)
+                    && self.collect_terms(b, -c, terms, constants)
+            }
+            Node::Neg(a) => self.collect_terms(a, -c, terms, constants),
+            Node::Const(bits) => {
+                constants.push(c * f64::from_bits(bits));
+                true
+            }
+            // The constant in front belongs to the coefficient (keeps rebuilt signs right).
+            Node::Mul(k, x) if self.const_value(k).is_some() => {
+                terms.push((c * self.const_value(k).unwrap_or(1.0), x));
+                terms.len() <= MAX_TERMS
+            }
+            _ => {
+                terms.push((c, id));
+                terms.len() <= MAX_TERMS
+            }
+        }
+    }
+
+    /// A product (or quotient, `divide`) in which a factor meets its reciprocal
+    /// (`(1/b)·(b·x)`, `(b·x)/b`), with those two cancelled; `None` when nothing cancels (the
+    /// product is then built as usual).
+    pub(super) fn cancelled_product(
+        &mut self,
+        a: NodeId,
+        b: NodeId,
+        divide: bool,
+    ) -> Option<NodeId> {
+        let mut up = Vec::new();
+        let mut down = Vec::new();
+        let mut coefficient = 1.0;
+        if !self.monomial(a, false, &mut up, &mut down, &mut coefficient)
+            || !self.monomial(b, divide, &mut up, &mut down, &mut coefficient)
+        {
+            return None;
+        }
+        let mut cancelled = false;
+        let mut i = 0;
+        while i < up.len() {
+            if let Some(j) = down.iter().position(|&d| d == up[i]) {
+                up.remove(i);
+                down.remove(j);
+                cancelled = true;
+            } else {
+                i += 1;
+            }
+        }
+        if !cancelled {
+            return None;
+        }
+        up.sort_unstable();
+        down.sort_unstable();
+        let mut numerator = self.constant(coefficient);
+        for &f in &up {
+            numerator = self.mul(numerator, f);
+        }
+        let mut result = numerator;
+        for &f in &down {
+            result = self.div(result, f);
+        }
+        Some(result)
+    }
+
+    /// Factors of a product or quotient: `up` multiply, `down` divide.
+    fn monomial(
+        &self,
+        id: NodeId,
+        inverted: bool,
+        up: &mut Vec<NodeId>,
+        down: &mut Vec<NodeId>,
+        c: &mut f64,
+    ) -> bool {
+        match self.node(id) {
+            Node::Mul(x, y) => {
+                self.monomial(x, inverted, up, down, c) && self.monomial(y, inverted, up, down, c)
+            }
+            Node::Div(x, y) => {
+                self.monomial(x, inverted, up, down, c) && self.monomial(y, !inverted, up, down, c)
+            }
+            Node::Neg(x) => {
+                *c = -*c;
+                self.monomial(x, inverted, up, down, c)
+            }
+            Node::Const(bits) => {
+                let v = f64::from_bits(bits);
+                *c = if inverted { *c / v } else { *c * v };
+                true
+            }
+            _ => {
+                if inverted {
+                    down.push(id)
+                } else {
+                    up.push(id)
+                }
+                up.len() + down.len() <= MAX_FACTORS
+            }
+        }
+    }
+
+    /// The non-constant factors of a product and its constant part.
+    fn factors(&self, id: NodeId, factors: &mut Vec<NodeId>, scale: &mut f64) -> bool {
+        match self.node(id) {
+            Node::Mul(a, b) => self.factors(a, factors, scale) && self.factors(b, factors, scale),
+            Node::Neg(a) => {
+                *scale = -*scale;
+                self.factors(a, factors, scale)
+            }
+            Node::Const(bits) => {
+                *scale *= f64::from_bits(bits);
+                true
+            }
+            Node::Powi(x, 2) => {
+                factors.extend([x, x]);
+                factors.len() <= MAX_FACTORS
+            }
+            _ => {
+                factors.push(id);
+                factors.len() <= MAX_FACTORS
+            }
+        }
+    }
+
+    /// Replace w·P·sin²x + w·P·cos²x by w·P. Returns whether it did.
+    fn pythagoras(&mut self, terms: &mut Vec<Term>, constant: &mut f64) -> bool {
+        let mut found = false;
+        'search: loop {
+            for i in 0..terms.len() {
+                for (j, other) in terms.iter().enumerate() {
+                    if i == j || terms[i].weight() != other.weight() {
+                        continue;
+                    }
+                    if let Some(rest) = self.sin_cos_pair(&terms[i].factors, &other.factors) {
+                        let weight = terms[i].weight();
+                        let (first, second) = if i < j { (i, j) } else { (j, i) };
+                        terms.remove(second);
+                        terms.remove(first);
+                        if rest.is_empty() {
+                            *constant += weight;
+                        } else {
+                            let mut node = rest[0];
+                            for &f in &rest[1..] {
+                                node = self.mul(node, f);
+                            }
+                            terms.push(Term {
+                                coefficient: weight,
+                                node,
+                                factors: rest,
+                                scale: 1.0,
+                            });
+                        }
+                        found = true;
+                        continue 'search;
+                    }
+                }
+            }
+            return found;
+        }
+    }
+
+    /// If `a` = P·sin²x and `b` = P·cos²x (sorted factor lists), return P.
+    fn sin_cos_pair(&self, a: &[NodeId], b: &[NodeId]) -> Option<Vec<NodeId>> {
+        let squares = |factors: &[NodeId], f: Func| -> Vec<(NodeId, NodeId)> {
+            factors
+                .windows(2)
+                .filter(|w| w[0] == w[1])
+                .filter_map(|w| match self.node(w[0]) {
+                    Node::Unary(g, arg) if g == f => Some((w[0], arg)),
+                    _ => None,
+                })
+                .collect()
+        };
+        for (sin, arg) in squares(a, Func::Sin) {
+            for (cos, arg2) in squares(b, Func::Cos) {
+                if arg != arg2 {
+                    continue;
+                }
+                let without = |factors: &[NodeId], x: NodeId| -> Vec<NodeId> {
+                    let mut v = factors.to_vec();
+                    for _ in 0..2 {
+                        if let Some(p) = v.iter().position(|&f| f == x) {
+                            v.remove(p);
+                        }
+                    }
+                    v
+                };
+                let rest = without(a, sin);
+                if rest == without(b, cos) {
+                    return Some(rest);
+                }
+            }
+        }
+        None
+    }
+
+    /// Σ cᵢ·tᵢ + constant as a left-deep chain: positive terms first, then the negative ones
+    /// subtracted, the constant last.
+    fn rebuild_sum(&mut self, terms: &[Term], constant: f64) -> NodeId {
+        let mut positive: Option<NodeId> = None;
+        let mut negative: Option<NodeId> = None;
+        for t in terms {
+            let magnitude = self.times(t.coefficient.abs(), t.node);
+            let slot = if t.coefficient > 0.0 {
+                &mut positive
+            } else {
+                &mut negative
+            };
+            *slot = Some(match *slot {
+                None => magnitude,
+                Some(acc) => self.plain_add(acc, magnitude),
+            });
+        }
+        let body = match (positive, negative) {
+            (Some(p), Some(n)) => Some(self.intern(Node::Sub(p, n))),
+            (Some(p), None) => Some(p),
+            (None, Some(n)) => Some(self.intern(Node::Neg(n))),
+            (None, None) => None,
+        };
+        match body {
+            None => self.constant(constant),
+            Some(b) if constant == 0.0 => b,
+            Some(b) if constant > 0.0 => {
+                let k = self.constant(constant);
+                self.plain_add(b, k)
+            }
+            Some(b) => {
+                let k = self.constant(-constant);
+                self.intern(Node::Sub(b, k))
+            }
+        }
+    }
+
+    fn plain_add(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        let (x, y) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Add(x, y))
+    }
+
+    /// c·x for c > 0, through `mul` (which folds constants in front).
+    fn times(&mut self, c: f64, x: NodeId) -> NodeId {
+        if c == 1.0 {
+            return x;
+        }
+        let k = self.constant(c);
+        self.mul(k, x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::engine::graph::{Func, Graph};
+
+    #[test]
+    fn terms_meet_whatever_the_association_of_their_products() {
+        let mut g = Graph::new();
+        let s = g.new_input("s");
+        let c = g.new_input("c");
+        let w = g.new_input("w");
+        let cw = g.mul(c, w);
+        let sw = g.mul(s, w);
+        let a = g.mul(s, cw);
+        let b = g.mul(c, sw);
+        let d = g.sub(a, b);
+        assert!(g.is_zero(d));
+        let two = g.constant(2.0);
+        let half = g.constant(0.5);
+        let t = g.mul(two, s);
+        let u = g.mul(half, t);
+        assert_eq!(u, s);
+    }
+
+    #[test]
+    fn sums_cancel_and_combine() {
+        let mut g = Graph::new();
+        let a = g.new_input("a");
+        let b = g.new_input("b");
+        let c = g.new_input("c");
+        let ab = g.add(a, b);
+        let p = g.sub(ab, c); // a + b − c
+        let amb = g.sub(a, b);
+        let q = g.sub(amb, c); // a − b − c
+        let d = g.sub(p, q); // 2b
+        let v = g.evaluate(&[d], &[1.0, 3.0, 5.0]);
+        assert_eq!(v, vec![6.0]);
+        assert_eq!(crate::engine::ops::count(&g, &[d]).total(), 1);
+    }
+
+    #[test]
+    fn pythagoras_with_common_factors() {
+        let mut g = Graph::new();
+        let x = g.new_input("x");
+        let m = g.new_input("m");
+        let w = g.new_input("w");
+        let s = g.unary(Func::Sin, x);
+        let c = g.unary(Func::Cos, x);
+        let s2 = g.mul(s, s);
+        let c2 = g.mul(c, c);
+        let sum = g.add(s2, c2);
+        assert_eq!(g.const_value(sum), Some(1.0));
+        // m·w·sin²x + (w·cos x)·(m·cos x) = m·w
+        let ms2 = g.mul(m, s2);
+        let a = g.mul(w, ms2);
+        let wc = g.mul(w, c);
+        let mc = g.mul(m, c);
+        let b = g.mul(wc, mc);
+        let total = g.add(a, b);
+        let mw = g.mul(m, w);
+        assert_eq!(total, mw);
+        // Different weights stay.
+        let other = g.add(ms2, c2);
+        assert!(g.const_value(other).is_none());
+    }
+
+    #[test]
+    fn unmerged_sums_keep_their_shape() {
+        let mut g = Graph::new();
+        let a = g.new_input("a");
+        let b = g.new_input("b");
+        let c = g.new_input("c");
+        let ab = g.add(a, b);
+        let abc = g.add(ab, c);
+        assert!(g.node(abc).operands().as_slice().contains(&ab));
+    }
+}

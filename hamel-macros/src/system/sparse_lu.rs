@@ -1,0 +1,323 @@
+//! B = A(q)⁻¹ for models that give no inverse: an LU factorization with partial pivoting,
+//! unrolled into the right-hand side and evaluated numerically at every call.
+//!
+//! A(q) is mostly structure: rows of constants (ω = α̇), rows that touch two coordinates. A
+//! dense factorization of run-time values would throw that away and cost n³; instead, as
+//! sparse direct solvers do (KLU), the matrix is first permuted to block-triangular form from
+//! its sparsity pattern, which is valid for every q:
+//!
+//! 1. a maximum matching of rows to columns puts a structurally nonzero entry on the
+//!    diagonal (none exists: A(q) is singular for every q, a compile-time error);
+//! 2. the strongly connected components of the matched graph are the diagonal blocks, in an
+//!    order in which every block only needs unknowns of earlier blocks.
+//!
+//! Each diagonal block is factored with partial pivoting among the rows whose entry can be
+//! nonzero: the largest magnitude wins at run time, through selects; where only one row is a
+//! candidate the choice is static. Divisions are by the chosen pivots, which the generated
+//! code checks against the matrix's scale before any result is used. Several right-hand
+//! sides share the factorization, because it is built from the same nodes each time and the
+//! graph is hash-consed.
+
+use crate::engine::graph::{Cmp, Func, Graph, NodeId};
+
+/// Why A(q) is singular for every q: a column (coordinate) that no matching reaches.
+pub struct StructurallySingular {
+    pub column: usize,
+}
+
+pub struct SparseLu {
+    a: Vec<Vec<NodeId>>,
+    /// Diagonal blocks in solving order: (rows, columns), rows matched to columns in order.
+    blocks: Vec<(Vec<usize>, Vec<usize>)>,
+}
+
+impl SparseLu {
+    pub fn new(g: &Graph, a: &[Vec<NodeId>]) -> Result<SparseLu, StructurallySingular> {
+        let n = a.len();
+        let nonzero: Vec<Vec<bool>> = a.iter().map(|row| row.iter().map(|&e| !g.is_zero(e)).collect()).collect();
+        let row_of = matching(&nonzero).map_err(|column| StructurallySingular { column })?;
+        // Column j depends on column k when the row matched to j involves k.
+        let edges: Vec<Vec<usize>> = (0..n)
+            .map(|j| (0..n).filter(|&k| k != j && nonzero[row_of[j]][k]).collect())
+            .collect();
+        let blocks = strongly_connected(&edges)
+            .into_iter()
+            .map(|columns| (columns.iter().map(|&j| row_of[j]).collect(), columns))
+            .collect();
+        Ok(SparseLu { a: a.to_vec(), blocks })
+    }
+
+    /// The solution of A x = b, and the pivots the factorization divided by.
+    pub fn solve(&self, g: &mut Graph, b: &[NodeId]) -> (Vec<NodeId>, Vec<NodeId>) {
+        let n = self.a.len();
+        let mut x: Vec<Option<NodeId>> = vec![None; n];
+        let mut pivots = Vec::new();
+        for (rows, columns) in &self.blocks {
+            // Right-hand side of the block: b minus what earlier blocks contribute.
+            let mut augmented: Vec<Vec<NodeId>> = rows
+                .iter()
+                .map(|&r| {
+                    let mut rhs = b[r];
+                    for (k, xk) in x.iter().enumerate() {
+                        if let Some(xk) = xk
+                            && !columns.contains(&k)
+                        {
+                            let t = g.mul(self.a[r][k], *xk);
+                            rhs = g.sub(rhs, t);
+                        }
+                    }
+                    let mut row: Vec<NodeId> = columns.iter().map(|&c| self.a[r][c]).collect();
+                    row.push(rhs);
+                    row
+                })
+                .collect();
+            let solved = eliminate(g, &mut augmented, &mut pivots);
+            for (&c, v) in columns.iter().zip(solved) {
+                x[c] = Some(v);
+            }
+        }
+        let zero = g.zero();
+        (x.into_iter().map(|v| v.unwrap_or(zero)).collect(), pivots)
+    }
+}
+
+/// Gaussian elimination with partial pivoting on an augmented block [M | r], unrolled.
+fn eliminate(g: &mut Graph, rows: &mut [Vec<NodeId>], pivots: &mut Vec<NodeId>) -> Vec<NodeId> {
+    let s = rows.len();
+    let mut inverse_pivots = Vec::with_capacity(s);
+    for k in 0..s {
+        let candidates: Vec<usize> = (k..s).filter(|&i| !g.is_zero(rows[i][k])).collect();
+        match candidates.as_slice() {
+            [] => {}
+            [only] => rows.swap(k, *only),
+            _ => pivot_at_run_time(g, rows, k, &candidates),
+        }
+        let pivot = rows[k][k];
+        pivots.push(pivot);
+        let one = g.one();
+        let inverse = g.div(one, pivot);
+        inverse_pivots.push(inverse);
+        for i in k + 1..s {
+            if g.is_zero(rows[i][k]) {
+                continue;
+            }
+            let factor = g.mul(rows[i][k], inverse);
+            for j in k + 1..=s {
+                let t = g.mul(factor, rows[k][j]);
+                rows[i][j] = g.sub(rows[i][j], t);
+            }
+            rows[i][k] = g.zero();
+        }
+    }
+    let mut x = vec![g.zero(); s];
+    for k in (0..s).rev() {
+        let mut acc = rows[k][s];
+        for j in k + 1..s {
+            let t = g.mul(rows[k][j], x[j]);
+            acc = g.sub(acc, t);
+        }
+        x[k] = g.mul(acc, inverse_pivots[k]);
+    }
+    x
+}
+
+/// Bring the candidate with the largest |entry| in column k to row k, with selects: the
+/// comparisons run at run time, and the displaced row k takes the pivot row's place.
+fn pivot_at_run_time(g: &mut Graph, rows: &mut [Vec<NodeId>], k: usize, candidates: &[usize]) {
+    let magnitudes: Vec<NodeId> = candidates.iter().map(|&i| g.unary(Func::Abs, rows[i][k])).collect();
+    // takes[i]: candidate i beats every earlier one (strictly, so ties keep the first).
+    let mut best = magnitudes[0];
+    let mut takes = vec![g.boolean(true)];
+    for &m in &magnitudes[1..] {
+        let t = g.compare(Cmp::Gt, m, best);
+        best = g.select(t, m, best);
+        takes.push(t);
+    }
+    // chosen[i]: i took the lead and nobody after it did.
+    let mut chosen = vec![g.boolean(false); candidates.len()];
+    let mut none_later = g.boolean(true);
+    for i in (0..candidates.len()).rev() {
+        chosen[i] = g.and(takes[i], none_later);
+        let not = g.not(takes[i]);
+        none_later = g.and(none_later, not);
+    }
+    let width = rows[k].len();
+    let old_k = rows[k].clone();
+    let mut pivot_row = rows[candidates[0]].clone();
+    for (i, &c) in candidates.iter().enumerate().skip(1) {
+        for j in 0..width {
+            pivot_row[j] = g.select(chosen[i], rows[c][j], pivot_row[j]);
+        }
+    }
+    for (i, &c) in candidates.iter().enumerate() {
+        if c == k {
+            continue;
+        }
+        for j in 0..width {
+            rows[c][j] = g.select(chosen[i], old_k[j], rows[c][j]);
+        }
+    }
+    rows[k] = pivot_row;
+}
+
+/// A perfect matching row_of[column] of a square pattern, or a column left unmatched.
+fn matching(nonzero: &[Vec<bool>]) -> Result<Vec<usize>, usize> {
+    let n = nonzero.len();
+    let mut col_of_row: Vec<Option<usize>> = vec![None; n];
+    fn augment(j: usize, nonzero: &[Vec<bool>], seen: &mut [bool], col_of_row: &mut [Option<usize>]) -> bool {
+        for r in 0..nonzero.len() {
+            if nonzero[r][j] && !seen[r] {
+                seen[r] = true;
+                if col_of_row[r].is_none_or(|other| augment(other, nonzero, seen, col_of_row)) {
+                    col_of_row[r] = Some(j);
+                    return true;
+                }
+            }
+        }
+        false
+    }
+    for j in 0..n {
+        let mut seen = vec![false; n];
+        if !augment(j, nonzero, &mut seen, &mut col_of_row) {
+            return Err(j);
+        }
+    }
+    let mut row_of = vec![0; n];
+    for (r, c) in col_of_row.iter().enumerate() {
+        if let Some(c) = c {
+            row_of[*c] = r;
+        }
+    }
+    Ok(row_of)
+}
+
+/// Tarjan's strongly connected components; each component comes after the components it
+/// has edges into, which is the order to solve the blocks in.
+fn strongly_connected(edges: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    struct State<'e> {
+        edges: &'e [Vec<usize>],
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        on_stack: Vec<bool>,
+        stack: Vec<usize>,
+        next: usize,
+        out: Vec<Vec<usize>>,
+    }
+    fn visit(v: usize, st: &mut State<'_>) {
+        st.index[v] = Some(st.next);
+        st.low[v] = st.next;
+        st.next += 1;
+        st.stack.push(v);
+        st.on_stack[v] = true;
+        for &w in &st.edges[v] {
+            match st.index[w] {
+                None => {
+                    visit(w, st);
+                    st.low[v] = st.low[v].min(st.low[w]);
+                }
+                Some(iw) if st.on_stack[w] => st.low[v] = st.low[v].min(iw),
+                Some(_) => {}
+            }
+        }
+        if Some(st.low[v]) == st.index[v] {
+            let mut component = Vec::new();
+            while let Some(w) = st.stack.pop() {
+                st.on_stack[w] = false;
+                component.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            component.sort_unstable();
+            st.out.push(component);
+        }
+    }
+    let n = edges.len();
+    let mut st = State {
+        edges,
+        index: vec![None; n],
+        low: vec![0; n],
+        on_stack: vec![false; n],
+        stack: Vec::new(),
+        next: 0,
+        out: Vec::new(),
+    };
+    for v in 0..n {
+        if st.index[v].is_none() {
+            visit(v, &mut st);
+        }
+    }
+    st.out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn robot_like_pattern_splits_into_small_blocks() {
+        // Rows of the robot's A: [s, −c, 0, 0, 0], [−c, −s, r, r/2, r/2], [0, 0, 1, 0, 0],
+        // [c, s, 0, 0, 0], [0, 0, 0, r/b, −r/b].
+        let mut g = Graph::new();
+        let s = g.new_input("s");
+        let c = g.new_input("c");
+        let r = g.new_input("r");
+        let h = g.new_input("h");
+        let k = g.new_input("k");
+        let (z, one) = (g.zero(), g.one());
+        let (nc, ns, nk) = (g.neg(c), g.neg(s), g.neg(k));
+        let a = vec![
+            vec![s, nc, z, z, z],
+            vec![nc, ns, r, h, h],
+            vec![z, z, one, z, z],
+            vec![c, s, z, z, z],
+            vec![z, z, z, k, nk],
+        ];
+        let lu = SparseLu::new(&g, &a).ok().unwrap();
+        let sizes: Vec<usize> = lu.blocks.iter().map(|(_, cols)| cols.len()).collect();
+        assert_eq!(sizes.iter().sum::<usize>(), 5);
+        assert!(sizes.iter().all(|&s| s <= 2), "{sizes:?}");
+        let b: Vec<NodeId> = (0..5).map(|i| g.new_input(format!("b{i}"))).collect();
+        let (x, _) = lu.solve(&mut g, &b);
+        // Check A x = b numerically at a configuration where pivoting matters (|c| > |s|).
+        let theta: f64 = 0.3;
+        let vals = [theta.sin(), theta.cos(), 0.1, 0.05, 0.2, 1.0, -2.0, 0.5, 3.0, 0.25];
+        let xs = g.evaluate(&x, &vals);
+        let am = [
+            [vals[0], -vals[1], 0.0, 0.0, 0.0],
+            [-vals[1], -vals[0], 0.1, 0.05, 0.05],
+            [0.0, 0.0, 1.0, 0.0, 0.0],
+            [vals[1], vals[0], 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.2, -0.2],
+        ];
+        for i in 0..5 {
+            let ax: f64 = (0..5).map(|j| am[i][j] * xs[j]).sum();
+            assert!((ax - vals[5 + i]).abs() < 1e-14, "row {i}: {ax} vs {}", vals[5 + i]);
+        }
+    }
+
+    #[test]
+    fn structurally_singular_names_a_column() {
+        let mut g = Graph::new();
+        let x = g.new_input("x");
+        let z = g.zero();
+        let a = vec![vec![x, z], vec![x, z]];
+        assert_eq!(SparseLu::new(&g, &a).err().map(|e| e.column), Some(1));
+    }
+
+    #[test]
+    fn pivoting_picks_the_larger_entry() {
+        // [[ε, 1], [1, 1]] x = [1, 2]: without pivoting the ε pivot loses all accuracy.
+        let mut g = Graph::new();
+        let e = g.new_input("e");
+        let one = g.one();
+        let a = vec![vec![e, one], vec![one, one]];
+        let lu = SparseLu::new(&g, &a).ok().unwrap();
+        let two = g.constant(2.0);
+        let (x, pivots) = lu.solve(&mut g, &[one, two]);
+        let v = g.evaluate(&x, &[1e-20]);
+        assert!((v[0] - 1.0).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15, "{v:?}");
+        let p = g.evaluate(&pivots, &[1e-20]);
+        assert!(p.iter().all(|p| p.abs() > 0.5), "{p:?}");
+    }
+}

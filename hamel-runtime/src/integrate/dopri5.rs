@@ -1,0 +1,629 @@
+//! The Dormand–Prince 5(4) method with step-size control and dense output, after Hairer's
+//! DOPRI5 (Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, II.4–II.6):
+//! the same tableau, error norm, PI controller, initial-step heuristic and continuous
+//! extension, so its step counts can be checked against the Fortran code's.
+
+use super::{Integrator, Observer, Ode, Stats, check_problem, check_state, combine, equal_steps};
+use crate::error::Error;
+use crate::vector::Vector;
+
+/// Dormand–Prince 5(4): an explicit Runge–Kutta pair of orders 5 and 4, continued with the
+/// fifth-order solution (local extrapolation). The last stage of a step is the first of the
+/// next (FSAL), so an accepted step costs six right-hand-side evaluations.
+///
+/// Steps are chosen so that the local error estimate e satisfies
+/// √(mean((eᵢ/scᵢ)²)) ≤ 1 with scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|). Sample times inside a step
+/// are observed through the method's fourth-order continuous extension; the integrator never
+/// shortens a step to hit a sample, only the last one to end exactly on the final sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DormandPrince {
+    /// Relative tolerance (≥ 0).
+    pub rtol: f64,
+    /// Absolute tolerance (> 0).
+    pub atol: f64,
+    /// The first step size; `None` lets Hairer's heuristic choose it from the problem.
+    pub initial_step: Option<f64>,
+    /// The largest step allowed (`f64::INFINITY`: only the integration span limits it).
+    pub max_step: f64,
+    /// `Some(h)`: no error control; equal steps of at most h that end exactly on the final
+    /// sample, every one accepted. For convergence studies and reproducible cost.
+    pub fixed_step: Option<f64>,
+}
+
+impl DormandPrince {
+    /// Adaptive steps with these tolerances, the automatic initial step and no step limit.
+    pub fn new(rtol: f64, atol: f64) -> Self {
+        DormandPrince {
+            rtol,
+            atol,
+            initial_step: None,
+            max_step: f64::INFINITY,
+            fixed_step: None,
+        }
+    }
+
+    pub fn with_initial_step(mut self, h: f64) -> Self {
+        self.initial_step = Some(h);
+        self
+    }
+
+    pub fn with_max_step(mut self, h: f64) -> Self {
+        self.max_step = h;
+        self
+    }
+
+    pub fn with_fixed_step(mut self, h: f64) -> Self {
+        self.fixed_step = Some(h);
+        self
+    }
+
+    fn check_settings(&self) -> Result<(), Error> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let invalid = |name, value, reason| {
+            Err(Error::InvalidSetting {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.rtol.is_finite() && self.rtol >= 0.0) {
+            return invalid(
+                "rtol",
+                self.rtol,
+                "the relative tolerance must be a finite number ≥ 0",
+            );
+        }
+        // A positive atol keeps every scale scᵢ positive, so the error norm is never 0/0.
+        if !positive(self.atol) {
+            return invalid(
+                "atol",
+                self.atol,
+                "the absolute tolerance must be a positive finite number",
+            );
+        }
+        if let Some(h) = self.initial_step.filter(|h| !positive(*h)) {
+            return invalid(
+                "initial step",
+                h,
+                "the initial step must be a positive finite number",
+            );
+        }
+        if self.max_step.is_nan() || self.max_step <= 0.0 {
+            return invalid(
+                "max step",
+                self.max_step,
+                "the largest step must be positive (or infinite)",
+            );
+        }
+        if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
+            return invalid(
+                "fixed step",
+                h,
+                "the fixed step must be a positive finite number",
+            );
+        }
+        Ok(())
+    }
+}
+
+// The Butcher tableau (Dormand & Prince 1980), as in Hairer's DOPRI5.
+const C2: f64 = 0.2;
+const C3: f64 = 0.3;
+const C4: f64 = 0.8;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 0.2;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+// The fifth-order weights (stage 2's weight is zero), which are also the seventh stage's row.
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+// The fifth- minus the fourth-order weights: the local error estimate.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+// The continuous extension of Shampine (1986), Hairer's CONTD5.
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+// Hairer's step-size control constants (DOPRI5's defaults).
+const SAFETY: f64 = 0.9;
+/// Bounds on h_new/h: FAC1 ≤ h_new/h ≤ FAC2.
+const FAC1: f64 = 0.2;
+const FAC2: f64 = 10.0;
+/// Weight of the previous error in the PI controller (Lund stabilization).
+const BETA: f64 = 0.04;
+const EXPO1: f64 = 0.2 - BETA * 0.75;
+const FACOLD_MIN: f64 = 1e-4;
+
+/// One attempted step from (t, y) with size h: its stages and its fifth-order result.
+struct Step<V> {
+    h: f64,
+    /// k[0] = f(t, y) (carried over from the previous step), …, k[6] = f(t + h, y1).
+    k: [V; 7],
+    y1: V,
+}
+
+fn attempt<O: Ode>(
+    ode: &mut O,
+    t: f64,
+    y: &O::State,
+    k1: &O::State,
+    h: f64,
+    stats: &mut Stats,
+) -> Result<Step<O::State>, Error> {
+    let mut k2 = O::State::zeros();
+    let mut k3 = O::State::zeros();
+    let mut k4 = O::State::zeros();
+    let mut k5 = O::State::zeros();
+    let mut k6 = O::State::zeros();
+    let mut k7 = O::State::zeros();
+    stats.evaluations += 6;
+    ode.rhs(t + C2 * h, &combine(y, h, &[(A21, k1)]), &mut k2)?;
+    ode.rhs(
+        t + C3 * h,
+        &combine(y, h, &[(A31, k1), (A32, &k2)]),
+        &mut k3,
+    )?;
+    ode.rhs(
+        t + C4 * h,
+        &combine(y, h, &[(A41, k1), (A42, &k2), (A43, &k3)]),
+        &mut k4,
+    )?;
+    ode.rhs(
+        t + C5 * h,
+        &combine(y, h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+        &mut k5,
+    )?;
+    let t1 = t + h;
+    ode.rhs(
+        t1,
+        &combine(
+            y,
+            h,
+            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+        ),
+        &mut k6,
+    )?;
+    let y1 = combine(
+        y,
+        h,
+        &[(A71, k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
+    );
+    ode.rhs(t1, &y1, &mut k7)?;
+    Ok(Step {
+        h,
+        k: [*k1, k2, k3, k4, k5, k6, k7],
+        y1,
+    })
+}
+
+/// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|).
+/// NaN if the step produced a non-finite value (and then the step is rejected).
+fn error_norm<V: Vector>(y: &V, step: &Step<V>, rtol: f64, atol: f64) -> f64 {
+    if V::LEN == 0 {
+        return 0.0;
+    }
+    let [k1, _, k3, k4, k5, k6, k7] = &step.k;
+    let e = combine(
+        &V::zeros(),
+        step.h,
+        &[(E1, k1), (E3, k3), (E4, k4), (E5, k5), (E6, k6), (E7, k7)],
+    );
+    let sum: f64 = (0..V::LEN)
+        .map(|i| {
+            let (y0, y1) = (y.as_ref()[i], step.y1.as_ref()[i]);
+            let sc = atol + rtol * y0.abs().max(y1.abs());
+            (e.as_ref()[i] / sc).powi(2)
+        })
+        .sum();
+    (sum / V::LEN as f64).sqrt()
+}
+
+/// The continuous extension of an accepted step from (t, y): a polynomial of degree 4 in
+/// θ = (s − t)/h that interpolates y and y1 with the slopes k1 and k7 and is fourth-order
+/// accurate in between.
+struct Dense<V> {
+    t: f64,
+    h: f64,
+    r: [V; 5],
+}
+
+impl<V: Vector> Dense<V> {
+    fn new(t: f64, y: &V, step: &Step<V>) -> Self {
+        let [k1, _, k3, k4, k5, k6, k7] = &step.k;
+        let h = step.h;
+        let mut r = [*y, V::zeros(), V::zeros(), V::zeros(), V::zeros()];
+        r[4] = combine(
+            &V::zeros(),
+            h,
+            &[(D1, k1), (D3, k3), (D4, k4), (D5, k5), (D6, k6), (D7, k7)],
+        );
+        for i in 0..V::LEN {
+            let ydiff = step.y1.as_ref()[i] - y.as_ref()[i];
+            let bspl = h * k1.as_ref()[i] - ydiff;
+            r[1].as_mut()[i] = ydiff;
+            r[2].as_mut()[i] = bspl;
+            r[3].as_mut()[i] = ydiff - h * k7.as_ref()[i] - bspl;
+        }
+        Dense { t, h, r }
+    }
+
+    fn at(&self, s: f64) -> V {
+        let theta = (s - self.t) / self.h;
+        let theta1 = 1.0 - theta;
+        let mut out = V::zeros();
+        let [r1, r2, r3, r4, r5] = &self.r;
+        for (i, o) in out.as_mut().iter_mut().enumerate() {
+            let c = |r: &V| r.as_ref()[i];
+            *o = c(r1) + theta * (c(r2) + theta1 * (c(r3) + theta * (c(r4) + theta1 * c(r5))));
+        }
+        out
+    }
+}
+
+/// Hairer's PI step-size controller with Lund stabilization.
+struct Controller {
+    /// The error of the last accepted step (at least FACOLD_MIN).
+    facold: f64,
+    /// After a rejection the next accepted step may not grow: the rejection just showed that
+    /// a larger step fails.
+    after_rejection: bool,
+}
+
+impl Controller {
+    fn new() -> Self {
+        Controller {
+            facold: FACOLD_MIN,
+            after_rejection: false,
+        }
+    }
+
+    /// The next step size after a step of size h with error err ≤ 1 was accepted.
+    fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
+        let fac11 = err.powf(EXPO1);
+        let fac = (fac11 / self.facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
+        self.facold = err.max(FACOLD_MIN);
+        let mut h_new = (h / fac).min(hmax);
+        if self.after_rejection {
+            h_new = h_new.min(h);
+        }
+        self.after_rejection = false;
+        h_new
+    }
+
+    /// The retry step size after a step of size h was rejected with error err > 1 (or NaN:
+    /// a non-finite stage, which the largest reduction answers).
+    fn rejected(&mut self, h: f64, err: f64) -> f64 {
+        self.after_rejection = true;
+        let fac11 = err.powf(EXPO1);
+        let shrink = if fac11.is_nan() {
+            1.0 / FAC1
+        } else {
+            (fac11 / SAFETY).min(1.0 / FAC1)
+        };
+        h / shrink
+    }
+}
+
+/// Hairer's initial step (HINIT, order 5): a step whose explicit-Euler increment is 1% of the
+/// solution's scale, then refined with a finite-difference estimate of the second derivative
+/// so that the local error of the first step is near the tolerance. Costs one evaluation.
+fn initial_step<O: Ode>(
+    ode: &mut O,
+    t: f64,
+    y: &O::State,
+    f0: &O::State,
+    method: &DormandPrince,
+    hmax: f64,
+    stats: &mut Stats,
+) -> Result<f64, Error> {
+    let scale = |i: usize| method.atol + method.rtol * y.as_ref()[i].abs();
+    let n = O::State::LEN;
+    let dnf: f64 = (0..n).map(|i| (f0.as_ref()[i] / scale(i)).powi(2)).sum();
+    let dny: f64 = (0..n).map(|i| (y.as_ref()[i] / scale(i)).powi(2)).sum();
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
+    // A non-finite derivative makes h NaN; start small and let step rejection deal with it.
+    if !(h > 0.0 && h.is_finite()) {
+        h = 1e-6;
+    }
+    h = h.min(hmax);
+
+    let mut f1 = O::State::zeros();
+    ode.rhs(t + h, &combine(y, h, &[(1.0, f0)]), &mut f1)?;
+    stats.evaluations += 1;
+    let der2 = (0..n)
+        .map(|i| ((f1.as_ref()[i] - f0.as_ref()[i]) / scale(i)).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der12).powf(1.0 / 5.0)
+    };
+    // f64::min ignores a NaN h1, leaving a finite step.
+    Ok((100.0 * h).min(h1).min(hmax))
+}
+
+/// The bookkeeping of sample times: which come next, and observing those an accepted step
+/// covers.
+struct Samples<'a, 'o, V> {
+    times: &'a [f64],
+    next: usize,
+    observe: &'a mut Observer<'o, V>,
+}
+
+impl<V: Vector> Samples<'_, '_, V> {
+    /// The last sample time: where the integration ends.
+    fn end(&self) -> f64 {
+        self.times.last().copied().unwrap_or(f64::NAN)
+    }
+
+    /// Observes the samples in the accepted step from (t, y) to (t1, step.y1): at t1 the
+    /// step's own result, inside the step the continuous extension (formed only if needed).
+    fn observe_step(&mut self, t: f64, y: &V, t1: f64, step: &Step<V>) -> Result<(), Error> {
+        let mut dense = None;
+        while let Some(&s) = self.times.get(self.next).filter(|s| **s <= t1) {
+            if s == t1 {
+                (self.observe)(s, &step.y1)?;
+            } else {
+                let value = dense.get_or_insert_with(|| Dense::new(t, y, step)).at(s);
+                (self.observe)(s, &value)?;
+            }
+            self.next += 1;
+        }
+        Ok(())
+    }
+}
+
+impl Integrator for DormandPrince {
+    fn integrate<O: Ode>(
+        &self,
+        ode: &mut O,
+        t0: f64,
+        x0: &O::State,
+        samples: &[f64],
+        observe: &mut Observer<'_, O::State>,
+    ) -> Result<Stats, Error> {
+        self.check_settings()?;
+        check_problem(ode, t0, x0, samples)?;
+        let mut stats = Stats::default();
+        let mut samples = Samples {
+            times: samples,
+            next: 0,
+            observe,
+        };
+        while let Some(&s) = samples.times.get(samples.next).filter(|s| **s == t0) {
+            (samples.observe)(s, x0)?;
+            samples.next += 1;
+        }
+        if samples.next == samples.times.len() {
+            return Ok(stats);
+        }
+
+        let mut f0 = O::State::zeros();
+        ode.rhs(t0, x0, &mut f0)?;
+        stats.evaluations += 1;
+        let start = Start {
+            t: t0,
+            y: *x0,
+            f: f0,
+        };
+        match self.fixed_step {
+            Some(h) => self.fixed(ode, start, h, &mut samples, &mut stats)?,
+            None => self.adaptive(ode, start, &mut samples, &mut stats)?,
+        }
+        Ok(stats)
+    }
+}
+
+/// Where the steps start: the initial point and the derivative there.
+struct Start<V> {
+    t: f64,
+    y: V,
+    f: V,
+}
+
+impl DormandPrince {
+    fn adaptive<O: Ode>(
+        &self,
+        ode: &mut O,
+        start: Start<O::State>,
+        samples: &mut Samples<'_, '_, O::State>,
+        stats: &mut Stats,
+    ) -> Result<(), Error> {
+        let t_end = samples.end();
+        let hmax = self.max_step.min(t_end - start.t);
+        let mut h = match self.initial_step {
+            Some(h) => h.min(hmax),
+            None => initial_step(ode, start.t, &start.y, &start.f, self, hmax, stats)?,
+        };
+        let mut controller = Controller::new();
+        let Start {
+            mut t,
+            mut y,
+            f: mut k1,
+        } = start;
+        loop {
+            // Below this, t + h no longer differs from t by more than a few roundings: the
+            // solution (or the tolerance) asks for more than f64 can give.
+            if h < 16.0 * f64::EPSILON * t.abs() || h < 1e-300 {
+                return Err(Error::StepSizeUnderflow {
+                    t,
+                    h,
+                    state: ode.describe(&y),
+                });
+            }
+            // Stretch the last step by up to 1% rather than leave a sliver (Hairer's rule).
+            let last = t + 1.01 * h - t_end > 0.0;
+            if last {
+                h = t_end - t;
+            }
+            let step = attempt(ode, t, &y, &k1, h, stats)?;
+            let err = error_norm(&y, &step, self.rtol, self.atol);
+            if err <= 1.0 {
+                let t1 = if last { t_end } else { t + h };
+                check_state(ode, t1, &step.y1)?;
+                stats.steps += 1;
+                samples.observe_step(t, &y, t1, &step)?;
+                let h_new = controller.accepted(h, err, hmax);
+                (t, y, k1) = (t1, step.y1, step.k[6]);
+                if last {
+                    return Ok(());
+                }
+                h = h_new;
+            } else {
+                stats.rejected += 1;
+                h = controller.rejected(h, err);
+            }
+        }
+    }
+
+    fn fixed<O: Ode>(
+        &self,
+        ode: &mut O,
+        start: Start<O::State>,
+        h_max: f64,
+        samples: &mut Samples<'_, '_, O::State>,
+        stats: &mut Stats,
+    ) -> Result<(), Error> {
+        let t_end = samples.end();
+        let Start {
+            t: t0,
+            mut y,
+            f: mut k1,
+        } = start;
+        let (n, h) = equal_steps(t_end - t0, h_max);
+        for i in 0..n {
+            // Times from the start, not accumulated; the last step ends exactly on t_end.
+            let t = t0 + i as f64 * h;
+            let t1 = if i + 1 < n {
+                t0 + (i + 1) as f64 * h
+            } else {
+                t_end
+            };
+            let step = attempt(ode, t, &y, &k1, h, stats)?;
+            check_state(ode, t1, &step.y1)?;
+            stats.steps += 1;
+            samples.observe_step(t, &y, t1, &step)?;
+            (y, k1) = (step.y1, step.k[6]);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ẏ = (cos t, −sin t) with y(0) = (0, 1): y = (sin t, cos t).
+    struct Circle;
+
+    impl Ode for Circle {
+        type State = [f64; 2];
+
+        fn rhs(&mut self, t: f64, _y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), Error> {
+            *dy = [t.cos(), -t.sin()];
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn tableau_rows_sum_to_their_nodes() {
+        let rows: [(&[f64], f64); 6] = [
+            (&[A21], C2),
+            (&[A31, A32], C3),
+            (&[A41, A42, A43], C4),
+            (&[A51, A52, A53, A54], C5),
+            (&[A61, A62, A63, A64, A65], 1.0),
+            (&[A71, A73, A74, A75, A76], 1.0),
+        ];
+        for (row, c) in rows {
+            assert!(
+                (row.iter().sum::<f64>() - c).abs() < 1e-14,
+                "row {row:?} should sum to {c}"
+            );
+        }
+        // Both orders are consistent, so the error weights sum to zero; so do the dense
+        // coefficients (the θ⁴ term must vanish for y' = const).
+        assert!((E1 + E3 + E4 + E5 + E6 + E7).abs() < 1e-15);
+        assert!((D1 + D3 + D4 + D5 + D6 + D7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn continuous_extension_interpolates_the_step() {
+        let mut stats = Stats::default();
+        let (t, y, h) = (0.3, [0.3f64.sin(), 0.3f64.cos()], 0.25);
+        let mut k1 = [0.0; 2];
+        Circle.rhs(t, &y, &mut k1).unwrap();
+        let step = attempt(&mut Circle, t, &y, &k1, h, &mut stats).unwrap();
+        let dense = Dense::new(t, &y, &step);
+        assert_eq!(dense.at(t), y);
+        for (a, b) in dense.at(t + h).iter().zip(&step.y1) {
+            // y + (y1 − y): equal up to the rounding of the difference.
+            assert!((a - b).abs() <= 2.0 * f64::EPSILON);
+        }
+        // Inside the step: fourth order, local error O(h⁵) ≈ 1e-3 · small constant.
+        for theta in [0.1, 0.37, 0.5, 0.81] {
+            let s = t + theta * h;
+            let v = dense.at(s);
+            assert!(
+                (v[0] - s.sin()).abs() < 1e-7 && (v[1] - s.cos()).abs() < 1e-7,
+                "θ = {theta}: {v:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn controller_bounds_and_memory() {
+        let mut c = Controller::new();
+        // A tiny error lets the step grow by at most FAC2.
+        assert_eq!(c.accepted(1.0, 0.0, f64::INFINITY), FAC2);
+        // A huge error shrinks it by at most FAC1 ...
+        assert_eq!(c.rejected(1.0, 1e30), FAC1);
+        assert_eq!(c.rejected(1.0, f64::NAN), FAC1);
+        // ... and the next accepted step may not grow beyond the rejected one.
+        assert_eq!(c.accepted(0.5, 1e-8, f64::INFINITY), 0.5);
+        assert!(c.accepted(0.5, 1e-8, f64::INFINITY) > 0.5);
+        assert_eq!(c.accepted(0.5, 1e-8, 0.25), 0.25);
+    }
+
+    #[test]
+    fn all_samples_at_the_start_cost_nothing() {
+        let mut seen = 0;
+        let stats = DormandPrince::new(1e-6, 1e-6)
+            .integrate(&mut Circle, 1.0, &[0.0, 0.0], &[1.0, 1.0], &mut |_, _| {
+                seen += 1;
+                Ok(())
+            })
+            .unwrap();
+        assert_eq!((seen, stats), (2, Stats::default()));
+    }
+}

@@ -1,0 +1,209 @@
+//! Integrators for the reduced ODE: the [`Ode`] they integrate, the [`Integrator`] interface
+//! and the checks and vector arithmetic every method shares.
+//!
+//! An integrator reports the solution only at the sample times the caller asks for, through
+//! an observer. That keeps the solution on the stack (no per-step allocation) and lets the
+//! caller monitor energy and constraints at exactly the times it records.
+
+mod dopri5;
+mod rk4;
+
+pub use dopri5::DormandPrince;
+pub use rk4::Rk4;
+
+use crate::error::Error;
+use crate::named::NamedValues;
+use crate::vector::Vector;
+
+/// A first-order ODE ẋ = f(t, x) with a fixed-size state.
+pub trait Ode {
+    type State: Vector;
+
+    /// Writes f(t, x) into `dx`. An error stops the integration and is returned unchanged.
+    fn rhs(&mut self, t: f64, x: &Self::State, dx: &mut Self::State) -> Result<(), Error>;
+
+    /// The state with its component names, for error messages. The default names the
+    /// components `x0`, `x1`, …; a mechanical system names them after its coordinates.
+    fn describe(&self, x: &Self::State) -> NamedValues {
+        NamedValues(
+            x.as_ref()
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (format!("x{i}"), *v))
+                .collect(),
+        )
+    }
+}
+
+/// What an integration cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Steps computed and thrown away because their error estimate was too large.
+    pub rejected: usize,
+    /// Right-hand-side evaluations, including those spent choosing the initial step.
+    pub evaluations: usize,
+}
+
+/// Where an integrator reports the solution: called with (t, x(t)) at every sample time; an
+/// `Err` stops the integration and is returned as is.
+pub type Observer<'a, S> = dyn FnMut(f64, &S) -> Result<(), Error> + 'a;
+
+/// A method that integrates an [`Ode`] and reports the solution at given times.
+pub trait Integrator {
+    /// Integrates from (`t0`, `x0`) to the last sample time and calls `observe` exactly once
+    /// for every entry of `samples` (ascending, none before `t0`), in order; a sample equal
+    /// to `t0` observes `x0`. An error from `observe` or from the right-hand side stops the
+    /// integration and is returned unchanged. No samples: nothing is integrated.
+    fn integrate<O: Ode>(
+        &self,
+        ode: &mut O,
+        t0: f64,
+        x0: &O::State,
+        samples: &[f64],
+        observe: &mut Observer<'_, O::State>,
+    ) -> Result<Stats, Error>;
+}
+
+/// The checks every integrator makes before its first step: a finite start, a finite initial
+/// state (the error names the component), and sample times that are finite, ascending and
+/// not before the start.
+pub(crate) fn check_problem<O: Ode>(
+    ode: &O,
+    t0: f64,
+    x0: &O::State,
+    samples: &[f64],
+) -> Result<(), Error> {
+    if !t0.is_finite() {
+        return Err(Error::InvalidSetting {
+            name: "start time",
+            value: t0,
+            reason: "it must be a finite number",
+        });
+    }
+    if let Some(i) = x0.as_ref().iter().position(|v| !v.is_finite()) {
+        let named = ode.describe(x0);
+        let name = named
+            .0
+            .get(i)
+            .map_or_else(|| format!("x{i}"), |(n, _)| n.clone());
+        return Err(Error::NonFiniteInitialValue {
+            name,
+            value: x0.as_ref()[i],
+        });
+    }
+    let mut previous = t0;
+    for &s in samples {
+        // Written so that NaN fails too.
+        if !(s.is_finite() && s >= previous) {
+            return Err(Error::InvalidSetting {
+                name: "sample time",
+                value: s,
+                reason: "sample times must be finite, ascending and not before the start time",
+            });
+        }
+        previous = s;
+    }
+    Ok(())
+}
+
+/// The error for a step that produced a non-finite state.
+pub(crate) fn check_state<O: Ode>(ode: &O, t: f64, x: &O::State) -> Result<(), Error> {
+    if is_finite(x) {
+        Ok(())
+    } else {
+        Err(Error::NonFiniteState {
+            t,
+            state: ode.describe(x),
+        })
+    }
+}
+
+pub(crate) fn is_finite<V: Vector>(x: &V) -> bool {
+    x.as_ref().iter().all(|v| v.is_finite())
+}
+
+/// Relative slack in ⌈span/step⌉: a span computed in floating point can exceed a whole number
+/// of steps by an ulp ((1.1 − 0.7)/0.1 = 4.000000000000001), and without the slack such a span
+/// would take one needless extra step.
+const STEP_COUNT_SLACK: f64 = 1e-9;
+
+/// The number n of equal steps, none longer than `max_step` (up to the slack), that cover
+/// `span` > 0, and their length span/n.
+pub(crate) fn equal_steps(span: f64, max_step: f64) -> (u64, f64) {
+    let n = (span / max_step * (1.0 - STEP_COUNT_SLACK)).ceil().max(1.0);
+    // `as` saturates: an absurd count only means an integration that takes long.
+    (n as u64, span / n)
+}
+
+/// x + h·Σ aⱼ kⱼ: the one vector operation Runge–Kutta methods need. Component-wise with the
+/// sum formed before the multiplication by h, as in Hairer's codes.
+pub(crate) fn combine<V: Vector>(x: &V, h: f64, terms: &[(f64, &V)]) -> V {
+    let mut out = *x;
+    for (i, o) in out.as_mut().iter_mut().enumerate() {
+        let sum: f64 = terms.iter().map(|(a, k)| a * k.as_ref()[i]).sum();
+        *o += h * sum;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Decay;
+
+    impl Ode for Decay {
+        type State = [f64; 2];
+
+        fn rhs(&mut self, _t: f64, x: &[f64; 2], dx: &mut [f64; 2]) -> Result<(), Error> {
+            *dx = [-x[0], -x[1]];
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn default_description_numbers_the_components() {
+        assert_eq!(Decay.describe(&[1.0, 2.5]).to_string(), "x0 = 1, x1 = 2.5");
+    }
+
+    #[test]
+    fn problem_checks_name_the_offending_value() {
+        let ok = [1.0, 2.0];
+        assert_eq!(check_problem(&Decay, 0.0, &ok, &[0.0, 0.0, 1.0]), Ok(()));
+        assert!(matches!(
+            check_problem(&Decay, f64::INFINITY, &ok, &[]),
+            Err(Error::InvalidSetting {
+                name: "start time",
+                ..
+            })
+        ));
+        match check_problem(&Decay, 0.0, &[1.0, f64::NAN], &[1.0]) {
+            Err(Error::NonFiniteInitialValue { name, value }) => {
+                assert_eq!(name, "x1");
+                assert!(value.is_nan());
+            }
+            other => panic!("expected a non-finite initial value, got {other:?}"),
+        }
+        for bad in [[0.5, 0.25], [-1.0, 1.0], [0.5, f64::NAN]] {
+            match check_problem(&Decay, 0.0, &ok, &bad) {
+                Err(Error::InvalidSetting {
+                    name: "sample time",
+                    value,
+                    ..
+                }) => {
+                    assert!(value.is_nan() || value == bad[0] || value == bad[1]);
+                }
+                other => panic!("expected an invalid sample time for {bad:?}, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn combine_forms_the_stage_sum() {
+        let x = [1.0, 2.0];
+        let y = combine(&x, 0.5, &[(2.0, &[1.0, 0.0]), (-1.0, &[0.0, 4.0])]);
+        assert_eq!(y, [2.0, 0.0]);
+    }
+}

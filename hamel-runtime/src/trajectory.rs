@@ -1,0 +1,278 @@
+//! A recorded simulation: named columns sampled at the output times, a summary of what the
+//! run cost and how well it kept its invariants, and CSV output.
+
+use core::fmt;
+use std::io::Write;
+use std::path::Path;
+
+use crate::error::Error;
+
+/// What a run cost and how well it kept energy and constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// Accepted integrator steps.
+    pub steps: usize,
+    /// Rejected integrator steps.
+    pub rejected: usize,
+    /// Right-hand-side evaluations.
+    pub evaluations: usize,
+    /// Recorded samples (rows).
+    pub samples: usize,
+    /// The largest |(A_c(q) q̇)ᵢ| over samples and constraints. Hamel's reduced state satisfies
+    /// the constraints by construction, so anything above rounding points to a faulty model.
+    pub max_constraint_residual: f64,
+    /// The energy at the first sample.
+    pub initial_energy: f64,
+    /// max |E − E₀| over the samples.
+    pub max_energy_drift: f64,
+    /// max |E − E₀| / max(|E₀|, f64::MIN_POSITIVE).
+    pub relative_energy_drift: f64,
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "steps                    {}", self.steps)?;
+        writeln!(f, "rejected                 {}", self.rejected)?;
+        writeln!(f, "evaluations              {}", self.evaluations)?;
+        writeln!(f, "samples                  {}", self.samples)?;
+        writeln!(
+            f,
+            "max constraint residual  {:.3e}",
+            self.max_constraint_residual
+        )?;
+        writeln!(f, "initial energy           {}", self.initial_energy)?;
+        writeln!(f, "max energy drift         {:.3e}", self.max_energy_drift)?;
+        write!(
+            f,
+            "relative energy drift    {:.3e}",
+            self.relative_energy_drift
+        )
+    }
+}
+
+/// Samples of named quantities, stored by column: `t` first, then whatever the producer
+/// recorded (for a [`crate::Simulation`]: the state, then the energy).
+#[derive(Clone, PartialEq)]
+pub struct Trajectory {
+    names: Vec<String>,
+    /// `columns[j][i]`: quantity j at sample i. By column, because plots and checks read
+    /// quantities, and a column is then a slice.
+    columns: Vec<Vec<f64>>,
+    summary: Summary,
+}
+
+impl Trajectory {
+    /// An empty trajectory with these column names (the first should be the time).
+    pub(crate) fn new(names: Vec<String>, summary: Summary) -> Self {
+        let columns = vec![Vec::new(); names.len()];
+        Trajectory {
+            names,
+            columns,
+            summary,
+        }
+    }
+
+    /// Appends one sample, one value per column, in column order.
+    pub(crate) fn push(&mut self, row: impl IntoIterator<Item = f64>) {
+        let mut width = 0;
+        for (column, value) in self.columns.iter_mut().zip(row) {
+            column.push(value);
+            width += 1;
+        }
+        debug_assert_eq!(
+            width,
+            self.names.len(),
+            "a row must have one value per column"
+        );
+    }
+
+    pub(crate) fn summary_mut(&mut self) -> &mut Summary {
+        &mut self.summary
+    }
+
+    /// The column names, in order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The sample times (the first column).
+    pub fn times(&self) -> &[f64] {
+        self.columns.first().map_or(&[], Vec::as_slice)
+    }
+
+    /// The column called `name`, if there is one.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        let j = self.names.iter().position(|n| n == name)?;
+        Some(&self.columns[j])
+    }
+
+    /// Sample i as one value per column.
+    pub fn row(&self, i: usize) -> Option<Vec<f64>> {
+        (i < self.len()).then(|| self.columns.iter().map(|c| c[i]).collect())
+    }
+
+    /// The samples in order, each as one value per column (copied out of the columns).
+    pub fn rows(&self) -> impl ExactSizeIterator<Item = Vec<f64>> + '_ {
+        (0..self.len()).map(|i| self.columns.iter().map(|c| c[i]).collect())
+    }
+
+    /// The number of samples.
+    pub fn len(&self) -> usize {
+        self.columns.first().map_or(0, Vec::len)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn summary(&self) -> &Summary {
+        &self.summary
+    }
+
+    /// CSV: a header of the column names, then one line per sample. Numbers are printed in
+    /// Rust's shortest form that reads back to the same `f64`, so nothing is lost.
+    pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
+        writeln!(w, "{}", self.names.join(","))?;
+        for i in 0..self.len() {
+            for (j, column) in self.columns.iter().enumerate() {
+                if j > 0 {
+                    w.write_all(b",")?;
+                }
+                write!(w, "{}", column[i])?;
+            }
+            w.write_all(b"\n")?;
+        }
+        Ok(())
+    }
+
+    /// Writes the CSV to a file (created or truncated).
+    pub fn save_csv(&self, path: impl AsRef<Path>) -> Result<(), Error> {
+        let path = path.as_ref();
+        let io_error = |e: std::io::Error| Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        };
+        let file = std::fs::File::create(path).map_err(io_error)?;
+        let mut w = std::io::BufWriter::new(file);
+        self.write_csv(&mut w).map_err(io_error)?;
+        w.flush().map_err(io_error)
+    }
+}
+
+/// A summary, not the data: a trajectory has thousands of numbers.
+impl fmt::Debug for Trajectory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let times = self.times();
+        let mut s = f.debug_struct("Trajectory");
+        s.field("names", &self.names).field("samples", &self.len());
+        if let (Some(first), Some(last)) = (times.first(), times.last()) {
+            s.field("t", &format_args!("{first}..={last}"));
+        }
+        s.finish_non_exhaustive()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary() -> Summary {
+        Summary {
+            steps: 12,
+            rejected: 1,
+            evaluations: 79,
+            samples: 0,
+            max_constraint_residual: 1.5e-16,
+            initial_energy: 2.5,
+            max_energy_drift: 3e-12,
+            relative_energy_drift: 1.2e-12,
+        }
+    }
+
+    fn sample() -> Trajectory {
+        let mut t = Trajectory::new(vec!["t".into(), "x".into(), "energy".into()], summary());
+        t.push([0.0, 1.0, 0.5]);
+        t.push([0.1, 0.1 + 0.2, -1e-20]);
+        t.push([0.2, f64::NAN, 1e21]);
+        t
+    }
+
+    #[test]
+    fn columns_rows_and_lengths() {
+        let t = sample();
+        assert_eq!(t.len(), 3);
+        assert!(!t.is_empty());
+        assert_eq!(t.names(), ["t", "x", "energy"]);
+        assert_eq!(t.times(), [0.0, 0.1, 0.2]);
+        assert_eq!(t.column("energy"), Some(&[0.5, -1e-20, 1e21][..]));
+        assert_eq!(t.column("y"), None);
+        assert_eq!(t.row(1), Some(vec![0.1, 0.30000000000000004, -1e-20]));
+        assert_eq!(t.row(3), None);
+        assert_eq!(t.rows().len(), 3);
+        assert_eq!(t.rows().next(), Some(vec![0.0, 1.0, 0.5]));
+        let empty = Trajectory::new(vec!["t".into()], summary());
+        assert!(empty.is_empty());
+        assert_eq!(empty.times(), &[] as &[f64]);
+    }
+
+    #[test]
+    fn csv_is_exact_and_round_trips() {
+        let mut out = Vec::new();
+        sample().write_csv(&mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(
+            text,
+            "t,x,energy\n0,1,0.5\n0.1,0.30000000000000004,-0.00000000000000000001\n0.2,NaN,1000000000000000000000\n"
+        );
+        for line in text.lines().skip(1) {
+            for field in line.split(',') {
+                field.parse::<f64>().unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn save_csv_names_the_path_on_failure() {
+        let dir =
+            std::env::temp_dir().join(format!("hamel-trajectory-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = dir.join("out.csv");
+        sample().save_csv(&good).unwrap();
+        assert!(
+            std::fs::read_to_string(&good)
+                .unwrap()
+                .starts_with("t,x,energy\n0,1,0.5\n")
+        );
+
+        let bad = dir.join("missing-directory").join("out.csv");
+        match sample().save_csv(&bad) {
+            Err(Error::Io { path, message }) => {
+                assert_eq!(path, bad.display().to_string());
+                assert!(!message.is_empty());
+            }
+            other => panic!("expected an I/O error, got {other:?}"),
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn debug_is_a_summary() {
+        let mut t = Trajectory::new(vec!["t".into(), "x".into()], summary());
+        for i in 0..10_000 {
+            t.push([i as f64 * 1e-3, 0.123456789]);
+        }
+        let debug = format!("{t:?}");
+        assert_eq!(
+            debug,
+            r#"Trajectory { names: ["t", "x"], samples: 10000, t: 0..=9.999, .. }"#
+        );
+    }
+
+    #[test]
+    fn summary_display_has_one_item_per_line() {
+        let text = summary().to_string();
+        assert_eq!(text.lines().count(), 8);
+        assert!(text.starts_with("steps                    12\n"));
+        assert!(text.contains("relative energy drift    1.200e-12"));
+    }
+}

@@ -1,0 +1,372 @@
+//! The simulation driver on a hand-written system: a skate (knife edge) on a level plane,
+//! with the closed-form solution of its free motion.
+
+use hamel_runtime::{
+    DormandPrince, Error, HamelSystem, NamedValues, Parameters, Rk4, Simulation, Singularity,
+};
+
+/// A skate: a rigid body on the plane at (x, y) with heading θ, whose blade cannot slide
+/// sideways: ẋ sin θ − ẏ cos θ = 0. Quasi-velocities: the sideways slip (constrained to
+/// zero), the forward speed v = ẋ cos θ + ẏ sin θ and the turning rate ω = θ̇. Inputs: a
+/// forward force and a turning torque.
+///
+/// With Lagrangian L = ½m(ẋ² + ẏ²) + ½Iθ̇² = ½m(slip² + v²) + ½Iω², Hamel's equations are
+/// m v̇ = F, I ω̇ = τ: the γ terms multiply the slip momentum, which is zero.
+struct Skate {
+    mass: f64,
+    inertia: f64,
+}
+
+impl Parameters for Skate {
+    const NAMES: &'static [&'static str] = &["mass", "inertia"];
+    const DOCS: &'static [&'static str] = &[
+        "mass of the skate",
+        "moment of inertia about the contact point",
+    ];
+
+    fn get(&self, name: &str) -> Option<f64> {
+        match name {
+            "mass" => Some(self.mass),
+            "inertia" => Some(self.inertia),
+            _ => None,
+        }
+    }
+
+    fn set(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        match name {
+            "mass" => self.mass = value,
+            "inertia" => self.inertia = value,
+            _ => {
+                return Err(Error::UnknownParameter {
+                    name: name.into(),
+                    known: Self::NAMES.join(", "),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Skate {
+    /// The reduced mass matrix diag(m, I), or the first pivot that is not positive.
+    fn pivots(&self) -> Result<[f64; 2], Singularity> {
+        for (pivot, value) in [self.mass, self.inertia].into_iter().enumerate() {
+            if value.is_nan() || value <= 0.0 {
+                return Err(Singularity::MassMatrix { pivot, value });
+            }
+        }
+        Ok([self.mass, self.inertia])
+    }
+}
+
+impl HamelSystem for Skate {
+    type Coordinates = [f64; 3];
+    type Speeds = [f64; 2];
+    type Constraints = [f64; 1];
+    type State = [f64; 5];
+    type Inputs = [f64; 2];
+    type MassMatrix = [[f64; 2]; 2];
+    type Gamma = [[[f64; 2]; 2]; 3];
+
+    const COORDINATES: &'static [&'static str] = &["x", "y", "theta"];
+    const SPEEDS: &'static [&'static str] = &["v", "omega"];
+    const CONSTRAINTS: &'static [&'static str] = &["no_slip"];
+    const INPUTS: &'static [&'static str] = &["force", "torque"];
+    const STATE: &'static [&'static str] = &["x", "y", "theta", "v", "omega"];
+
+    fn rhs(
+        &self,
+        _t: f64,
+        x: &[f64; 5],
+        u: &[f64; 2],
+        dx: &mut [f64; 5],
+    ) -> Result<(), Singularity> {
+        let [m, i] = self.pivots()?;
+        let [_, _, theta, v, omega] = *x;
+        *dx = [v * theta.cos(), v * theta.sin(), omega, u[0] / m, u[1] / i];
+        Ok(())
+    }
+
+    fn velocities(&self, x: &[f64; 5]) -> Result<[f64; 3], Singularity> {
+        let [_, _, theta, v, omega] = *x;
+        Ok([v * theta.cos(), v * theta.sin(), omega])
+    }
+
+    fn energy(&self, x: &[f64; 5]) -> Result<f64, Singularity> {
+        Ok(0.5 * self.mass * x[3] * x[3] + 0.5 * self.inertia * x[4] * x[4])
+    }
+
+    fn constraint_residual(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+
+    fn mass_matrix(&self, _x: &[f64; 5]) -> Result<[[f64; 2]; 2], Singularity> {
+        let [m, i] = self.pivots()?;
+        Ok([[m, 0.0], [0.0, i]])
+    }
+
+    /// B = Aᵀ in closed form (A is a rotation in the plane, plus the identity for θ).
+    fn inverse_defect(&self, q: &[f64; 3]) -> Result<f64, Singularity> {
+        let (s, c) = q[2].sin_cos();
+        let a = [[s, -c, 0.0], [c, s, 0.0], [0.0, 0.0, 1.0]];
+        let mut defect = 0.0f64;
+        for i in 0..3 {
+            for j in 0..3 {
+                // (A·Aᵀ)ᵢⱼ = rowᵢ · rowⱼ
+                let p: f64 = (0..3).map(|k| a[i][k] * a[j][k]).sum();
+                defect = defect.max((p - if i == j { 1.0 } else { 0.0 }).abs());
+            }
+        }
+        Ok(defect)
+    }
+
+    /// γʲ_{l,k} with A = (slip; forward; turn) rows (sin θ, −cos θ, 0), (cos θ, sin θ, 0),
+    /// (0, 0, 1) and B = A⁻¹ = Aᵀ: only γ¹_{v,ω} = −1 = −γ¹_{ω,v} is nonzero.
+    fn gamma(&self, _q: &[f64; 3]) -> Result<[[[f64; 2]; 2]; 3], Singularity> {
+        let mut g = [[[0.0; 2]; 2]; 3];
+        g[0][0][1] = -1.0;
+        g[0][1][0] = 1.0;
+        Ok(g)
+    }
+}
+
+const SKATE: Skate = Skate {
+    mass: 2.0,
+    inertia: 0.5,
+};
+/// Starts at (1, −0.5) heading 0.3 rad, speed 1.5, turning at 0.7 rad/s.
+const X0: [f64; 5] = [1.0, -0.5, 0.3, 1.5, 0.7];
+
+/// Free motion: v and ω constant, so the skate runs on a circle of radius v/ω.
+fn circle(t: f64) -> [f64; 5] {
+    let [x0, y0, th0, v, w] = X0;
+    let th = th0 + w * t;
+    [
+        x0 + v / w * (th.sin() - th0.sin()),
+        y0 - v / w * (th.cos() - th0.cos()),
+        th,
+        v,
+        w,
+    ]
+}
+
+#[test]
+fn free_skate_runs_on_its_circle() {
+    let simulation = Simulation::new(&SKATE, X0)
+        .end_time(20.0)
+        .sample_interval(0.05);
+    let trajectory = simulation
+        .run_constant(&DormandPrince::new(1e-12, 1e-12), [0.0, 0.0])
+        .unwrap();
+    let summary = trajectory.summary();
+    println!("{trajectory:?}\n{summary}");
+
+    assert_eq!(
+        trajectory.names(),
+        ["t", "x", "y", "theta", "v", "omega", "energy"]
+    );
+    assert_eq!(trajectory.len(), 401);
+    assert_eq!(summary.samples, 401);
+    assert_eq!(trajectory.times()[0], 0.0);
+    assert_eq!(*trajectory.times().last().unwrap(), 20.0);
+    let mut worst = 0.0f64;
+    for row in trajectory.rows() {
+        let exact = circle(row[0]);
+        for (value, expected) in row[1..6].iter().zip(exact) {
+            worst = worst.max((value - expected).abs());
+        }
+    }
+    println!("largest deviation from the circle: {worst:.3e}");
+    assert!(worst <= 1e-9, "deviation {worst:e}");
+
+    // v and ω have zero derivatives, so the energy cannot drift at all; the constraint holds
+    // to rounding.
+    let e0 = 0.5 * 2.0 * 1.5 * 1.5 + 0.5 * 0.5 * 0.7 * 0.7;
+    assert_eq!(summary.initial_energy, e0);
+    assert_eq!(summary.max_energy_drift, 0.0);
+    assert_eq!(summary.relative_energy_drift, 0.0);
+    assert!(
+        summary.max_constraint_residual <= 4.0 * f64::EPSILON * 1.5,
+        "{summary}"
+    );
+    assert!(
+        trajectory
+            .column("energy")
+            .unwrap()
+            .iter()
+            .all(|e| *e == e0)
+    );
+    assert!(summary.steps > 0 && summary.evaluations == 2 + 6 * (summary.steps + summary.rejected));
+}
+
+#[test]
+fn csv_header_names_time_state_and_energy() {
+    let trajectory = Simulation::new(&SKATE, X0)
+        .end_time(0.25)
+        .sample_interval(0.1)
+        .run_constant(&Rk4::new(0.01), [0.0, 0.0])
+        .unwrap();
+    let mut out = Vec::new();
+    trajectory.write_csv(&mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "t,x,y,theta,v,omega,energy");
+    assert_eq!(lines.len(), 1 + 4, "samples 0, 0.1, 0.2 and the end 0.25");
+    assert_eq!(lines[1], "0,1,-0.5,0.3,1.5,0.7,2.3725");
+    let last: Vec<f64> = lines[4].split(',').map(|f| f.parse().unwrap()).collect();
+    assert_eq!(last[0], 0.25);
+    for (value, expected) in last[1..6].iter().zip(circle(0.25)) {
+        assert!((value - expected).abs() < 1e-10);
+    }
+}
+
+/// A constant torque: ω = ω₀ + (τ/I)t, so E(t) = ½mv² + ½I ω(t)² is known; the drift monitor
+/// must report exactly the work done. Inputs may also depend on the state (feedback).
+#[test]
+fn inputs_drive_the_system_and_the_monitor_sees_the_work() {
+    let torque = 0.2;
+    let simulation = Simulation::new(&SKATE, X0)
+        .start_time(1.0)
+        .end_time(3.0)
+        .sample_interval(0.5);
+    let trajectory = simulation
+        .run(&Rk4::new(0.01), |_, _| [0.0, torque])
+        .unwrap();
+    assert_eq!(trajectory.times(), [1.0, 1.5, 2.0, 2.5, 3.0]);
+    let omega_end = 0.7 + torque / 0.5 * 2.0;
+    let energy = |w: f64| 0.5 * 2.0 * 1.5 * 1.5 + 0.5 * 0.5 * w * w;
+    let summary = trajectory.summary();
+    assert!((trajectory.column("omega").unwrap()[4] - omega_end).abs() < 1e-12);
+    assert!((summary.max_energy_drift - (energy(omega_end) - energy(0.7))).abs() < 1e-12);
+    assert!((summary.relative_energy_drift - summary.max_energy_drift / energy(0.7)).abs() < 1e-15);
+    assert_eq!(summary.steps, 200);
+    assert_eq!(summary.evaluations, 800);
+
+    // Feedback that brakes the forward speed: v̇ = −v/m·k decays exponentially.
+    let brake = simulation
+        .run(&DormandPrince::new(1e-10, 1e-10), |_, x| [-0.8 * x[3], 0.0])
+        .unwrap();
+    let v_end = brake.column("v").unwrap()[4];
+    assert!(
+        (v_end - 1.5 * (-0.8 / 2.0 * 2.0f64).exp()).abs() < 1e-8,
+        "{v_end}"
+    );
+}
+
+#[test]
+fn sample_times_end_exactly_at_the_end_time() {
+    let simulation = Simulation::new(&SKATE, X0)
+        .end_time(2.0)
+        .sample_interval(0.1);
+    let times = simulation.sample_times().unwrap();
+    assert_eq!(times.len(), 21);
+    // i·dt from the start, not summed: ten additions of 0.1 give 0.9999999999999999.
+    assert_eq!(times[10], 1.0);
+    assert_eq!(*times.last().unwrap(), 2.0);
+    // An interval that does not divide the span: the last one is shorter.
+    let uneven = Simulation::new(&SKATE, X0)
+        .start_time(-1.0)
+        .end_time(0.5)
+        .sample_interval(0.4);
+    let times = uneven.sample_times().unwrap();
+    assert_eq!(times.len(), 5);
+    assert_eq!((times[0], times[4]), (-1.0, 0.5));
+    assert!((times[3] - 0.2).abs() < 1e-15);
+    // No sliver: an end a hair beyond a multiple of the interval replaces that sample.
+    let hair = Simulation::new(&SKATE, X0)
+        .end_time(1.0 + 1e-12)
+        .sample_interval(0.25);
+    assert_eq!(
+        hair.sample_times().unwrap(),
+        [0.0, 0.25, 0.5, 0.75, 1.0 + 1e-12]
+    );
+}
+
+#[test]
+fn bad_settings_and_initial_values_are_errors_naming_them() {
+    let dp = DormandPrince::new(1e-8, 1e-8);
+    let run = |sim: Simulation<'_, Skate>| sim.run_constant(&dp, [0.0, 0.0]);
+
+    let mut x0 = X0;
+    x0[2] = f64::NAN;
+    match run(Simulation::new(&SKATE, x0)) {
+        Err(Error::NonFiniteInitialValue { name, value }) => {
+            assert!(name == "theta" && value.is_nan())
+        }
+        other => panic!("{other:?}"),
+    }
+    for (sim, setting, value) in [
+        (Simulation::new(&SKATE, X0).end_time(0.0), "end time", 0.0),
+        (
+            Simulation::new(&SKATE, X0).end_time(f64::INFINITY),
+            "end time",
+            f64::INFINITY,
+        ),
+        (
+            Simulation::new(&SKATE, X0).start_time(11.0),
+            "end time",
+            10.0,
+        ),
+        (
+            Simulation::new(&SKATE, X0).start_time(f64::NEG_INFINITY),
+            "start time",
+            f64::NEG_INFINITY,
+        ),
+        (
+            Simulation::new(&SKATE, X0).sample_interval(0.0),
+            "sample interval",
+            0.0,
+        ),
+        (
+            Simulation::new(&SKATE, X0).sample_interval(-0.1),
+            "sample interval",
+            -0.1,
+        ),
+        (
+            Simulation::new(&SKATE, X0).sample_interval(1e-12),
+            "sample interval",
+            1e-12,
+        ),
+    ] {
+        match run(sim) {
+            Err(Error::InvalidSetting { name, value: v, .. }) => {
+                assert_eq!((name, v), (setting, value))
+            }
+            other => panic!("expected {setting} = {value} to be invalid, got {other:?}"),
+        }
+    }
+    // A parameter that is not a number is caught before anything runs ...
+    let broken = Skate {
+        mass: f64::NAN,
+        inertia: 0.5,
+    };
+    match Simulation::new(&broken, X0).run_constant(&dp, [0.0, 0.0]) {
+        Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "mass"),
+        other => panic!("{other:?}"),
+    }
+    // ... one that makes the mass matrix singular at the first evaluation, naming the time
+    // and the state.
+    let massless = Skate {
+        mass: 2.0,
+        inertia: 0.0,
+    };
+    match Simulation::new(&massless, X0)
+        .start_time(0.5)
+        .run_constant(&dp, [0.0, 0.0])
+    {
+        Err(Error::SingularMassMatrix {
+            t,
+            pivot,
+            value,
+            state,
+        }) => {
+            assert_eq!((t, pivot, value), (0.5, 1, 0.0));
+            assert_eq!(state, NamedValues::new(Skate::STATE, &X0));
+        }
+        other => panic!("{other:?}"),
+    }
+}
