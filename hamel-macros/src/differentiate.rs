@@ -25,6 +25,7 @@ use crate::engine::lower::{ImplContext, Lowerer, Shape, Signature};
 use crate::engine::ops;
 use proc_macro2::{Literal, Span, TokenStream};
 use quote::{format_ident, quote};
+use syn::ext::IdentExt;
 use syn::visit_mut::VisitMut;
 
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
@@ -406,7 +407,7 @@ fn companions(ctx: &ImplContext<'_>, f: &syn::ImplItemFn) -> syn::Result<TokenSt
         hessian_ops,
         second_ops,
     ] = counts;
-    let ops_name = format_ident!("{}_OPS", name.to_string().to_uppercase());
+    let ops_name = format_ident!("{}_OPS", name.unraw().to_string().to_uppercase());
     let ops_doc = format!("Operation counts of {of} and its generated derivatives.");
     out.extend(quote! {
         #[doc = #ops_doc]
@@ -436,7 +437,7 @@ fn user_args(signature: &Signature) -> Vec<UserArg> {
         .map(|(i, a)| {
             let name = match &a.pat {
                 syn::Pat::Ident(p) if p.subpat.is_none() && !reserved(&p.ident.to_string()) => {
-                    syn::Ident::new(&p.ident.to_string(), p.ident.span())
+                    p.ident.clone()
                 }
                 _ => format_ident!("arg{}", i),
             };

@@ -4,32 +4,73 @@ use crate::named::NamedValues;
 
 /// Why a right-hand-side evaluation produced no derivative. Returned by generated code on the
 /// cold path, without allocating; [`crate::Simulation`] turns it into an [`Error`] that names
-/// the time and state.
+/// the time and state (see [`crate::HamelSystem::singular`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Singularity {
-    /// A pivot of the reduced mass matrix's LDLᵀ factorization is not positive.
-    MassMatrix { pivot: usize, value: f64 },
-    /// A pivot of the LU factorization of A(q) vanishes: constraints and quasi-velocities
-    /// are not independent at this configuration.
-    Transformation { pivot: usize, value: f64 },
+    /// A pivot of the reduced mass matrix's LDLᵀ factorization is not positive: the motion
+    /// along free quasi-velocity number `speed` has no inertia.
+    MassMatrix { speed: usize, value: f64 },
+    /// A pivot of the LU factorization of A(q) vanishes: the constraints and quasi-velocities
+    /// do not determine the velocity of coordinate number `coordinate` here.
+    Transformation { coordinate: usize, value: f64 },
 }
 
 impl Singularity {
-    /// The full error, at time `t` and state `state`.
-    pub fn at(self, t: f64, state: NamedValues) -> Error {
+    /// The full error at time `t` and `state`, naming the coordinate or speed concerned.
+    pub fn at(self, t: f64, state: NamedValues, coordinates: &[&str], speeds: &[&str]) -> Error {
+        let name = |names: &[&str], i: usize| {
+            names
+                .get(i)
+                .map_or_else(|| format!("#{i}"), |n| (*n).to_string())
+        };
         match self {
-            Singularity::MassMatrix { pivot, value } => Error::SingularMassMatrix {
+            Singularity::MassMatrix { speed, value } => Error::SingularMassMatrix {
                 t,
-                pivot,
+                speed: name(speeds, speed),
                 value,
                 state,
             },
-            Singularity::Transformation { pivot, value } => Error::SingularTransformation {
+            Singularity::Transformation { coordinate, value } => Error::SingularTransformation {
                 t,
-                pivot,
+                coordinate: name(coordinates, coordinate),
                 value,
                 state,
             },
+        }
+    }
+}
+
+/// A number in a message: four significant digits, exponent form only when very small or
+/// large (`-0.2`, `3.8e-10`, `1.825`), where `{:e}` would print `-2e-1` and `{}` `0.00000001`.
+pub struct Num(pub f64);
+
+impl core::fmt::Display for Num {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let v = self.0;
+        if v == 0.0 || !v.is_finite() {
+            return write!(f, "{v}");
+        }
+        let trim = |s: String| -> String {
+            match s.split_once('e') {
+                Some((mantissa, exponent)) if mantissa.contains('.') => {
+                    format!(
+                        "{}e{exponent}",
+                        mantissa.trim_end_matches('0').trim_end_matches('.')
+                    )
+                }
+                Some(_) => s,
+                None if s.contains('.') => {
+                    s.trim_end_matches('0').trim_end_matches('.').to_string()
+                }
+                None => s,
+            }
+        };
+        let magnitude = v.abs();
+        if (1e-3..1e5).contains(&magnitude) {
+            let decimals = (3 - magnitude.log10().floor() as i32).max(0) as usize;
+            f.write_str(&trim(format!("{v:.decimals$}")))
+        } else {
+            f.write_str(&trim(format!("{v:.3e}")))
         }
     }
 }
@@ -46,9 +87,9 @@ pub enum Error {
     NonFiniteInitialValue { name: String, value: f64 },
 
     #[error(
-        "the initial velocities violate constraint `{name}`: its residual is {residual:e}, more than the \
-         tolerance {tolerance:e}; choose velocities that satisfy the constraints, or start from the \
-         quasi-velocities with `state_from_speeds`"
+        "the initial velocities violate constraint `{name}`: its residual is {}, more than the \
+         tolerance {}; choose velocities that satisfy the constraints, or start from the \
+         quasi-velocities with `state_from_speeds`", Num(*residual), Num(*tolerance)
     )]
     ConstraintViolation {
         name: String,
@@ -57,44 +98,46 @@ pub enum Error {
     },
 
     #[error(
-        "singular reduced mass matrix at t = {t}: pivot {pivot} of its factorization is {value:e}; \
-         state: {state}"
+        "singular reduced mass matrix at t = {t}: the motion along `{speed}` has no inertia here \
+         (its pivot in the LDLᵀ factorization is {}); check the kinetic energy; state: {state}",
+        Num(*value)
     )]
     SingularMassMatrix {
         t: f64,
-        pivot: usize,
+        speed: String,
         value: f64,
         state: NamedValues,
     },
 
     #[error(
-        "singular velocity transformation at t = {t}: the constraints and quasi-velocities are not \
-         independent at this configuration (pivot {pivot} of A(q) is {value:e}); choose \
-         quasi-velocities that complete the constraints here; state: {state}"
+        "singular velocity transformation at t = {t}: the constraints and quasi-velocities do not \
+         determine the velocity of `{coordinate}` at this configuration (the LU pivot of A(q) for it \
+         is {}); choose quasi-velocities that complete the constraints here; state: {state}",
+        Num(*value)
     )]
     SingularTransformation {
         t: f64,
-        pivot: usize,
+        coordinate: String,
         value: f64,
         state: NamedValues,
     },
 
     #[error(
         "the `#[velocities]` function is not the inverse of the constraints and quasi-velocities: \
-         A(q)·B(q) differs from the identity by {defect:e} at {configuration}"
+         A(q)·B(q) differs from the identity by {} at {configuration}", Num(*defect)
     )]
     InverseMismatch {
         defect: f64,
         configuration: NamedValues,
     },
 
-    #[error("step size underflow at t = {t}: the step shrank to {h:e}; state: {state}")]
+    #[error("step size underflow at t = {t}: the step shrank to {}; state: {state}", Num(*h))]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
     #[error("the state became non-finite at t = {t}: {state}")]
     NonFiniteState { t: f64, state: NamedValues },
 
-    #[error("invalid setting `{name}` = {value}: {reason}")]
+    #[error("invalid setting `{name}` = {}: {reason}", Num(*value))]
     InvalidSetting {
         name: &'static str,
         value: f64,

@@ -11,7 +11,7 @@ mod system;
 mod trajectory;
 mod vector;
 
-pub use error::{Error, Singularity};
+pub use error::{Error, Num, Singularity};
 pub use integrate::{DormandPrince, Integrator, Observer, Ode, Rk4, Stats};
 pub use named::NamedValues;
 pub use opcount::OpCounts;

@@ -65,7 +65,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             return Err(Error::InvalidSetting {
                 name: "end time",
                 value: t_end,
-                reason: "it must be a finite number after the start time",
+                reason: "it must be a finite number after the start time (0 unless set with `start_time`)",
             });
         }
         if !(dt.is_finite() && dt > 0.0) {
@@ -163,7 +163,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for SystemOde<'_
         let u = (self.inputs)(t, x);
         self.system
             .rhs(t, x, &u, dx)
-            .map_err(|s| s.at(t, S::named_state(x)))
+            .map_err(|s| S::singular(s, t, x))
     }
 
     fn describe(&self, x: &S::State) -> NamedValues {
@@ -196,7 +196,7 @@ impl<'s, S: HamelSystem> Recorder<'s, S> {
     }
 
     fn record(&mut self, t: f64, x: &S::State) -> Result<(), Error> {
-        let at = |s: crate::Singularity| s.at(t, S::named_state(x));
+        let at = |s: crate::Singularity| S::singular(s, t, x);
         let energy = self.system.energy(x).map_err(at)?;
         let q = S::coordinates_of(x);
         let qd = self.system.velocities(x).map_err(at)?;

@@ -111,18 +111,24 @@ pub trait HamelSystem: Parameters {
     /// The coefficients γʲ_{l,k} of Hamel's equations at a configuration.
     fn gamma(&self, q: &Self::Coordinates) -> Result<Self::Gamma, Singularity>;
 
-    /// max |(A(q)·B(q) − I)ᵢⱼ| when the model gives the inverse B in closed form (zero when B
-    /// is computed from A): how far the given inverse is from being one.
+    /// max |(A(q)·B(q) − I)ᵢⱼ| when the model gives the inverse B in closed form: how far the
+    /// given inverse is from being one (zero when B is computed from A).
     fn inverse_defect(&self, q: &Self::Coordinates) -> Result<f64, Singularity>;
 
     /// Check the parameters, and that a closed-form inverse B really inverts A at `q`.
     fn check_configuration(&self, q: &Self::Coordinates) -> Result<(), Error> {
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
-        let defect = self
-            .inverse_defect(q)
-            .map_err(|s| s.at(0.0, NamedValues::new(Self::COORDINATES, q.as_ref())))?;
-        if !(defect <= INVERSE_TOLERANCE) {
+        let defect = self.inverse_defect(q).map_err(|s| {
+            s.at(
+                0.0,
+                NamedValues::new(Self::COORDINATES, q.as_ref()),
+                Self::COORDINATES,
+                Self::SPEEDS,
+            )
+        })?;
+        // A NaN defect (a NaN parameter slipped through) is a mismatch too.
+        if defect.is_nan() || defect > INVERSE_TOLERANCE {
             return Err(Error::InverseMismatch {
                 defect,
                 configuration: NamedValues::new(Self::COORDINATES, q.as_ref()),
@@ -144,7 +150,7 @@ pub trait HamelSystem: Parameters {
         let scale = qd.as_ref().iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let tolerance = CONSTRAINT_TOLERANCE * scale;
         for (name, r) in Self::CONSTRAINTS.iter().zip(residual.as_ref()) {
-            if !(r.abs() <= tolerance) {
+            if r.is_nan() || r.abs() > tolerance {
                 return Err(Error::ConstraintViolation {
                     name: (*name).to_string(),
                     residual: *r,
@@ -181,6 +187,11 @@ pub trait HamelSystem: Parameters {
         let n = Self::Coordinates::LEN;
         w.as_mut().copy_from_slice(&x.as_ref()[n..]);
         w
+    }
+
+    /// The error for a singularity met at time `t` in state `x`, with everything named.
+    fn singular(s: Singularity, t: f64, x: &Self::State) -> Error {
+        s.at(t, Self::named_state(x), Self::COORDINATES, Self::SPEEDS)
     }
 
     /// A state with its component names, for messages and `Debug` output.

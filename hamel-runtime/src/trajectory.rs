@@ -130,7 +130,8 @@ impl Trajectory {
     }
 
     /// CSV: a header of the column names, then one line per sample. Numbers are printed in
-    /// Rust's shortest form that reads back to the same `f64`, so nothing is lost.
+    /// Rust's shortest form that reads back to the same `f64`, so nothing is lost; very small
+    /// and very large magnitudes in exponent form (`1e-17`), which every CSV reader accepts.
     pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
         writeln!(w, "{}", self.names.join(","))?;
         for i in 0..self.len() {
@@ -138,7 +139,7 @@ impl Trajectory {
                 if j > 0 {
                     w.write_all(b",")?;
                 }
-                write!(w, "{}", column[i])?;
+                write!(w, "{:?}", column[i])?;
             }
             w.write_all(b"\n")?;
         }
@@ -222,7 +223,7 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert_eq!(
             text,
-            "t,x,energy\n0,1,0.5\n0.1,0.30000000000000004,-0.00000000000000000001\n0.2,NaN,1000000000000000000000\n"
+            "t,x,energy\n0.0,1.0,0.5\n0.1,0.30000000000000004,-1e-20\n0.2,NaN,1e21\n"
         );
         for line in text.lines().skip(1) {
             for field in line.split(',') {
@@ -241,7 +242,7 @@ mod tests {
         assert!(
             std::fs::read_to_string(&good)
                 .unwrap()
-                .starts_with("t,x,energy\n0,1,0.5\n")
+                .starts_with("t,x,energy\n0.0,1.0,0.5\n")
         );
 
         let bad = dir.join("missing-directory").join("out.csv");

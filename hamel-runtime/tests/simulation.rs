@@ -50,9 +50,9 @@ impl Parameters for Skate {
 impl Skate {
     /// The reduced mass matrix diag(m, I), or the first pivot that is not positive.
     fn pivots(&self) -> Result<[f64; 2], Singularity> {
-        for (pivot, value) in [self.mass, self.inertia].into_iter().enumerate() {
+        for (speed, value) in [self.mass, self.inertia].into_iter().enumerate() {
             if value.is_nan() || value <= 0.0 {
-                return Err(Singularity::MassMatrix { pivot, value });
+                return Err(Singularity::MassMatrix { speed, value });
             }
         }
         Ok([self.mass, self.inertia])
@@ -216,7 +216,7 @@ fn csv_header_names_time_state_and_energy() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "t,x,y,theta,v,omega,energy");
     assert_eq!(lines.len(), 1 + 4, "samples 0, 0.1, 0.2 and the end 0.25");
-    assert_eq!(lines[1], "0,1,-0.5,0.3,1.5,0.7,2.3725");
+    assert_eq!(lines[1], "0.0,1.0,-0.5,0.3,1.5,0.7,2.3725");
     let last: Vec<f64> = lines[4].split(',').map(|f| f.parse().unwrap()).collect();
     assert_eq!(last[0], 0.25);
     for (value, expected) in last[1..6].iter().zip(circle(0.25)) {
@@ -360,11 +360,11 @@ fn bad_settings_and_initial_values_are_errors_naming_them() {
     {
         Err(Error::SingularMassMatrix {
             t,
-            pivot,
+            speed,
             value,
             state,
         }) => {
-            assert_eq!((t, pivot, value), (0.5, 1, 0.0));
+            assert_eq!((t, speed.as_str(), value), (0.5, "omega", 0.0));
             assert_eq!(state, NamedValues::new(Skate::STATE, &X0));
         }
         other => panic!("{other:?}"),

@@ -90,9 +90,11 @@ fn unary_partial(g: &mut Graph, f: Func, a: NodeId, y: NodeId) -> NodeId {
         }
         Func::Sinh => g.unary(Func::Cosh, a),
         Func::Cosh => g.unary(Func::Sinh, a),
+        // 1/cosh², not 1 − tanh²: the latter loses all relative accuracy as tanh → ±1.
         Func::Tanh => {
-            let y2 = g.mul(y, y);
-            g.sub(one, y2)
+            let c = g.unary(Func::Cosh, a);
+            let c2 = g.mul(c, c);
+            g.div(one, c2)
         }
         Func::Exp => y,
         Func::Ln => g.div(one, a),

@@ -11,6 +11,33 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::HashMap;
 
+/// Deepest nesting of an inlined expression before it is bound to a `let` instead.
+const MAX_INLINE_DEPTH: usize = 24;
+/// Above this many `let`s in a row they are bound in blocks: with debug info, rustc's code
+/// generation overflows its stack on a few thousand sequential `let`s in one function.
+const MAX_FLAT_LETS: usize = 512;
+/// Size of those blocks.
+const LETS_PER_BLOCK: usize = 64;
+
+/// `let` statements, flat when there are few; otherwise in blocks that each bind a tuple,
+/// `let (v0, v1, ..) = { let v0 = ..; let v1 = ..; (v0, v1, ..) };`, which keeps the
+/// nesting of scopes shallow whatever the length.
+fn bind_lets(lets: Vec<(Ident, TokenStream)>) -> TokenStream {
+    if lets.len() <= MAX_FLAT_LETS {
+        return lets
+            .into_iter()
+            .map(|(name, expr)| quote!(let #name = #expr;))
+            .collect();
+    }
+    lets.chunks(LETS_PER_BLOCK)
+        .map(|chunk| {
+            let names: Vec<&Ident> = chunk.iter().map(|(n, _)| n).collect();
+            let inner = chunk.iter().map(|(name, expr)| quote!(let #name = #expr;));
+            quote!(let (#(#names,)*) = { #(#inner)* (#(#names,)*) };)
+        })
+        .collect()
+}
+
 /// The scalar type the emitted code computes in.
 #[derive(Clone)]
 pub enum Scalar {
@@ -100,10 +127,13 @@ impl<'g> Emitter<'g> {
             *uses.entry(r).or_default() += 2;
         }
         let mut refs: HashMap<NodeId, (TokenStream, Prec)> = HashMap::new();
+        // How deeply each inlined expression nests: rustc's parser overflows on expressions
+        // thousands of levels deep, so past a bound a single-use node gets a `let` anyway.
+        let mut depth: HashMap<NodeId, usize> = HashMap::new();
         let mut counter = 0usize;
         let mut out = Vec::with_capacity(stages.len());
         for roots in stages {
-            let mut stmts = TokenStream::new();
+            let mut lets: Vec<(Ident, TokenStream)> = Vec::new();
             for id in g.live_set(roots) {
                 if refs.contains_key(&id) {
                     continue;
@@ -127,17 +157,31 @@ impl<'g> Emitter<'g> {
                     _ => self.operation(node, &refs),
                 };
                 let trivial = matches!(node, Node::Const(_) | Node::Bool(_) | Node::Input(_));
-                if trivial || uses.get(&id).copied().unwrap_or(0) <= 1 {
+                let nesting = if trivial {
+                    0
+                } else {
+                    1 + node
+                        .operands()
+                        .as_slice()
+                        .iter()
+                        .map(|o| depth.get(o).copied().unwrap_or(0))
+                        .max()
+                        .unwrap_or(0)
+                };
+                let single_use = uses.get(&id).copied().unwrap_or(0) <= 1;
+                if trivial || (single_use && nesting <= MAX_INLINE_DEPTH) {
                     refs.insert(id, (expr, prec));
+                    depth.insert(id, nesting);
                 } else {
                     let name = format_ident!("{}{}", self.prefix, counter);
                     counter += 1;
-                    stmts.extend(quote!(let #name = #expr;));
+                    lets.push((name.clone(), expr));
                     refs.insert(id, (quote!(#name), Prec::Atom));
+                    depth.insert(id, 0);
                 }
             }
             out.push(Code {
-                stmts,
+                stmts: bind_lets(lets),
                 refs: refs.clone(),
             });
         }

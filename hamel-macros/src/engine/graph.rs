@@ -271,12 +271,20 @@ impl Graph {
         self.nodes.len() > MAX_NODES
     }
 
+    pub fn input_label(&self, slot: u32) -> &str {
+        &self.input_labels[slot as usize]
+    }
+
     pub fn input_count(&self) -> usize {
         self.input_labels.len()
     }
 
-    pub fn input_label(&self, slot: u32) -> &str {
-        &self.input_labels[slot as usize]
+    #[cfg(test)]
+    pub fn input_slot(&self, id: NodeId) -> Option<u32> {
+        match self.node(id) {
+            Node::Input(slot) => Some(slot),
+            _ => None,
+        }
     }
 
     /// A new, distinct input. `label` is for debugging and generated comments only.
@@ -284,13 +292,6 @@ impl Graph {
         let slot = self.input_labels.len() as u32;
         self.input_labels.push(label.into());
         self.intern(Node::Input(slot))
-    }
-
-    pub fn input_slot(&self, id: NodeId) -> Option<u32> {
-        match self.node(id) {
-            Node::Input(slot) => Some(slot),
-            _ => None,
-        }
     }
 
     pub fn constant(&mut self, value: f64) -> NodeId {
@@ -724,8 +725,9 @@ impl Graph {
     }
 
     /// Evaluate every node below `roots` for given input values (indexed by slot). Booleans
-    /// evaluate to 1.0 / 0.0. An interpreter for tests and for checks inside the macro; the
-    /// product runs the emitted Rust, never this.
+    /// evaluate to 1.0 / 0.0. An interpreter for tests and for the macro's own sanity checks
+    /// of a model (a closed-form inverse is checked at sample points); simulations run the
+    /// emitted Rust, never this.
     pub fn evaluate(&self, roots: &[NodeId], inputs: &[f64]) -> Vec<f64> {
         let mut value = vec![f64::NAN; self.nodes.len()];
         for id in self.live_set(roots) {

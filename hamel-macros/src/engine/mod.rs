@@ -14,3 +14,5 @@ pub mod lower;
 mod normal;
 pub mod ops;
 
+#[cfg(test)]
+mod tests;

@@ -68,7 +68,8 @@ impl Graph {
             }
         }
         terms.retain(|t| t.coefficient != 0.0);
-        let mut constant: f64 = constants.iter().sum();
+        // Folded from +0.0: x − x is +0.0 in IEEE arithmetic (an empty `f64` sum is −0.0).
+        let mut constant: f64 = constants.iter().fold(0.0, |acc, c| acc + c);
         let pythagoras = self.pythagoras(&mut terms, &mut constant);
         if terms.len() == count && constants.len() <= 1 && !pythagoras {
             return None;

@@ -42,7 +42,8 @@ pub struct Inputs {
 /// Pivots of the run-time LU factorization of A(q) (when no inverse is given), with the
 /// entries of A that set their scale: a generated method that uses B checks them first.
 pub struct TransformationPivots {
-    pub pivots: Vec<NodeId>,
+    /// Each pivot with the coordinate whose velocity it determines.
+    pub pivots: Vec<(NodeId, usize)>,
     pub entries: Vec<NodeId>,
 }
 
@@ -259,7 +260,11 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
                 return None;
             }
             let b = coefficients(lowerer.graph, &out, &omega);
-            let columns: Vec<Vec<NodeId>> = (0..n).map(|k| (0..n).map(|i| b[i][k]).collect()).collect();
+            if !check_inverse(lowerer, spec, f, &a, &b) {
+                return None;
+            }
+            let columns: Vec<Vec<NodeId>> =
+                (0..n).map(|k| (0..n).map(|i| b[i][k]).collect()).collect();
             (columns[p..].to_vec(), Solver::Closed(b))
         }
         None => {
@@ -283,13 +288,19 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             let mut pivots = Vec::new();
             let columns: Vec<Vec<NodeId>> = (p..n)
                 .map(|k| {
-                    let unit: Vec<NodeId> = (0..n).map(|i| if i == k { one } else { zero }).collect();
+                    let unit: Vec<NodeId> =
+                        (0..n).map(|i| if i == k { one } else { zero }).collect();
                     let (x, used) = lu.solve(g, &unit);
                     pivots = used;
                     x
                 })
                 .collect();
-            let entries = a.iter().flatten().copied().filter(|&e| !g.is_zero(e)).collect();
+            let entries = a
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&e| !g.is_zero(e))
+                .collect();
             transformation = Some(TransformationPivots { pivots, entries });
             (columns, Solver::Numeric(lu))
         }
@@ -318,7 +329,19 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b_free, &rows, &v, &forces, p)
+            hamel(
+                lowerer.graph,
+                lt,
+                &omega,
+                &q,
+                &w,
+                &qd,
+                &b_free,
+                &rows,
+                &v,
+                &forces,
+                p,
+            )
         }
         (energy, Solver::Closed(b)) => {
             // L̃(q, ω) = L(q, B(q) ω)
@@ -327,7 +350,19 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            hamel(lowerer.graph, lt, &omega, &q, &w, &qd, &b_free, &rows, &v, &forces, p)
+            hamel(
+                lowerer.graph,
+                lt,
+                &omega,
+                &q,
+                &w,
+                &qd,
+                &b_free,
+                &rows,
+                &v,
+                &forces,
+                p,
+            )
         }
         (energy, Solver::Numeric(lu)) => {
             let (l, f) = lagrangian(lowerer, energy, &q, &v)?;
@@ -361,7 +396,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             let mut defect = Vec::with_capacity(n * n);
             for (i, row) in a.iter().enumerate() {
                 for k in 0..n {
-                    let col: Vec<NodeId> = (0..n).map(|r| b[r][k]).collect();
+                    let col: Vec<NodeId> = b.iter().map(|b_row| b_row[k]).collect();
                     let product = dot(g, row, &col);
                     let identity = if i == k { one } else { zero };
                     defect.push(g.sub(product, identity));
@@ -384,6 +419,86 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         gamma,
         inverse_defect,
     })
+}
+
+/// A closed-form inverse must invert A(q). A typo in it would not show in the motion's
+/// kinematics, only (through the momenta of the constrained directions and the γ terms) as
+/// a wrong acceleration, so it is checked here: B(q)·A(q) − I is evaluated at a few
+/// configurations and parameter values (generic ones, the same every build). Row r of that
+/// defect is the velocity of coordinate r as the inverse gives it, which names the mistake.
+fn check_inverse(
+    lowerer: &mut Lowerer<'_, '_>,
+    spec: &Spec<'_>,
+    f: &syn::ImplItemFn,
+    a: &[Vec<NodeId>],
+    b: &[Vec<NodeId>],
+) -> bool {
+    let n = a.len();
+    let g = &mut *lowerer.graph;
+    let mut defect = Vec::with_capacity(n * n);
+    for b_row in b {
+        for j in 0..n {
+            let column: Vec<NodeId> = a.iter().map(|a_row| a_row[j]).collect();
+            let product = dot(g, b_row, &column);
+            let identity = if defect.len() % (n + 1) == 0 {
+                g.one()
+            } else {
+                g.zero()
+            };
+            defect.push(g.sub(product, identity));
+        }
+    }
+    // Three sample points: every input (coordinates, parameters) in [0.3, 1.3], pseudo-random.
+    let mut state: u64 = 0x2545_F491_4F6C_DD1D;
+    let mut bad_rows: Option<Vec<(usize, f64)>> = None;
+    let mut failures = 0;
+    for _ in 0..3 {
+        let values: Vec<f64> = (0..g.input_count())
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                0.3 + (state >> 11) as f64 / (1u64 << 53) as f64
+            })
+            .collect();
+        let d = g.evaluate(&defect, &values);
+        if d.iter().any(|x| !x.is_finite()) {
+            continue; // outside the inverse's domain here: no verdict from this point
+        }
+        let rows: Vec<(usize, f64)> = (0..n)
+            .map(|r| {
+                (
+                    r,
+                    d[r * n..(r + 1) * n]
+                        .iter()
+                        .fold(0.0f64, |m, x| m.max(x.abs())),
+                )
+            })
+            .filter(|&(_, worst)| worst > 1e-6)
+            .collect();
+        if !rows.is_empty() {
+            failures += 1;
+            bad_rows.get_or_insert(rows);
+        }
+    }
+    match bad_rows {
+        Some(rows) if failures >= 2 => {
+            for (r, worst) in rows {
+                let name = &spec.coordinates[r];
+                lowerer.push_error(syn::Error::new_spanned(
+                    row_source(f, r),
+                    format!(
+                        "`#[velocities]` is not the inverse of the constraints and quasi-velocities: \
+                         the velocity of `{name}` it gives (row {r}) is wrong, B(q)·A(q) differs from \
+                         the identity by {worst:.3e} in that row at a generic configuration; q̇ = B(q)·w \
+                         must solve w = A(q)·q̇ for every w (including the constrained entries)"
+                    ),
+                ));
+            }
+            false
+        }
+        _ => true,
+    }
 }
 
 /// The Lagrangian L(q, velocities) from the role functions, and the function to blame when

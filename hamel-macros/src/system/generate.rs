@@ -8,6 +8,7 @@ use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::External;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
+use syn::ext::IdentExt;
 
 /// Relative size below which a pivot of the mass matrix counts as zero (scaled by its
 /// largest diagonal entry).
@@ -44,7 +45,14 @@ impl<'g> Context<'g> {
         };
         for (i, &node) in inputs.q.iter().enumerate() {
             let i = lit(i);
-            e.bind(node, if source == Source::State { quote!(x[#i]) } else { quote!(q[#i]) });
+            e.bind(
+                node,
+                if source == Source::State {
+                    quote!(x[#i])
+                } else {
+                    quote!(q[#i])
+                },
+            );
         }
         for (k, &node) in inputs.w.iter().enumerate() {
             let i = lit(self.n + k);
@@ -63,32 +71,41 @@ impl<'g> Context<'g> {
 
     /// Code computing `roots`, then, when B comes from a run-time LU of A(q), the checks of
     /// its pivots: a singular transformation returns an error before any result is used.
-    fn emit(&self, source: Source, scalar: Scalar, roots: &[NodeId]) -> syn::Result<(Code, TokenStream)> {
+    fn emit(
+        &self,
+        source: Source,
+        scalar: Scalar,
+        roots: &[NodeId],
+    ) -> syn::Result<(Code, TokenStream)> {
         let generic = matches!(scalar, Scalar::Generic(_));
         let emitter = self.emitter(source, scalar);
         let Some(t) = &self.eq.transformation else {
             return Ok((emitter.emit(roots)?, TokenStream::new()));
         };
         let mut all = roots.to_vec();
-        all.extend(&t.pivots);
+        all.extend(t.pivots.iter().map(|(p, _)| *p));
         all.extend(&t.entries);
         let code = emitter.emit(&all)?;
         let re = |id: NodeId| {
             let v = code.value(id);
-            if generic { quote!(::hamel::Scalar::re(#v)) } else { quote!(f64::from(#v)) }
+            if generic {
+                quote!(::hamel::Scalar::re(#v))
+            } else {
+                quote!(f64::from(#v))
+            }
         };
         let scale = t.entries.iter().map(|&e| {
             let v = re(e);
             quote!(.max(#v.abs()))
         });
         let tolerance = (self.n as f64) * f64::EPSILON;
-        let checks = t.pivots.iter().enumerate().map(|(j, &p)| {
+        let checks = t.pivots.iter().map(|&(p, coordinate)| {
             let v = re(p);
-            let j = lit(j);
+            let c = lit(coordinate);
             quote! {
                 let pivot = #v;
                 if !(pivot.abs() > #tolerance * scale_a) {
-                    return ::core::result::Result::Err(::hamel::Singularity::Transformation { pivot: #j, value: pivot });
+                    return ::core::result::Result::Err(::hamel::Singularity::Transformation { coordinate: #c, value: pivot });
                 }
             }
         });
@@ -121,12 +138,16 @@ pub fn generate(
     let (n_l, p_l, m_l, free_l, state_l) = (lit(n), lit(p), lit(m), lit(free), lit(state));
 
     // Names.
-    let coordinate_names: Vec<String> = spec.coordinates.iter().map(ToString::to_string).collect();
-    let speed_names: Vec<String> = spec.speeds.iter().map(ToString::to_string).collect();
-    let input_names: Vec<String> = spec.inputs.iter().map(ToString::to_string).collect();
+    let plain =
+        |ids: &[syn::Ident]| -> Vec<String> { ids.iter().map(|i| i.unraw().to_string()).collect() };
+    let coordinate_names = plain(&spec.coordinates);
+    let speed_names = plain(&spec.speeds);
+    let input_names = plain(&spec.inputs);
     let state_names: Vec<&String> = coordinate_names.iter().chain(&speed_names).collect();
     let constraint_fn = &spec.constraints.sig.ident;
-    let constraint_names: Vec<String> = (0..p).map(|i| format!("{constraint_fn}[{i}]")).collect();
+    let constraint_names: Vec<String> = (0..p)
+        .map(|i| format!("{}[{i}]", constraint_fn.unraw()))
+        .collect();
 
     // rhs, generic over the scalar type.
     let s = Ident::new("S", Span::call_site());
@@ -135,7 +156,8 @@ pub fn generate(
     roots.extend(&eq.pivots);
     let diagonal: Vec<NodeId> = (0..free).map(|k| eq.mass[k][k]).collect();
     roots.extend(&diagonal);
-    let (code, transformation_checks) = cx.emit(Source::State, Scalar::Generic(s.clone()), &roots)?;
+    let (code, transformation_checks) =
+        cx.emit(Source::State, Scalar::Generic(s.clone()), &roots)?;
     let stmts = &code.stmts;
     let re = |id: NodeId| {
         let v = code.value(id);
@@ -152,7 +174,7 @@ pub fn generate(
         quote! {
             let pivot = #v;
             if !(pivot > #tolerance * scale) {
-                return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { pivot: #j, value: pivot });
+                return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { speed: #j, value: pivot });
             }
         }
     });
@@ -226,6 +248,8 @@ pub fn generate(
             });
             quote!(0.0f64 #(#terms)*)
         })?,
+        // B is computed from A: nothing to check (a singular A(q) is the dynamics' business,
+        // reported by the right-hand side at the time it is met).
         None => quote!(::core::result::Result::Ok(0.0)),
     };
 
@@ -255,7 +279,11 @@ pub fn generate(
             .iter()
             .enumerate()
             .map(|(i, id)| {
-                let name = format_ident!("{}", id.to_string().to_uppercase(), span = id.span());
+                let name = format_ident!(
+                    "{}",
+                    id.unraw().to_string().to_uppercase(),
+                    span = id.span()
+                );
                 let doc = format!("Index of `{id}` among the {what}.");
                 let i = lit(i);
                 quote!(#[doc = #doc] pub const #name: usize = #i;)

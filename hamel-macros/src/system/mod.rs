@@ -19,6 +19,7 @@ use crate::engine::graph::Graph;
 use crate::engine::lower::{ImplContext, Lowerer};
 use proc_macro2::TokenStream;
 use quote::quote;
+use syn::ext::IdentExt;
 use syn::spanned::Spanned;
 
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
@@ -69,7 +70,7 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStrea
     ];
     for list in lists.into_iter().flatten() {
         for (i, ident) in list.iter().enumerate() {
-            ctx.define_index(ident.to_string().to_uppercase(), i as i64);
+            ctx.define_index(ident.unraw().to_string().to_uppercase(), i as i64);
         }
     }
 

@@ -194,18 +194,20 @@ impl<'a> Roles<'a> {
     pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {
         self.by_role.get(&role)
     }
-
-    pub fn has(&self, role: Role) -> bool {
-        self.by_role.contains_key(&role)
-    }
 }
 
-/// The impl block with the role attributes removed (they are ours, not rustc's).
+/// The impl block with the role attributes removed (they are ours, not rustc's). A role
+/// function is used by the generated code even when nothing else calls it, so it gets
+/// `#[allow(dead_code)]` in their place: a private `fn lagrangian` should not warn.
 pub fn strip_role_attributes(imp: &syn::ItemImpl) -> syn::ItemImpl {
     let mut imp = imp.clone();
     for item in &mut imp.items {
         if let syn::ImplItem::Fn(f) = item {
+            let before = f.attrs.len();
             f.attrs.retain(|a| Role::from_attribute(a).is_none());
+            if f.attrs.len() < before {
+                f.attrs.push(syn::parse_quote!(#[allow(dead_code)]));
+            }
         }
     }
     imp

@@ -34,21 +34,32 @@ pub struct SparseLu {
 impl SparseLu {
     pub fn new(g: &Graph, a: &[Vec<NodeId>]) -> Result<SparseLu, StructurallySingular> {
         let n = a.len();
-        let nonzero: Vec<Vec<bool>> = a.iter().map(|row| row.iter().map(|&e| !g.is_zero(e)).collect()).collect();
+        let nonzero: Vec<Vec<bool>> = a
+            .iter()
+            .map(|row| row.iter().map(|&e| !g.is_zero(e)).collect())
+            .collect();
         let row_of = matching(&nonzero).map_err(|column| StructurallySingular { column })?;
         // Column j depends on column k when the row matched to j involves k.
         let edges: Vec<Vec<usize>> = (0..n)
-            .map(|j| (0..n).filter(|&k| k != j && nonzero[row_of[j]][k]).collect())
+            .map(|j| {
+                (0..n)
+                    .filter(|&k| k != j && nonzero[row_of[j]][k])
+                    .collect()
+            })
             .collect();
         let blocks = strongly_connected(&edges)
             .into_iter()
             .map(|columns| (columns.iter().map(|&j| row_of[j]).collect(), columns))
             .collect();
-        Ok(SparseLu { a: a.to_vec(), blocks })
+        Ok(SparseLu {
+            a: a.to_vec(),
+            blocks,
+        })
     }
 
-    /// The solution of A x = b, and the pivots the factorization divided by.
-    pub fn solve(&self, g: &mut Graph, b: &[NodeId]) -> (Vec<NodeId>, Vec<NodeId>) {
+    /// The solution of A x = b, and the pivots the factorization divided by, each with the
+    /// column (coordinate) it solved for.
+    pub fn solve(&self, g: &mut Graph, b: &[NodeId]) -> (Vec<NodeId>, Vec<(NodeId, usize)>) {
         let n = self.a.len();
         let mut x: Vec<Option<NodeId>> = vec![None; n];
         let mut pivots = Vec::new();
@@ -71,7 +82,9 @@ impl SparseLu {
                     row
                 })
                 .collect();
-            let solved = eliminate(g, &mut augmented, &mut pivots);
+            let mut block_pivots = Vec::new();
+            let solved = eliminate(g, &mut augmented, &mut block_pivots);
+            pivots.extend(block_pivots.into_iter().zip(columns.iter().copied()));
             for (&c, v) in columns.iter().zip(solved) {
                 x[c] = Some(v);
             }
@@ -102,9 +115,10 @@ fn eliminate(g: &mut Graph, rows: &mut [Vec<NodeId>], pivots: &mut Vec<NodeId>) 
                 continue;
             }
             let factor = g.mul(rows[i][k], inverse);
-            for j in k + 1..=s {
-                let t = g.mul(factor, rows[k][j]);
-                rows[i][j] = g.sub(rows[i][j], t);
+            let pivot_row = rows[k].clone();
+            for (entry, &above) in rows[i].iter_mut().zip(&pivot_row).skip(k + 1) {
+                let t = g.mul(factor, above);
+                *entry = g.sub(*entry, t);
             }
             rows[i][k] = g.zero();
         }
@@ -124,7 +138,10 @@ fn eliminate(g: &mut Graph, rows: &mut [Vec<NodeId>], pivots: &mut Vec<NodeId>) 
 /// Bring the candidate with the largest |entry| in column k to row k, with selects: the
 /// comparisons run at run time, and the displaced row k takes the pivot row's place.
 fn pivot_at_run_time(g: &mut Graph, rows: &mut [Vec<NodeId>], k: usize, candidates: &[usize]) {
-    let magnitudes: Vec<NodeId> = candidates.iter().map(|&i| g.unary(Func::Abs, rows[i][k])).collect();
+    let magnitudes: Vec<NodeId> = candidates
+        .iter()
+        .map(|&i| g.unary(Func::Abs, rows[i][k]))
+        .collect();
     // takes[i]: candidate i beats every earlier one (strictly, so ties keep the first).
     let mut best = magnitudes[0];
     let mut takes = vec![g.boolean(true)];
@@ -164,7 +181,12 @@ fn pivot_at_run_time(g: &mut Graph, rows: &mut [Vec<NodeId>], k: usize, candidat
 fn matching(nonzero: &[Vec<bool>]) -> Result<Vec<usize>, usize> {
     let n = nonzero.len();
     let mut col_of_row: Vec<Option<usize>> = vec![None; n];
-    fn augment(j: usize, nonzero: &[Vec<bool>], seen: &mut [bool], col_of_row: &mut [Option<usize>]) -> bool {
+    fn augment(
+        j: usize,
+        nonzero: &[Vec<bool>],
+        seen: &mut [bool],
+        col_of_row: &mut [Option<usize>],
+    ) -> bool {
         for r in 0..nonzero.len() {
             if nonzero[r][j] && !seen[r] {
                 seen[r] = true;
@@ -281,7 +303,18 @@ mod tests {
         let (x, _) = lu.solve(&mut g, &b);
         // Check A x = b numerically at a configuration where pivoting matters (|c| > |s|).
         let theta: f64 = 0.3;
-        let vals = [theta.sin(), theta.cos(), 0.1, 0.05, 0.2, 1.0, -2.0, 0.5, 3.0, 0.25];
+        let vals = [
+            theta.sin(),
+            theta.cos(),
+            0.1,
+            0.05,
+            0.2,
+            1.0,
+            -2.0,
+            0.5,
+            3.0,
+            0.25,
+        ];
         let xs = g.evaluate(&x, &vals);
         let am = [
             [vals[0], -vals[1], 0.0, 0.0, 0.0],
@@ -292,7 +325,11 @@ mod tests {
         ];
         for i in 0..5 {
             let ax: f64 = (0..5).map(|j| am[i][j] * xs[j]).sum();
-            assert!((ax - vals[5 + i]).abs() < 1e-14, "row {i}: {ax} vs {}", vals[5 + i]);
+            assert!(
+                (ax - vals[5 + i]).abs() < 1e-14,
+                "row {i}: {ax} vs {}",
+                vals[5 + i]
+            );
         }
     }
 
@@ -316,7 +353,11 @@ mod tests {
         let two = g.constant(2.0);
         let (x, pivots) = lu.solve(&mut g, &[one, two]);
         let v = g.evaluate(&x, &[1e-20]);
-        assert!((v[0] - 1.0).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15, "{v:?}");
+        assert!(
+            (v[0] - 1.0).abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15,
+            "{v:?}"
+        );
+        let pivots: Vec<NodeId> = pivots.into_iter().map(|(p, _)| p).collect();
         let p = g.evaluate(&pivots, &[1e-20]);
         assert!(p.iter().all(|p| p.abs() > 0.5), "{p:?}");
     }

@@ -6,6 +6,7 @@ use crate::engine::lower::{Lowerer, Shape};
 use proc_macro2::Span;
 use quote::{ToTokens, format_ident};
 use std::collections::HashMap;
+use syn::ext::IdentExt;
 
 #[derive(Clone, Copy)]
 pub struct Dims {
@@ -209,7 +210,7 @@ pub fn check<'a>(
     let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
     for ident in coordinates.iter().chain(&speeds).chain(&names.inputs) {
         if seen
-            .insert(ident.to_string().to_uppercase(), ident)
+            .insert(ident.unraw().to_string().to_uppercase(), ident)
             .is_some()
         {
             fail(
@@ -220,7 +221,7 @@ pub fn check<'a>(
                     format!(
                         "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
                          (also in upper case, which names their index constants, `Self::{}`)",
-                        ident.to_string().to_uppercase()
+                        ident.unraw().to_string().to_uppercase()
                     ),
                 ),
             );

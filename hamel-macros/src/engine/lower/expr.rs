@@ -102,17 +102,17 @@ impl<'a> Lowerer<'a, '_> {
                 self.expr(env, &r.expr)
             }
             Expr::While(w) => self.error(
-                &w.while_token,
+                w.while_token,
                 "`while` loops are not supported: the number of iterations must be known at compile \
                  time; use `for i in 0..N` with a constant `N`",
             ),
             Expr::Loop(l) => self.error(
-                &l.loop_token,
+                l.loop_token,
                 "`loop` is not supported: the number of iterations must be known at compile time; \
                  use `for i in 0..N` with a constant `N`",
             ),
             Expr::Match(m) => self.error(
-                &m.match_token,
+                m.match_token,
                 "`match` is not supported: branch with `if`/`else` on a comparison instead",
             ),
             Expr::Closure(c) => self.error(
@@ -121,16 +121,16 @@ impl<'a> Lowerer<'a, '_> {
                  as `self.helper(..)`",
             ),
             Expr::Return(r) => self.error(
-                &r.return_token,
+                r.return_token,
                 "`return` is not supported: a body's result is its final expression (leave out the \
                  `return` and the semicolon)",
             ),
             Expr::Break(b) => self.error(
-                &b.break_token,
+                b.break_token,
                 "`break` is not supported: loops are unrolled at compile time and run every iteration",
             ),
             Expr::Continue(c) => self.error(
-                &c.continue_token,
+                c.continue_token,
                 "`continue` is not supported: loops are unrolled at compile time; use `if` inside the loop",
             ),
             Expr::Macro(m) => self.error(
@@ -146,7 +146,7 @@ impl<'a> Lowerer<'a, '_> {
             }
             Expr::Range(r) => self.error(r, "a range is only supported as the bound of a `for` loop"),
             Expr::Let(l) => self.error(l, "`if let` is not supported: use a comparison"),
-            Expr::Unsafe(u) => self.error(&u.unsafe_token, "`unsafe` is not supported in a differentiated body"),
+            Expr::Unsafe(u) => self.error(u.unsafe_token, "`unsafe` is not supported in a differentiated body"),
             other => self.error(other, format!("this expression is not supported: {SUBSET}")),
         }
     }
@@ -356,7 +356,7 @@ impl<'a> Lowerer<'a, '_> {
             | BinOp::BitOrAssign(_)
             | BinOp::ShlAssign(_)
             | BinOp::ShrAssign(_) => {
-                return self.error(&b.op, "only `=`, `+=`, `-=`, `*=` and `/=` are supported");
+                return self.error(b.op, "only `=`, `+=`, `-=`, `*=` and `/=` are supported");
             }
             _ => None,
         };
@@ -518,7 +518,7 @@ impl<'a> Lowerer<'a, '_> {
             return Value::Poison;
         };
         match usize::try_from(n) {
-            Ok(n) if n > 0 && n <= 1 << 20 => Value::Array(vec![item; n]),
+            Ok(n) if n > 0 && n <= super::types::MAX_ARRAY_ELEMENTS => Value::Array(vec![item; n]),
             _ => self.error(
                 &r.len,
                 "the length of `[value; N]` must be between 1 and 2^20",

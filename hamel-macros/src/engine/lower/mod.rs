@@ -23,7 +23,7 @@ pub use env::Env;
 pub use types::Signature;
 pub use value::{Shape, Value};
 
-use crate::engine::graph::{Graph, NodeId, SpanRange};
+use crate::engine::graph::{Graph, NodeId};
 use proc_macro2::TokenStream;
 use quote::ToTokens;
 use std::collections::HashMap;
@@ -91,7 +91,6 @@ impl<'a> ImplContext<'a> {
 pub struct External {
     pub node: NodeId,
     pub tokens: TokenStream,
-    pub name: String,
 }
 
 #[derive(Clone, Default)]
@@ -106,13 +105,15 @@ impl Externals {
             return self.items[i].node;
         }
         let node = graph.new_input(name.clone());
-        self.by_name.insert(name.clone(), self.items.len());
-        self.items.push(External { node, tokens, name });
+        self.by_name.insert(name, self.items.len());
+        self.items.push(External { node, tokens });
         node
     }
 
-    pub fn parameters(&self) -> impl Iterator<Item = &External> {
-        self.items.iter().filter(|e| e.name.starts_with("self."))
+    /// The input of the external read as `name` (`"self.m0"`, `"G"`), if the body reads it.
+    #[cfg(test)]
+    pub fn node(&self, name: &str) -> Option<NodeId> {
+        self.by_name.get(name).map(|&i| self.items[i].node)
     }
 }
 
@@ -151,17 +152,8 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         Value::Poison
     }
 
-    pub fn error_at(&mut self, span: SpanRange, message: impl Display) -> Value {
-        self.errors.push(span.error(message));
-        Value::Poison
-    }
-
     pub fn push_error(&mut self, error: syn::Error) {
         self.errors.push(error);
-    }
-
-    pub fn has_errors(&self) -> bool {
-        !self.errors.is_empty()
     }
 
     /// All errors so far, combined into one (or `Ok` if there were none).

@@ -8,6 +8,9 @@ use syn::{FnArg, ReturnType, Type};
 pub const SUPPORTED_TYPES: &str = "`f64` or a fixed-size array `[f64; N]` (by value or by reference; \
      arrays may nest); helpers called from a body may also take integers such as `usize`";
 
+/// Most numbers an argument or result may hold.
+pub const MAX_ARRAY_ELEMENTS: usize = 4096;
+
 /// One typed argument of a function.
 #[derive(Clone)]
 pub struct Arg {
@@ -122,7 +125,19 @@ impl<'a> Lowerer<'a, '_> {
                 }
                 let len = self.const_int(&a.len, "an array length")?;
                 match usize::try_from(len) {
-                    Ok(n) => Some(Shape::Array(n, Box::new(inner))),
+                    Ok(n) if n.saturating_mul(inner.len().max(1)) <= MAX_ARRAY_ELEMENTS => {
+                        Some(Shape::Array(n, Box::new(inner)))
+                    }
+                    Ok(_) => {
+                        self.error(
+                            ty,
+                            format!(
+                                "this array holds more than {MAX_ARRAY_ELEMENTS} numbers: every element is a \
+                                 separate input of the generated straight-line code"
+                            ),
+                        );
+                        None
+                    }
                     Err(_) => {
                         self.error(&a.len, "an array length cannot be negative");
                         None

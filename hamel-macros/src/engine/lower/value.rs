@@ -129,16 +129,4 @@ impl Shape {
                 .map(Value::Array),
         }
     }
-
-    /// Rebuild a value of this shape from reals in row-major order.
-    pub fn unflatten(&self, reals: &mut impl Iterator<Item = NodeId>) -> Option<Value> {
-        match self {
-            Shape::Real => reals.next().map(Value::Real),
-            Shape::Int => None,
-            Shape::Array(n, inner) => (0..*n)
-                .map(|_| inner.unflatten(reals))
-                .collect::<Option<Vec<_>>>()
-                .map(Value::Array),
-        }
-    }
 }

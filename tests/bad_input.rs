@@ -1,0 +1,769 @@
+//! Bad input gives an `Err` whose message names the problem: every case asserts the error's
+//! variant, its fields, and substrings of its `Display` text (what a user reads). The messages
+//! are printed (`cargo test --test bad_input -- --nocapture`) for review.
+//!
+//! The faulty models are defined here: a knife edge whose chosen quasi-velocity degenerates
+//! (A(q) singular, B from the generated LU), one with a typo in its closed-form inverse, and
+//! a skate whose reduced mass matrix becomes singular when a sliding bead passes over the
+//! contact point.
+
+use std::f64::consts::FRAC_PI_2;
+
+use hamel::models::{KnifeEdge, MobileRobot};
+use hamel::{DormandPrince, Error, HamelSystem, Rk4, Simulation, Singularity, hamel_system};
+
+/// The message of an error after checking that it contains every `part`.
+#[track_caller]
+fn assert_message(e: &Error, parts: &[&str]) -> String {
+    let text = e.to_string();
+    println!("{text}");
+    for part in parts {
+        assert!(
+            text.contains(part),
+            "the message does not mention `{part}`:\n{text}"
+        );
+    }
+    text
+}
+
+/// A robot standing at (0.5, −0.3), upright, heading along x (ϑ = 0 because φ₁ = φ₂).
+const ROBOT_Q: [f64; 5] = [0.5, -0.3, 0.1, 0.0, 0.0];
+
+/// Admissible velocities at `ROBOT_Q`: rolling forward at 0.4 m/s, pitching at 0.2 rad/s,
+/// not turning. ẋ = ω⁴, φ̇ᵢ = −α̇ + ω⁴/r (HAMEL.md, kinematics with ϑ = 0, ω⁵ = 0).
+fn robot_admissible_qd() -> [f64; 5] {
+    let r = MobileRobot::default().r;
+    let (alpha_dot, forward) = (0.2, 0.4);
+    let wheel = -alpha_dot + forward / r;
+    [forward, 0.0, alpha_dot, wheel, wheel]
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. Initial velocities that violate the constraints
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn sideways_velocity_violates_no_slip_0() {
+    let robot = MobileRobot::default();
+    // The admissible velocities are accepted...
+    robot
+        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .unwrap();
+    // ...and a sideways velocity ẏ = 0.2 m/s is not: at ϑ = 0, ω¹ = ẋ sinϑ − ẏ cosϑ = −0.2.
+    let mut qd = robot_admissible_qd();
+    qd[1] = 0.2;
+    let e = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap_err();
+    match &e {
+        Error::ConstraintViolation {
+            name,
+            residual,
+            tolerance,
+        } => {
+            assert_eq!(name, "no_slip[0]");
+            assert_eq!(*residual, -0.2);
+            // 1e-10 relative to the largest velocity component, max|q̇| = 0.4/r − 0.2 = 3.8.
+            assert!((tolerance - 3.8e-10).abs() < 1e-20, "tolerance {tolerance}");
+        }
+        other => panic!("expected a constraint violation, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "constraint `no_slip[0]`",
+            "residual is -0.2",
+            "state_from_speeds",
+        ],
+    );
+}
+
+#[test]
+fn spinning_wheels_of_a_robot_at_rest_violate_no_slip_1() {
+    let robot = MobileRobot::default();
+    // Both wheels turn at 1 rad/s while the robot stands still: ω² = r(φ̇₁ + φ̇₂)/2 = 0.1.
+    let qd = [0.0, 0.0, 0.0, 1.0, 1.0];
+    let e = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap_err();
+    match &e {
+        Error::ConstraintViolation { name, residual, .. } => {
+            assert_eq!(name, "no_slip[1]");
+            assert!((residual - 0.1).abs() < 1e-16, "residual {residual}");
+        }
+        other => panic!("expected a constraint violation, got {other:?}"),
+    }
+    assert_message(&e, &["constraint `no_slip[1]`", "residual is 0.1"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. A parameter that is not a finite number
+// ---------------------------------------------------------------------------------------------
+
+#[track_caller]
+fn assert_invalid_parameter(e: &Error, expected: &str) {
+    match e {
+        Error::InvalidParameter { name, value } => {
+            assert_eq!(name, expected);
+            assert!(!value.is_finite());
+        }
+        other => panic!("expected an invalid parameter, got {other:?}"),
+    }
+    assert_message(e, &[&format!("parameter `{expected}`"), "finite"]);
+}
+
+#[test]
+fn nan_parameter_is_refused_everywhere() {
+    let good = MobileRobot::default();
+    let x0 = good
+        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .unwrap();
+    let bad = MobileRobot {
+        m0: f64::NAN,
+        ..Default::default()
+    };
+    let from_velocities = bad
+        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .unwrap_err();
+    assert_invalid_parameter(&from_velocities, "m0");
+    assert!(from_velocities.to_string().contains("is NaN"));
+    let from_speeds = bad
+        .state_from_speeds(&ROBOT_Q, &[0.2, 0.4, 0.0])
+        .unwrap_err();
+    assert_invalid_parameter(&from_speeds, "m0");
+
+    let sim = Simulation::new(&bad, x0).end_time(1.0);
+    let constant = sim
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.0, 0.0])
+        .unwrap_err();
+    assert_invalid_parameter(&constant, "m0");
+    let mut called = false;
+    let feedback = sim
+        .run(&Rk4::new(0.01), |_, _| {
+            called = true;
+            [0.1, -0.1]
+        })
+        .unwrap_err();
+    assert_invalid_parameter(&feedback, "m0");
+    assert!(
+        !called,
+        "the inputs were evaluated before the parameters were checked"
+    );
+
+    // An infinite parameter too, named even when it is not the first field.
+    let steep = MobileRobot {
+        g: f64::INFINITY,
+        ..Default::default()
+    };
+    let e = Simulation::new(&steep, x0)
+        .run_constant(&Rk4::new(0.01), [0.0, 0.0])
+        .unwrap_err();
+    assert_invalid_parameter(&e, "g");
+    assert!(e.to_string().contains("is inf"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Quasi-velocities that make A(q) singular (B from the generated LU)
+// ---------------------------------------------------------------------------------------------
+
+// The models' items are `pub`: the macro reads the role functions at compile time and the
+// generated code never calls some of them, so private ones draw dead-code warnings.
+
+/// The catalogue's knife edge with a badly chosen second quasi-velocity, φ̇ cosφ instead of
+/// φ̇, and no `#[velocities]`: A(q) = [[sinφ, −cosφ, 0], [cosφ, sinφ, 0], [0, 0, cosφ]] has
+/// det A = cosφ, singular at φ = ±π/2, where the quasi-velocities no longer determine φ̇.
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct CosSkate {
+    m: f64,
+    j: f64,
+    g: f64,
+    incline: f64,
+}
+
+#[hamel_system(coordinates(x, y, phi), speeds(v, turn))]
+impl CosSkate {
+    #[lagrangian]
+    pub fn lagrangian(&self, q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1])
+            + 0.5 * self.j * qd[2] * qd[2]
+            + self.m * self.g * self.incline.sin() * q[0]
+    }
+
+    #[constraints]
+    pub fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    pub fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2] * q[2].cos()]
+    }
+}
+
+fn cos_skate() -> CosSkate {
+    let k = KnifeEdge::default();
+    CosSkate {
+        m: k.m,
+        j: k.j,
+        g: k.g,
+        incline: k.incline,
+    }
+}
+
+#[test]
+fn degenerate_quasi_velocity_is_a_singular_transformation() {
+    let sys = cos_skate();
+    // Away from cosφ = 0 the model is fine (and agrees with the catalogue's knife edge: φ̇ =
+    // turn / cosφ, so turn = ω cosφ).
+    let phi = 0.7;
+    let mut dx = [0.0; 5];
+    sys.rhs(0.0, &[0.1, 0.2, phi, 1.0, 0.5 * phi.cos()], &[], &mut dx)
+        .unwrap();
+    let mut reference = [0.0; 5];
+    KnifeEdge::default()
+        .rhs(0.0, &[0.1, 0.2, phi, 1.0, 0.5], &[], &mut reference)
+        .unwrap();
+    for k in 0..4 {
+        assert!(
+            (dx[k] - reference[k]).abs() < 1e-12,
+            "{dx:?} vs {reference:?}"
+        );
+    }
+    // d/dt (φ̇ cosφ) = φ̈ cosφ − φ̇² sinφ with φ̈ = 0, φ̇ = 0.5.
+    assert!((dx[4] + 0.25 * phi.sin()).abs() < 1e-12, "{dx:?}");
+
+    // At φ = π/2 (cos = 6e-17 in f64) the LU's pivot cosφ is below its tolerance.
+    let x = [0.1, 0.2, FRAC_PI_2, 1.0, 0.0];
+    match sys.rhs(0.0, &x, &[], &mut dx) {
+        // The coordinate A(q) fails to determine there: φ (index 2).
+        Err(Singularity::Transformation { coordinate, value }) => {
+            assert_eq!(coordinate, 2, "coordinate {coordinate}");
+            assert!(value.abs() <= 1e-15, "pivot value {value}");
+        }
+        other => panic!("expected a singular transformation, got {other:?}"),
+    }
+    assert!(matches!(
+        sys.velocities(&x),
+        Err(Singularity::Transformation { .. })
+    ));
+
+    // Started exactly there, the simulation names the time and the state.
+    for integrator in [
+        &DormandPrince::new(1e-10, 1e-10) as &dyn RunWith<CosSkate>,
+        &Rk4::new(0.01),
+    ] {
+        let e = integrator.run(&Simulation::new(&sys, x).start_time(2.5).end_time(3.0));
+        match &e {
+            Error::SingularTransformation {
+                t, value, state, ..
+            } => {
+                assert_eq!(*t, 2.5);
+                assert!(value.abs() <= 1e-15);
+                assert_eq!(state.get("phi"), Some(FRAC_PI_2));
+                assert_eq!(state.get("turn"), Some(0.0));
+            }
+            other => panic!("expected a singular transformation, got {other:?}"),
+        }
+        assert_message(
+            &e,
+            &[
+                "singular velocity transformation at t = 2.5",
+                "do not determine the velocity of `phi`",
+                "phi = 1.5707963267948966",
+                "x = 0.1, y = 0.2",
+                "v = 1, turn = 0",
+            ],
+        );
+    }
+}
+
+/// The two integrators behind one call, so a case can be run with both.
+trait RunWith<S: HamelSystem> {
+    fn run(&self, sim: &Simulation<'_, S>) -> Error;
+}
+
+impl<S: HamelSystem<Inputs = [f64; 0]>> RunWith<S> for DormandPrince {
+    fn run(&self, sim: &Simulation<'_, S>) -> Error {
+        sim.run_constant(self, []).unwrap_err()
+    }
+}
+
+impl<S: HamelSystem<Inputs = [f64; 0]>> RunWith<S> for Rk4 {
+    fn run(&self, sim: &Simulation<'_, S>) -> Error {
+        sim.run_constant(self, []).unwrap_err()
+    }
+}
+
+/// A skate on a level plane whose second quasi-velocity is x·φ̇: A(q) has det = x, singular on
+/// the line x = 0, which a skate sliding straight along x crosses.
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct LineSkate {
+    m: f64,
+    j: f64,
+}
+
+#[hamel_system(coordinates(x, y, phi), speeds(v, turn))]
+impl LineSkate {
+    #[kinetic_energy]
+    pub fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.j * qd[2] * qd[2]
+    }
+
+    #[constraints]
+    pub fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    pub fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2] * q[0]]
+    }
+}
+
+/// The skate starts at x = −1 heading along x (φ = 0) at v = 1 without turning: x = −1 + t
+/// exactly (φ stays 0, so ẋ = v cosφ = 1 and v̇ = 0 exactly), and RK4 with step 1/4 lands on
+/// x = 0 exactly at t = 1 (every stage value is a multiple of 1/8, and h/6·6 rounds to h).
+#[test]
+fn a_run_that_reaches_a_singular_transformation() {
+    let sys = LineSkate { m: 1.0, j: 0.1 };
+    let x0 = sys
+        .state_from_speeds(&[-1.0, 0.0, 0.0], &[1.0, 0.0])
+        .unwrap();
+    // Up to just before the line, all is well.
+    let before = Simulation::new(&sys, x0)
+        .end_time(0.75)
+        .sample_interval(0.25)
+        .run_constant(&Rk4::new(0.25), [])
+        .unwrap();
+    assert_eq!(before.column("x").unwrap(), [-1.0, -0.75, -0.5, -0.25]);
+
+    let e = Simulation::new(&sys, x0)
+        .end_time(2.0)
+        .sample_interval(0.5)
+        .run_constant(&Rk4::new(0.25), [])
+        .unwrap_err();
+    match &e {
+        Error::SingularTransformation {
+            t, value, state, ..
+        } => {
+            assert_eq!(*t, 1.0);
+            assert_eq!(*value, 0.0);
+            assert_eq!(state.get("x"), Some(0.0));
+            assert_eq!(state.get("v"), Some(1.0));
+        }
+        other => panic!("expected a singular transformation, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "singular velocity transformation at t = 1:",
+            "x = 0, y = 0, phi = 0, v = 1, turn = 0",
+        ],
+    );
+
+    // Started on the line, at a later start time.
+    let on_line = sys
+        .state_from_speeds(&[0.0, 3.0, 0.4], &[1.0, 0.0])
+        .unwrap();
+    let e = Simulation::new(&sys, on_line)
+        .start_time(-4.0)
+        .end_time(0.0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        .unwrap_err();
+    assert!(matches!(e, Error::SingularTransformation { t: -4.0, .. }));
+    assert_message(&e, &["at t = -4:", "x = 0, y = 3, phi = 0.4"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. A closed-form inverse that is not the inverse
+// ---------------------------------------------------------------------------------------------
+
+/// A typo in a closed-form inverse is a compile error (the macro evaluates B(q)·A(q) − I at
+/// generic configurations and parameters; see `tests/ui/inverse_is_not_the_inverse.rs`). What
+/// remains for run time is an inverse that is right only for some parameter values: this
+/// sleigh's inverse uses |a| where a belongs, right for a ≥ 0 (so it compiles), wrong for a
+/// contact point in front of the centre of mass (a < 0).
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct SignBlindSleigh {
+    m: f64,
+    inertia: f64,
+    a: f64,
+}
+
+#[hamel_system(coordinates(x, y, theta), speeds(v, omega))]
+impl SignBlindSleigh {
+    #[kinetic_energy]
+    pub fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.inertia * qd[2] * qd[2]
+    }
+
+    #[constraints]
+    pub fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [-qd[0] * q[2].sin() + qd[1] * q[2].cos() - self.a * qd[2]]
+    }
+
+    #[quasi_velocities]
+    pub fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+
+    /// ẋ = −sinθ (w₀ + a w₂) + cosθ w₁, ẏ = cosθ (w₀ + a w₂) + sinθ w₁ — with |a|.
+    #[velocities]
+    pub fn velocities(&self, q: &[f64; 3], w: &[f64; 3]) -> [f64; 3] {
+        let (s, c) = q[2].sin_cos();
+        let lateral = w[0] + self.a.abs() * w[2];
+        [-s * lateral + c * w[1], c * lateral + s * w[1], w[2]]
+    }
+}
+
+#[test]
+fn inverse_wrong_for_these_parameters_is_an_inverse_mismatch() {
+    let q = [0.5, -1.0, 0.3];
+    let behind = SignBlindSleigh {
+        m: 2.0,
+        inertia: 0.5,
+        a: 0.4,
+    };
+    assert!(behind.state_from_speeds(&q, &[1.0, 0.5]).is_ok());
+
+    let in_front = SignBlindSleigh {
+        a: -0.4,
+        ..behind.clone()
+    };
+    let e = in_front.state_from_speeds(&q, &[1.0, 0.5]).unwrap_err();
+    match &e {
+        // A·B − I has one nonzero entry: the constraint row against B's ω-column, |a| − a = 0.8.
+        Error::InverseMismatch {
+            defect,
+            configuration,
+        } => {
+            let expected = 0.8;
+            assert!(
+                (defect - expected).abs() < 1e-14,
+                "defect {defect} vs {expected}"
+            );
+            assert_eq!(configuration.get("theta"), Some(0.3));
+        }
+        other => panic!("expected an inverse mismatch, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "`#[velocities]`",
+            "not the inverse",
+            "by 0.8 at",
+            "x = 0.5, y = -1, theta = 0.3",
+        ],
+    );
+
+    // The same from state_from_velocities and from a run started there.
+    let qd = [
+        0.3f64.cos() * 1.0 - 0.3f64.sin() * (-0.4 * 0.5),
+        0.3f64.sin() + 0.3f64.cos() * (-0.4 * 0.5),
+        0.5,
+    ];
+    let e = in_front.state_from_velocities(&q, &qd).unwrap_err();
+    assert!(matches!(e, Error::InverseMismatch { .. }), "{e:?}");
+    let x0 = [q[0], q[1], q[2], 1.0, 0.5];
+    let e = Simulation::new(&in_front, x0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        .unwrap_err();
+    assert!(matches!(e, Error::InverseMismatch { .. }), "{e:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Initial values that are not finite
+// ---------------------------------------------------------------------------------------------
+
+#[track_caller]
+fn assert_non_finite(e: &Error, expected: &str) {
+    match e {
+        Error::NonFiniteInitialValue { name, value } => {
+            assert_eq!(name, expected);
+            assert!(!value.is_finite());
+        }
+        other => panic!("expected a non-finite initial value, got {other:?}"),
+    }
+    assert_message(
+        e,
+        &[
+            &format!("initial value of `{expected}`"),
+            "must be a finite number",
+        ],
+    );
+}
+
+#[test]
+fn non_finite_initial_values_are_named() {
+    let robot = MobileRobot::default();
+    let qd = robot_admissible_qd();
+
+    let mut q = ROBOT_Q;
+    q[2] = f64::NAN;
+    assert_non_finite(&robot.state_from_velocities(&q, &qd).unwrap_err(), "alpha");
+    q[2] = 0.1;
+    q[4] = f64::NEG_INFINITY;
+    assert_non_finite(&robot.state_from_speeds(&q, &[0.0; 3]).unwrap_err(), "phi2");
+
+    let mut bad_qd = qd;
+    bad_qd[3] = f64::INFINITY;
+    let e = robot.state_from_velocities(&ROBOT_Q, &bad_qd).unwrap_err();
+    assert_non_finite(&e, "d/dt phi1");
+
+    let e = robot
+        .state_from_speeds(&ROBOT_Q, &[0.0, f64::NAN, 0.0])
+        .unwrap_err();
+    assert_non_finite(&e, "w4");
+
+    // A state assembled by hand and handed to the simulation.
+    let good = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap();
+    for (i, name) in MobileRobot::STATE.iter().enumerate() {
+        let mut x0 = good;
+        x0[i] = if i % 2 == 0 { f64::NAN } else { f64::INFINITY };
+        let e = Simulation::new(&robot, x0)
+            .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.0, 0.0])
+            .unwrap_err();
+        assert_non_finite(&e, name);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. Invalid settings of the run and of the integrators
+// ---------------------------------------------------------------------------------------------
+
+#[track_caller]
+fn assert_invalid_setting(e: &Error, expected: &str, value: f64) {
+    match e {
+        Error::InvalidSetting { name, value: v, .. } => {
+            assert_eq!(*name, expected);
+            assert!(
+                v.to_bits() == value.to_bits(),
+                "value {v}, expected {value}"
+            );
+        }
+        other => panic!("expected an invalid setting, got {other:?}"),
+    }
+    // Values read as a person would write them: `-1e-6`, not `-0.000001`.
+    assert_message(
+        e,
+        &[&format!(
+            "invalid setting `{expected}` = {}",
+            hamel::Num(value)
+        )],
+    );
+}
+
+#[test]
+fn invalid_settings_are_named() {
+    let robot = MobileRobot::default();
+    let x0 = robot
+        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .unwrap();
+    let u = [0.0, 0.0];
+    let sim = || Simulation::new(&robot, x0).end_time(0.5);
+    let ok = DormandPrince::new(1e-8, 1e-10);
+    sim().run_constant(&ok, u).unwrap();
+
+    // Integrator settings.
+    let cases: [(DormandPrince, &str, f64); 7] = [
+        (DormandPrince::new(-1e-6, 1e-10), "rtol", -1e-6),
+        (DormandPrince::new(f64::NAN, 1e-10), "rtol", f64::NAN),
+        (DormandPrince::new(1e-6, 0.0), "atol", 0.0),
+        (DormandPrince::new(1e-6, -1e-9), "atol", -1e-9),
+        (ok.with_initial_step(0.0), "initial step", 0.0),
+        (ok.with_max_step(-0.1), "max step", -0.1),
+        (ok.with_fixed_step(0.0), "fixed step", 0.0),
+    ];
+    for (integrator, name, value) in cases {
+        let e = sim().run_constant(&integrator, u).unwrap_err();
+        assert_invalid_setting(&e, name, value);
+    }
+    for step in [0.0, -0.01, f64::INFINITY] {
+        let e = sim().run_constant(&Rk4::new(step), u).unwrap_err();
+        assert_invalid_setting(&e, "step", step);
+    }
+
+    // Run settings.
+    let e = sim().end_time(-1.0).run_constant(&ok, u).unwrap_err();
+    assert_invalid_setting(&e, "end time", -1.0);
+    assert_message(&e, &["after the start time"]);
+    let e = sim()
+        .start_time(2.0)
+        .end_time(2.0)
+        .run_constant(&ok, u)
+        .unwrap_err();
+    assert_invalid_setting(&e, "end time", 2.0);
+    let e = sim().start_time(f64::NAN).run_constant(&ok, u).unwrap_err();
+    assert_invalid_setting(&e, "start time", f64::NAN);
+    for dt in [0.0, -0.01, f64::NAN] {
+        let e = sim().sample_interval(dt).run_constant(&ok, u).unwrap_err();
+        assert_invalid_setting(&e, "sample interval", dt);
+        assert_message(&e, &["positive"]);
+    }
+    let e = sim()
+        .end_time(1e3)
+        .sample_interval(1e-9)
+        .run_constant(&ok, u)
+        .unwrap_err();
+    assert_invalid_setting(&e, "sample interval", 1e-9);
+    assert_message(&e, &["more than 10⁸ samples"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. A singular reduced mass matrix
+// ---------------------------------------------------------------------------------------------
+
+/// The catalogue's knife edge given no moment of inertia (j = 0): nothing resists turning,
+/// M = diag(m, j) is singular at every state, and the turning rate's equation reads 0·ω̇ = 0.
+#[test]
+fn skate_without_moment_of_inertia_has_a_singular_mass_matrix() {
+    let sys = KnifeEdge {
+        j: 0.0,
+        ..Default::default()
+    };
+    // The parameters are finite, so the state is built.
+    let x0 = sys
+        .state_from_speeds(&[0.0, 0.0, 0.2], &[1.0, 0.5])
+        .unwrap();
+    let m = sys.mass_matrix(&x0).unwrap();
+    assert_eq!(m, [[1.0, 0.0], [0.0, 0.0]]);
+    let mut dx = [0.0; 5];
+    assert_eq!(
+        sys.rhs(0.0, &x0, &[], &mut dx),
+        Err(Singularity::MassMatrix {
+            speed: 1,
+            value: 0.0
+        })
+    );
+    let e = Simulation::new(&sys, x0)
+        .start_time(1.5)
+        .end_time(2.0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        .unwrap_err();
+    match &e {
+        Error::SingularMassMatrix {
+            t,
+            speed,
+            value,
+            state,
+        } => {
+            assert_eq!((*t, speed.as_str(), *value), (1.5, "omega", 0.0));
+            assert_eq!(state.get("omega"), Some(0.5));
+        }
+        other => panic!("expected a singular mass matrix, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "singular reduced mass matrix at t = 1.5",
+            "the motion along `omega` has no inertia",
+            "x = 0, y = 0, phi = 0.2, v = 1, omega = 0.5",
+        ],
+    );
+}
+
+/// A skate carrying a bead: a point mass m₀ at the blade's contact point (blade and rod
+/// massless) and a bead of mass m_b that slides without friction on a rod along the blade, a
+/// distance s ahead of the contact point. The only rotational inertia about the contact point
+/// is the bead's, m_b s², so when the bead passes over the contact point nothing resists
+/// turning.
+///
+/// q = (x, y, φ, s); quasi-velocities v (path speed), φ̇, ṡ. The bead moves at
+/// (v + ṡ) e_φ + s φ̇ e_⊥, so T = ½ m₀ v² + ½ m_b ((v + ṡ)² + s² φ̇²) and
+/// M = [[m₀ + m_b, 0, m_b], [0, m_b s², 0], [m_b, 0, m_b]], det M = m₀ m_b² s²: singular at
+/// s = 0 (LDLᵀ pivot 1 is m_b s²).
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct BeadSkate {
+    m0: f64,
+    mb: f64,
+}
+
+#[hamel_system(coordinates(x, y, phi, s), speeds(v, turn, slide))]
+impl BeadSkate {
+    #[kinetic_energy]
+    pub fn kinetic_energy(&self, q: &[f64; 4], qd: &[f64; 4]) -> f64 {
+        let (sn, c) = q[2].sin_cos();
+        let s = q[3];
+        let bx = qd[0] + qd[3] * c - s * qd[2] * sn;
+        let by = qd[1] + qd[3] * sn + s * qd[2] * c;
+        0.5 * self.m0 * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.mb * (bx * bx + by * by)
+    }
+
+    #[constraints]
+    pub fn blade(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    pub fn speeds(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 3] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2], qd[3]]
+    }
+}
+
+/// The bead starts 1 m ahead of the contact point sliding back at 1 m/s, the skate at rest and
+/// not turning. With φ̇ = 0 no force acts along the rod, so v and ṡ stay constant (exactly: the
+/// turning terms vanish identically) and s = 1 − t. RK4 with step 1/4 lands on s = 0 exactly
+/// at t = 1 (stage values are multiples of 1/8).
+#[test]
+fn bead_over_the_contact_point_makes_the_mass_matrix_singular() {
+    let sys = BeadSkate { m0: 2.0, mb: 0.5 };
+    let m_at = |s: f64| sys.mass_matrix(&[0.0, 0.0, 0.0, s, 0.0, 0.0, 0.0]).unwrap();
+    assert_eq!(
+        m_at(2.0),
+        [[2.5, 0.0, 0.5], [0.0, 2.0, 0.0], [0.5, 0.0, 0.5]]
+    );
+    assert_eq!(m_at(0.0)[1][1], 0.0);
+
+    let x0 = sys
+        .state_from_speeds(&[0.3, -0.2, 0.0, 1.0], &[0.0, 0.0, -1.0])
+        .unwrap();
+    let before = Simulation::new(&sys, x0)
+        .end_time(0.75)
+        .sample_interval(0.25)
+        .run_constant(&Rk4::new(0.25), [])
+        .unwrap();
+    assert_eq!(before.column("s").unwrap(), [1.0, 0.75, 0.5, 0.25]);
+
+    let e = Simulation::new(&sys, x0)
+        .end_time(2.0)
+        .sample_interval(0.5)
+        .run_constant(&Rk4::new(0.25), [])
+        .unwrap_err();
+    match &e {
+        Error::SingularMassMatrix {
+            t,
+            speed,
+            value,
+            state,
+        } => {
+            assert_eq!((*t, speed.as_str(), *value), (1.0, "turn", 0.0));
+            assert_eq!(state.get("s"), Some(0.0));
+            assert_eq!(state.get("slide"), Some(-1.0));
+        }
+        other => panic!("expected a singular mass matrix, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "singular reduced mass matrix at t = 1:",
+            "the motion along `turn` has no inertia",
+            "x = 0.3, y = -0.2, phi = 0, s = 0, v = 0, turn = 0, slide = -1",
+        ],
+    );
+
+    // Started with the bead on the contact point: at the start time.
+    let x0 = sys
+        .state_from_speeds(&[0.0, 0.0, 1.0, 0.0], &[1.0, 0.2, 0.3])
+        .unwrap();
+    let e = Simulation::new(&sys, x0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::SingularMassMatrix { t: 0.0, ref speed, .. } if speed == "turn"
+        ),
+        "{e:?}"
+    );
+    assert_message(&e, &["at t = 0:", "s = 0"]);
+}
