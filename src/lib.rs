@@ -1,4 +1,22 @@
-//! hamel: nonholonomic mechanical systems compiled into fast simulators.
+#![doc = include_str!("../README.md")]
+//!
+//! # How a model becomes a simulator
+//!
+//! `#[hamel_system]` lowers the role functions' bodies into one expression graph and builds
+//! Hamel's equations on it (`../shared/design/HAMEL.md` restates the mathematics): the
+//! gradient of L̃(q, ω) by a reverse sweep, the reduced mass matrix and (∂²L̃/∂ω∂q)·q̇ by
+//! tangent sweeps over it, and the γ terms as two bidirectional second derivatives of
+//! Φ(q, v) = pᵀA(q)v per free direction, never the n³ tensor. With a closed-form inverse B the
+//! Lagrangian in quasi-velocities is composed as L̃ = L(q, B(q)ω); without one, B comes from an
+//! LU factorization of A(q) with partial pivoting, unrolled into the generated code after a
+//! block-triangular permutation found from A's sparsity pattern, and Lagrange's equations are
+//! projected on the admissible directions instead. The reduced mass matrix is factored by an
+//! unrolled LDLᵀ; its pivots, and the LU's, are checked before any result is used.
+//!
+//! The constraint role `#[constraints]` takes `(&self, q, qd)` and must be linear and
+//! homogeneous in `qd`; affine, time-dependent constraints A(q)q̇ + a(q, t) = 0 (a ball on a
+//! turntable) will take a leading `t: f64` argument, with the affine part read off the same
+//! function, so models written now keep compiling.
 //!
 //! # The differentiation engine
 //!
@@ -23,6 +41,7 @@ extern crate self as hamel;
 
 pub mod docs;
 pub mod models;
+pub mod prelude;
 
 pub use hamel_macros::{differentiate, hamel_system};
 pub use hamel_runtime::*;

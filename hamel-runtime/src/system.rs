@@ -69,6 +69,13 @@ pub trait HamelSystem: Parameters {
     /// `[[[f64; n − p]; n − p]; n]`: γʲ_{l,k} for j = 1…n and l, k = p+1…n.
     type Gamma: Copy + core::fmt::Debug;
 
+    /// n, the number of generalized coordinates.
+    const N: usize;
+    /// p, the number of nonholonomic constraints (the state has 2n − p components).
+    const P: usize;
+    /// m, the number of inputs.
+    const M: usize;
+
     /// Names of the coordinates q.
     const COORDINATES: &'static [&'static str];
     /// Names of the free quasi-velocities.

@@ -68,6 +68,9 @@ impl HamelSystem for Skate {
     type MassMatrix = [[f64; 2]; 2];
     type Gamma = [[[f64; 2]; 2]; 3];
 
+    const N: usize = 3;
+    const P: usize = 1;
+    const M: usize = 2;
     const COORDINATES: &'static [&'static str] = &["x", "y", "theta"];
     const SPEEDS: &'static [&'static str] = &["v", "omega"];
     const CONSTRAINTS: &'static [&'static str] = &["no_slip"];

@@ -13,11 +13,11 @@ use crate::hamel_system;
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChaplyginSleigh {
-    /// mass [kg]
+    /// mass (kg)
     pub m: f64,
-    /// moment of inertia about the centre of mass [kg m²]
+    /// moment of inertia about the centre of mass (kg m²)
     pub inertia: f64,
-    /// distance of the contact point behind the centre of mass [m]
+    /// distance of the contact point behind the centre of mass (m)
     pub a: f64,
 }
 

@@ -12,13 +12,13 @@ use crate::hamel_system;
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
 pub struct KnifeEdge {
-    /// mass [kg]
+    /// mass (kg)
     pub m: f64,
-    /// moment of inertia about the vertical through the contact point [kg m²]
+    /// moment of inertia about the vertical through the contact point (kg m²)
     pub j: f64,
-    /// gravitational acceleration [m/s²]
+    /// gravitational acceleration (m/s²)
     pub g: f64,
-    /// inclination of the plane [rad]
+    /// inclination of the plane (rad)
     pub incline: f64,
 }
 

@@ -17,23 +17,23 @@ use crate::hamel_system;
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
 pub struct MobileRobot {
-    /// mass of the body [kg]
+    /// mass of the body (kg)
     pub m0: f64,
-    /// mass of one wheel [kg]
+    /// mass of one wheel (kg)
     pub mw: f64,
-    /// body's principal moment of inertia about its x axis (forward) [kg m²]
+    /// body's principal moment of inertia about its x axis (forward) (kg m²)
     pub jx: f64,
-    /// body's principal moment of inertia about its y axis (the axle) [kg m²]
+    /// body's principal moment of inertia about its y axis (the axle) (kg m²)
     pub jy: f64,
-    /// body's principal moment of inertia about its z axis (vertical) [kg m²]
+    /// body's principal moment of inertia about its z axis (vertical) (kg m²)
     pub jz: f64,
-    /// wheel radius [m]
+    /// wheel radius (m)
     pub r: f64,
-    /// axle length, wheel to wheel [m]
+    /// axle length, wheel to wheel (m)
     pub b: f64,
-    /// distance of the body's centre of gravity from the axle [m]
+    /// distance of the body's centre of gravity from the axle (m)
     pub l: f64,
-    /// gravitational acceleration [m/s²]
+    /// gravitational acceleration (m/s²)
     pub g: f64,
 }
 
@@ -128,23 +128,23 @@ impl MobileRobot {
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
 pub struct MobileRobotPaper {
-    /// mass of the body [kg]
+    /// mass of the body (kg)
     pub m0: f64,
-    /// mass of one wheel [kg]
+    /// mass of one wheel (kg)
     pub mw: f64,
-    /// body's principal moment of inertia about its x axis [kg m²]
+    /// body's principal moment of inertia about its x axis (kg m²)
     pub jx: f64,
-    /// body's principal moment of inertia about its y axis (the axle) [kg m²]
+    /// body's principal moment of inertia about its y axis (the axle) (kg m²)
     pub jy: f64,
-    /// body's principal moment of inertia about its z axis [kg m²]
+    /// body's principal moment of inertia about its z axis (kg m²)
     pub jz: f64,
-    /// wheel radius [m]
+    /// wheel radius (m)
     pub r: f64,
-    /// axle length [m]
+    /// axle length (m)
     pub b: f64,
-    /// distance of the body's centre of gravity from the axle [m]
+    /// distance of the body's centre of gravity from the axle (m)
     pub l: f64,
-    /// gravitational acceleration [m/s²]
+    /// gravitational acceleration (m/s²)
     pub g: f64,
 }
 
@@ -176,7 +176,7 @@ impl Default for MobileRobotPaper {
     inputs(tau1, tau2)
 )]
 impl MobileRobotPaper {
-    /// The paper's eq. (12), ω indexed from 0 here (w[0] = ω¹).
+    /// The paper's eq. (12), ω indexed from 0 here (`w[0]` is ω¹).
     #[quasi_lagrangian]
     pub fn lagrangian(&self, q: &[f64; 5], w: &[f64; 5]) -> f64 {
         let alpha = q[2];

@@ -314,6 +314,9 @@ pub fn generate(
             type MassMatrix = [[f64; #free_l]; #free_l];
             type Gamma = [[[f64; #free_l]; #free_l]; #n_l];
 
+            const N: usize = #n_l;
+            const P: usize = #p_l;
+            const M: usize = #m_l;
             const COORDINATES: &'static [&'static str] = &[#(#coordinate_names),*];
             const SPEEDS: &'static [&'static str] = &[#(#speed_names),*];
             const CONSTRAINTS: &'static [&'static str] = &[#(#constraint_names),*];
