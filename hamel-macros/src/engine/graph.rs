@@ -381,6 +381,13 @@ impl Graph {
         if let Node::Neg(y) = self.node(b) {
             return self.intern(Node::Sub(a, y));
         }
+        // a + (−k)·y is a − k·y.
+        if let Some((k, y)) = self.leading_constant(b)
+            && k < 0.0
+        {
+            let positive = self.scale_by(-k, y);
+            return self.intern(Node::Sub(a, positive));
+        }
         if let Node::Neg(x) = self.node(a) {
             return self.intern(Node::Sub(b, x));
         }

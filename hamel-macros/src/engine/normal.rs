@@ -286,7 +286,9 @@ impl Graph {
     }
 
     /// Σ cᵢ·tᵢ + constant as a left-deep chain: positive terms first, then the negative ones
-    /// subtracted, the constant last.
+    /// subtracted, the constant last. Built with `add`/`sub`, so the local rules (a common
+    /// factor of two terms) still apply to what merging left; the terms are already merged,
+    /// so the flattening inside finds nothing more and the recursion ends.
     fn rebuild_sum(&mut self, terms: &[Term], constant: f64) -> NodeId {
         let mut positive: Option<NodeId> = None;
         let mut negative: Option<NodeId> = None;
@@ -299,13 +301,13 @@ impl Graph {
             };
             *slot = Some(match *slot {
                 None => magnitude,
-                Some(acc) => self.plain_add(acc, magnitude),
+                Some(acc) => self.add(acc, magnitude),
             });
         }
         let body = match (positive, negative) {
-            (Some(p), Some(n)) => Some(self.intern(Node::Sub(p, n))),
+            (Some(p), Some(n)) => Some(self.sub(p, n)),
             (Some(p), None) => Some(p),
-            (None, Some(n)) => Some(self.intern(Node::Neg(n))),
+            (None, Some(n)) => Some(self.neg(n)),
             (None, None) => None,
         };
         match body {

@@ -120,6 +120,15 @@ fn coefficients(g: &mut Graph, rows: &[NodeId], vars: &[NodeId]) -> Vec<Vec<Node
         .collect()
 }
 
+/// A number for a message, to four significant digits (`1.198`, `3.2e-9`).
+fn significant(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) {
+        format!("{x:.3e}")
+    } else {
+        format!("{}", (x * 1e4).round() / 1e4)
+    }
+}
+
 /// The source of element `index` of a function's result, if its tail is an array literal.
 fn row_source(f: &syn::ImplItemFn, index: usize) -> proc_macro2::TokenStream {
     if let Some(syn::Stmt::Expr(syn::Expr::Array(a), None)) = f.block.stmts.last()
@@ -144,38 +153,41 @@ fn check_linear(
 ) -> bool {
     let mut ok = true;
     for (i, &row) in rows.iter().enumerate() {
+        // Rows are named as at run time: `blade[1]` is row 1 of the function `blade`.
+        let row_name = format!("`{}[{i}]`", f.sig.ident);
         let verdict = linearity::classify(lowerer.graph, row, vars);
         let problem = match verdict {
             Verdict::Linear => continue,
             Verdict::Zero if what == "constraint" => format!(
-                "constraint row {i} is identically zero: it constrains nothing; remove it (and count \
-                 one constraint less)"
+                "constraint {row_name} is identically zero: it constrains nothing; remove it (and \
+                 return `[f64; {}]`)",
+                rows.len().saturating_sub(1)
             ),
             Verdict::Zero => format!(
-                "{what} row {i} is identically zero, so A(q) is singular everywhere: each row must \
+                "{what} {row_name} is identically zero, so A(q) is singular everywhere: each row must \
                  depend on the velocities `{var_name}`"
             ),
             Verdict::Independent => format!(
-                "{what} row {i} does not depend on the velocities `{var_name}`: rows are linear in \
+                "{what} {row_name} does not depend on the velocities `{var_name}`: rows are linear in \
                  `{var_name}`, of the form Σ a_j(q)·{var_name}[j]"
             ),
             Verdict::Broken(at, why) => {
                 let message = match why {
                     Why::Product => format!(
-                        "this product of velocities makes {what} row {i} nonlinear in `{var_name}`"
+                        "this product of velocities makes {what} {row_name} nonlinear in `{var_name}`"
                     ),
                     Why::Quotient => format!(
-                        "dividing by a velocity makes {what} row {i} nonlinear in `{var_name}`"
+                        "dividing by a velocity makes {what} {row_name} nonlinear in `{var_name}`"
                     ),
                     Why::Function => format!(
-                        "a nonlinear function of a velocity makes {what} row {i} nonlinear in `{var_name}`"
+                        "a nonlinear function of a velocity makes {what} {row_name} nonlinear in `{var_name}`"
                     ),
                     Why::Affine => format!(
-                        "{what} row {i} mixes terms with and without velocities: rows must be linear and \
+                        "{what} {row_name} mixes terms with and without velocities: rows must be linear and \
                          homogeneous in `{var_name}` (affine constraints a(q, t) are not supported yet)"
                     ),
                     Why::Condition => format!(
-                        "{what} row {i} branches on a velocity, which is not linear in `{var_name}`"
+                        "{what} {row_name} branches on a velocity, which is not linear in `{var_name}`"
                     ),
                 };
                 let message =
@@ -231,22 +243,26 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     // A(q) from the rows, which must be linear in the velocities.
     let constraint_rows = lower(lowerer, spec.constraints, vec![array(&q), array(&v)]);
     let quasi_rows = lower(lowerer, spec.quasi_velocities, vec![array(&q), array(&v)]);
+    // Check whichever rows lowered, so that a mistake in one function does not hide one in
+    // the other; B and the equations are only built from rows that are all linear.
+    let mut linear = true;
+    if let Some(rows) = &constraint_rows {
+        linear &= check_linear(lowerer, spec.constraints, rows, &v, "constraint", "qd");
+    }
+    if let Some(rows) = &quasi_rows {
+        linear &= check_linear(
+            lowerer,
+            spec.quasi_velocities,
+            rows,
+            &v,
+            "quasi-velocity",
+            "qd",
+        );
+    }
     let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
-    let linear = check_linear(
-        lowerer,
-        spec.constraints,
-        &constraint_rows,
-        &v,
-        "constraint",
-        "qd",
-    ) & check_linear(
-        lowerer,
-        spec.quasi_velocities,
-        &quasi_rows,
-        &v,
-        "quasi-velocity",
-        "qd",
-    );
+    if !linear {
+        return None;
+    }
     let rows: Vec<NodeId> = constraint_rows.iter().chain(&quasi_rows).copied().collect();
     let a = coefficients(lowerer.graph, &rows, &v);
 
@@ -322,59 +338,53 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         None => vec![zero; n],
     };
 
-    let assembled = match (&spec.energy, &solver) {
+    // Hamel's route needs L̃(q, ω): given directly, or composed with a closed-form B. Without
+    // one, Lagrange's equations are projected instead.
+    let quasi_lagrangian = match (&spec.energy, &solver) {
         (Energy::Quasi(f), _) => {
-            let lt = lower(lowerer, f, vec![array(&q), array(&omega)])?;
-            let lt = *lt.first()?;
-            if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
-                return None;
-            }
-            hamel(
-                lowerer.graph,
-                lt,
-                &omega,
-                &q,
-                &w,
-                &qd,
-                &b_free,
-                &rows,
-                &v,
-                &forces,
-                p,
-            )
+            let lt = *lower(lowerer, f, vec![array(&q), array(&omega)])?.first()?;
+            Some((lt, *f))
         }
         (energy, Solver::Closed(b)) => {
-            // L̃(q, ω) = L(q, B(q) ω)
             let b_omega: Vec<NodeId> = (0..n).map(|i| dot(lowerer.graph, &b[i], &omega)).collect();
-            let (lt, f) = lagrangian(lowerer, energy, &q, &b_omega)?;
+            Some(lagrangian(lowerer, energy, &q, &b_omega)?)
+        }
+        (_, Solver::Numeric(_)) => None,
+    };
+    let assembled = match (quasi_lagrangian, &solver) {
+        (Some((lt, f)), _) => {
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            hamel(
-                lowerer.graph,
-                lt,
-                &omega,
-                &q,
-                &w,
-                &qd,
-                &b_free,
-                &rows,
-                &v,
-                &forces,
-                p,
-            )
+            let vectors = Vectors {
+                q: &q,
+                w: &w,
+                qd: &qd,
+                b_free: &b_free,
+                rows: &rows,
+                v: &v,
+                forces: &forces,
+            };
+            hamel(lowerer.graph, lt, &omega, &vectors, p)
         }
-        (energy, Solver::Numeric(lu)) => {
-            let (l, f) = lagrangian(lowerer, energy, &q, &v)?;
+        (None, Solver::Numeric(lu)) => {
+            let (l, f) = lagrangian(lowerer, &spec.energy, &q, &v)?;
             if !requires_velocities(lowerer, f, l, &v, "the Lagrangian") {
                 return None;
             }
-            projected(lowerer.graph, l, &q, &v, &qd, lu, &b_free, &rows, &forces)
+            let vectors = Vectors {
+                q: &q,
+                w: &w,
+                qd: &qd,
+                b_free: &b_free,
+                rows: &rows,
+                v: &v,
+                forces: &forces,
+            };
+            projected(lowerer.graph, l, lu, &vectors)
         }
+        (None, Solver::Closed(_)) => return None,
     };
-    if !linear {
-        return None;
-    }
     let energy = match &spec.energy {
         // T + V exactly, rather than through the Legendre transform.
         Energy::Split { kinetic, potential } => {
@@ -489,9 +499,10 @@ fn check_inverse(
                     row_source(f, r),
                     format!(
                         "`#[velocities]` is not the inverse of the constraints and quasi-velocities: \
-                         the velocity of `{name}` it gives (row {r}) is wrong, B(q)·A(q) differs from \
-                         the identity by {worst:.3e} in that row at a generic configuration; q̇ = B(q)·w \
-                         must solve w = A(q)·q̇ for every w (including the constrained entries)"
+                         the velocity of `{name}` it gives is wrong (at a generic configuration \
+                         B(q)·A(q) differs from the identity by {} in this row); q̇ = B(q)·w must \
+                         solve w = A(q)·q̇ for every w, including the constrained entries",
+                        significant(worst)
                     ),
                 ));
             }
@@ -541,21 +552,29 @@ struct Assembled {
     energy: NodeId,
 }
 
+/// The vectors both routes read: coordinates, speeds, the admissible velocity, the free
+/// columns of B, the rows of A (in the velocity symbols `v`), and the forces.
+struct Vectors<'v> {
+    q: &'v [NodeId],
+    w: &'v [NodeId],
+    qd: &'v [NodeId],
+    b_free: &'v [Vec<NodeId>],
+    rows: &'v [NodeId],
+    v: &'v [NodeId],
+    forces: &'v [NodeId],
+}
+
 /// Hamel's equations from L̃(q, ω) (`omega` are its velocity symbols).
-#[allow(clippy::too_many_arguments)]
-fn hamel(
-    g: &mut Graph,
-    lt: NodeId,
-    omega: &[NodeId],
-    q: &[NodeId],
-    w: &[NodeId],
-    qd: &[NodeId],
-    b_free: &[Vec<NodeId>],
-    rows: &[NodeId],
-    v: &[NodeId],
-    forces: &[NodeId],
-    p: usize,
-) -> Assembled {
+fn hamel(g: &mut Graph, lt: NodeId, omega: &[NodeId], x: &Vectors<'_>, p: usize) -> Assembled {
+    let Vectors {
+        q,
+        w,
+        qd,
+        b_free,
+        rows,
+        v,
+        forces,
+    } = *x;
     let n = q.len();
     let free = n - p;
     let one = g.one();
@@ -628,18 +647,16 @@ fn hamel(
 }
 
 /// Lagrange's equations projected on the admissible directions, for a numeric B.
-#[allow(clippy::too_many_arguments)]
-fn projected(
-    g: &mut Graph,
-    l: NodeId,
-    q: &[NodeId],
-    v: &[NodeId],
-    qd: &[NodeId],
-    lu: &SparseLu,
-    b_free: &[Vec<NodeId>],
-    rows: &[NodeId],
-    forces: &[NodeId],
-) -> Assembled {
+fn projected(g: &mut Graph, l: NodeId, lu: &SparseLu, x: &Vectors<'_>) -> Assembled {
+    let Vectors {
+        q,
+        qd,
+        b_free,
+        rows,
+        v,
+        forces,
+        ..
+    } = *x;
     let n = q.len();
     let one = g.one();
     let wrt: Vec<NodeId> = q.iter().chain(v).copied().collect();

@@ -16,25 +16,17 @@ mod sparse_lu;
 mod spec;
 
 use crate::engine::graph::Graph;
-use crate::engine::lower::{ImplContext, Lowerer};
+use crate::engine::lower::{ImplContext, Lowerer, Shape, Value};
 use proc_macro2::TokenStream;
-use quote::quote;
+use quote::{ToTokens, quote};
+use std::collections::HashSet;
 use syn::ext::IdentExt;
 use syn::spanned::Spanned;
 
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
     match syn::parse2::<syn::Item>(item.clone()) {
-        Ok(syn::Item::Struct(s)) => parameters::expand(attr, &s).unwrap_or_else(|e| {
-            let error = e.into_compile_error();
-            quote!(#s #error)
-        }),
-        Ok(syn::Item::Impl(imp)) => expand_impl(attr, &imp).unwrap_or_else(|e| {
-            // Keep the user's functions (without our role attributes, which rustc would not
-            // know), so that the rest of their code still resolves.
-            let stripped = model::strip_role_attributes(&imp);
-            let error = e.into_compile_error();
-            quote!(#stripped #error)
-        }),
+        Ok(syn::Item::Struct(s)) => parameters::expand(attr, &s),
+        Ok(syn::Item::Impl(imp)) => expand_impl(attr, &imp),
         Ok(other) => {
             let error = syn::Error::new_spanned(
                 &other,
@@ -50,12 +42,13 @@ pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStream> {
+fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
     if let Some((path, _)) = &imp.trait_ {
-        return Err(syn::Error::new_spanned(
+        let error = syn::Error::new_spanned(
             path,
             "`#[hamel_system]` goes on the model's inherent impl block (`impl Model { .. }`)",
-        ));
+        );
+        return fallback(imp, &HashSet::new(), &[], error);
     }
     let mut errors = Vec::new();
     let names = model::parse_names(attr, &mut errors);
@@ -68,9 +61,12 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStrea
         names.speeds.as_ref().map(|(_, l)| l),
         Some(&names.inputs),
     ];
+    let mut index_consts = Vec::new();
     for list in lists.into_iter().flatten() {
         for (i, ident) in list.iter().enumerate() {
-            ctx.define_index(ident.unraw().to_string().to_uppercase(), i as i64);
+            let name = ident.unraw().to_string().to_uppercase();
+            index_consts.push((name.clone(), i));
+            ctx.define_index(name, i as i64);
         }
     }
 
@@ -79,19 +75,118 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> syn::Result<TokenStrea
     for e in errors {
         lowerer.push_error(e);
     }
-    let spec = spec::check(names, &roles, &mut lowerer, imp.impl_token.span());
+    let (impl_token, self_ty) = (imp.impl_token, &imp.self_ty);
+    let at = quote!(#impl_token #self_ty);
+    let spec = spec::check(names, &roles, &mut lowerer, &at);
     let equations = spec
         .as_ref()
         .and_then(|s| equations::build(s, &mut lowerer));
-    lowerer.take_errors()?;
+    if lowerer.has_errors() {
+        check_unreached_bodies(&roles, &mut lowerer);
+    }
+    if let Err(e) = lowerer.take_errors() {
+        let faulty = lowerer.faulty_functions().clone();
+        return fallback(imp, &faulty, &index_consts, e);
+    }
     let externals = lowerer.externals.items.clone();
     drop(lowerer);
     let (Some(spec), Some(equations)) = (spec, equations) else {
-        return Err(syn::Error::new(
+        let error = syn::Error::new(
             imp.impl_token.span(),
             "hamel internal error: model not built, but no error reported",
-        ));
+        );
+        return fallback(imp, &HashSet::new(), &index_consts, error);
     };
     let stripped = model::strip_role_attributes(imp);
     generate::generate(&spec, &equations, &graph, &externals, &stripped)
+        .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &index_consts, e))
+}
+
+/// When the model has a mistake, the bodies the equations did not reach (the model could not
+/// be assembled, or assembling stopped at an earlier mistake) are still lowered, each on the
+/// arguments its role needs, so that one build reports every independent mistake.
+fn check_unreached_bodies<'a>(roles: &model::Roles<'a>, lowerer: &mut Lowerer<'a, '_>) {
+    for rf in roles.by_role.values() {
+        let name = rf.f.sig.ident.to_string();
+        if lowerer.was_lowered(&name) {
+            continue;
+        }
+        let Some(signature) = lowerer.signature(rf.f) else {
+            continue;
+        };
+        // On the arguments the role needs, when the signature has them in the wrong shape
+        // (its error is reported): `q[2]` is no mistake in a body whose `q` should have three.
+        let shapes: Vec<Shape> = match lowerer.expected_arguments.get(&name) {
+            Some(shapes) if shapes.len() == signature.args.len() => shapes.clone(),
+            _ => signature.args.iter().map(|a| a.shape.clone()).collect(),
+        };
+        let args: Option<Vec<Value>> = signature
+            .args
+            .iter()
+            .zip(&shapes)
+            .map(|(arg, shape)| {
+                let label = arg.pat.to_token_stream().to_string();
+                shape
+                    .fresh_inputs(lowerer.graph, &label)
+                    .map(|(value, _)| value)
+            })
+            .collect();
+        if let Some(args) = args {
+            lowerer.check_body(rf.f, args);
+        }
+    }
+}
+
+/// What the macro emits when the model has mistakes: the errors, and the user's impl block
+/// as written (without our role attributes, which rustc would not know) together with the
+/// index constants, so that the rest of the user's code still resolves and rustc adds no
+/// errors of its own about them. The bodies of the functions the errors are about are left
+/// out (`unimplemented!()`), so that rustc does not report the same mistake again in its own
+/// words (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
+fn fallback(
+    imp: &syn::ItemImpl,
+    faulty: &HashSet<String>,
+    index_consts: &[(String, usize)],
+    error: syn::Error,
+) -> TokenStream {
+    let mut stripped = model::strip_role_attributes(imp);
+    let mut taken: HashSet<String> = HashSet::new();
+    for item in &mut stripped.items {
+        match item {
+            syn::ImplItem::Fn(f) => {
+                taken.insert(f.sig.ident.to_string());
+                if faulty.contains(&f.sig.ident.to_string()) {
+                    f.block = syn::parse_quote!({ ::core::unimplemented!() });
+                    f.attrs.push(syn::parse_quote!(#[allow(unused_variables)]));
+                }
+            }
+            syn::ImplItem::Const(c) => {
+                taken.insert(c.ident.to_string());
+            }
+            _ => {}
+        }
+    }
+    let consts = index_consts.iter().filter_map(|(name, i)| {
+        let ident = syn::parse_str::<syn::Ident>(name).ok()?;
+        if !taken.insert(name.clone()) {
+            return None;
+        }
+        let i = proc_macro2::Literal::usize_unsuffixed(*i);
+        Some(quote!(pub const #ident: usize = #i;))
+    });
+    let consts: Vec<TokenStream> = consts.collect();
+    let ty = &imp.self_ty;
+    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    let consts = if consts.is_empty() || imp.trait_.is_some() {
+        TokenStream::new()
+    } else {
+        quote! {
+            #[allow(dead_code)]
+            impl #impl_generics #ty #where_clause {
+                #(#consts)*
+            }
+        }
+    };
+    let error = error.into_compile_error();
+    quote!(#stripped #consts #error)
 }

@@ -98,28 +98,54 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
             .unwrap_or_default();
         let mut list = Vec::new();
         let span = meta.path.span();
-        let result = meta.parse_nested_meta(|inner| match inner.path.get_ident() {
-            Some(ident) if inner.input.is_empty() || inner.input.peek(syn::Token![,]) => {
-                list.push(ident.clone());
-                Ok(())
-            }
-            _ => Err(inner.error("expected a name (an identifier)")),
-        });
+        // An empty list `coordinates()` is no syntax error (it is reported as "no coordinate").
+        let empty = matches!(
+            meta.input.fork().parse::<proc_macro2::Group>(),
+            Ok(g) if g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
+        );
+        let result = if empty {
+            meta.input.parse::<proc_macro2::Group>().map(|_| ())
+        } else {
+            meta.parse_nested_meta(|inner| match inner.path.get_ident() {
+                Some(ident) if inner.input.is_empty() || inner.input.peek(syn::Token![,]) => {
+                    list.push(ident.clone());
+                    Ok(())
+                }
+                _ => Err(inner.error("expected a name (an identifier)")),
+            })
+        };
         if let Err(e) = result {
             errors.push(e);
         }
+        const KEYS: [&str; 4] = ["coordinates", "speeds", "quasi_velocities", "inputs"];
+        let key = if KEYS.contains(&key.as_str()) {
+            key
+        } else {
+            let known: Vec<String> = KEYS.iter().map(ToString::to_string).collect();
+            let guess = crate::engine::lower::closest(&key, &known).cloned();
+            let hint = match &guess {
+                Some(k) => format!("; did you mean `{k}(..)`?"),
+                None => String::new(),
+            };
+            errors.push(syn::Error::new_spanned(
+                &meta.path,
+                format!(
+                    "unknown key `{}`{hint} (`#[hamel_system]` on an impl block takes {NAME_KEYS})",
+                    meta.path.to_token_stream()
+                ),
+            ));
+            // Read the names as the key it most likely meant, so that this one mistake is
+            // not followed by "name the coordinates".
+            match guess {
+                Some(k) => k,
+                None => return Ok(()),
+            }
+        };
         let slot = match key.as_str() {
             "coordinates" => &mut names.coordinates,
             "speeds" | "quasi_velocities" => &mut names.speeds,
-            "inputs" => {
-                names.inputs = list;
-                return Ok(());
-            }
             _ => {
-                errors.push(meta.error(format!(
-                    "unknown key `{}`: `#[hamel_system]` on an impl block takes {NAME_KEYS}",
-                    meta.path.to_token_stream()
-                )));
+                names.inputs = list;
                 return Ok(());
             }
         };
@@ -144,13 +170,19 @@ pub struct RoleFn<'a> {
 /// The roles found in an impl block. Role attributes are removed from the emitted code.
 pub struct Roles<'a> {
     pub by_role: BTreeMap<Role, RoleFn<'a>>,
+    /// The functions without a role: where a forgotten role attribute may be.
+    pub unmarked: Vec<&'a syn::ImplItemFn>,
 }
 
 impl<'a> Roles<'a> {
     pub fn find(items: &'a [syn::ImplItem], errors: &mut Vec<syn::Error>) -> Self {
         let mut by_role: BTreeMap<Role, RoleFn<'a>> = BTreeMap::new();
+        let mut unmarked = Vec::new();
         for item in items {
             let syn::ImplItem::Fn(f) = item else { continue };
+            if !f.attrs.iter().any(|a| Role::from_attribute(a).is_some()) {
+                unmarked.push(f);
+            }
             let mut mine: Option<Role> = None;
             for attr in &f.attrs {
                 let Some(role) = Role::from_attribute(attr) else {
@@ -188,7 +220,7 @@ impl<'a> Roles<'a> {
                 by_role.insert(role, RoleFn { f, attr });
             }
         }
-        Roles { by_role }
+        Roles { by_role, unmarked }
     }
 
     pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {

@@ -2,10 +2,13 @@
 //! an implementation of `hamel::Parameters` (names, doc comments, get and set by name).
 
 use proc_macro2::TokenStream;
-use quote::{ToTokens, quote};
+use quote::quote;
 use syn::{Fields, ItemStruct};
 
-pub fn expand(attr: TokenStream, item: &ItemStruct) -> syn::Result<TokenStream> {
+/// The struct with its `Parameters` implementation; on mistakes, also their errors (the
+/// implementation then covers the `f64` fields, so that the model's impl block does not
+/// add an error of its own about a missing `Parameters`).
+pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     let mut errors = Vec::new();
     if !attr.is_empty() {
         errors.push(syn::Error::new_spanned(
@@ -31,10 +34,9 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> syn::Result<TokenStream> 
             Vec::new()
         }
     };
+    let is_f64 = |field: &syn::Field| matches!(&field.ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
     for field in &fields {
-        let is_f64 =
-            matches!(&field.ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
-        if !is_f64 {
+        if !is_f64(field) {
             let name = field
                 .ident
                 .as_ref()
@@ -45,24 +47,30 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> syn::Result<TokenStream> 
                 format!(
                     "parameter `{name}` has type `{}`, but parameters are `f64`: hamel computes in `f64` \
                      (keep other data outside the parameter struct)",
-                    field.ty.to_token_stream()
+                    crate::engine::lower::render_type(&field.ty)
                 ),
             ));
         }
     }
-    if let Some(mut first) = errors.pop() {
+    let mut errors = errors.into_iter();
+    let error = errors.next().map(|mut first| {
         for e in errors {
             first.combine(e);
         }
-        return Err(first);
+        first.into_compile_error()
+    });
+    if error.is_some() && !item.generics.params.is_empty() {
+        return quote!(#item #error);
     }
 
+    let fields: Vec<&syn::Field> = fields.into_iter().filter(|f| is_f64(f)).collect();
     let ty = &item.ident;
     let idents: Vec<&syn::Ident> = fields.iter().filter_map(|f| f.ident.as_ref()).collect();
     let names: Vec<String> = idents.iter().map(ToString::to_string).collect();
     let docs: Vec<String> = fields.iter().map(|f| doc_comment(&f.attrs)).collect();
-    Ok(quote! {
+    quote! {
         #item
+        #error
 
         impl ::hamel::Parameters for #ty {
             const NAMES: &'static [&'static str] = &[#(#names),*];
@@ -88,7 +96,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> syn::Result<TokenStream> 
                 }
             }
         }
-    })
+    }
 }
 
 /// The text of `///` comments, joined into one line.

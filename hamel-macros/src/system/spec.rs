@@ -3,7 +3,7 @@
 
 use super::model::{Names, Role, RoleFn, Roles};
 use crate::engine::lower::{Lowerer, Shape};
-use proc_macro2::Span;
+use proc_macro2::TokenStream;
 use quote::{ToTokens, format_ident};
 use std::collections::HashMap;
 use syn::ext::IdentExt;
@@ -51,12 +51,15 @@ pub struct Spec<'a> {
 }
 
 /// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
-/// model cannot be built at all.
+/// model cannot be built at all. A mistake that does not stop the equations from being built
+/// (a name, an optional role's signature) is reported without stopping them, so that the
+/// mistakes in the bodies are found in the same build. `at` is what errors about the model
+/// as a whole point at (`impl Model`).
 pub fn check<'a>(
     names: Names,
     roles: &Roles<'a>,
     lowerer: &mut Lowerer<'_, '_>,
-    at: Span,
+    at: &TokenStream,
 ) -> Option<Spec<'a>> {
     let mut ok = true;
 
@@ -74,7 +77,7 @@ pub fn check<'a>(
             fail(
                 lowerer,
                 &mut ok,
-                syn::Error::new(
+                syn::Error::new_spanned(
                     at,
                     "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
                      (the names appear in accessors, `Debug` output and CSV headers)",
@@ -93,8 +96,8 @@ pub fn check<'a>(
         lowerer,
         at,
         &mut ok,
-        "constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion (without nonholonomic \
-         constraints a system is holonomic, and hamel is not the tool for it)",
+        "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
+        " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
     );
     let quasi_velocities = required(
         roles,
@@ -104,12 +107,24 @@ pub fn check<'a>(
         &mut ok,
         "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
          transformation ω = A(q)·qd",
+        "",
     );
 
     if n == 0 {
         return None;
     }
-    let real_array = |len: usize| Shape::Array(len, Box::new(Shape::Real));
+    // What each role's signature must be, for the messages about unsupported types in it.
+    let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
+    for (role, rf) in &roles.by_role {
+        let (args, out) = expected(*role, n, m, p_written.filter(|&p| p < n));
+        let name = rf.f.sig.ident.to_string();
+        lowerer
+            .signature_hints
+            .insert(name.clone(), render(&args, out.as_ref()));
+        lowerer
+            .expected_arguments
+            .insert(name, args.into_iter().map(|(_, shape)| shape).collect());
+    }
 
     // p comes from the constraints' result type.
     let p = constraints.and_then(|c| {
@@ -140,8 +155,11 @@ pub fn check<'a>(
                 error_at_output(
                     c.f,
                     format!(
-                        "{p} constraints on {n} coordinates leave no motion: there must be fewer \
-                         constraints than coordinates"
+                        "{} on {} leave no motion: there must be fewer constraints than \
+                         coordinates ({})",
+                        count(p, "constraint"),
+                        count(n, "coordinate"),
+                        names_of(&coordinates)
                     ),
                 ),
             );
@@ -149,58 +167,41 @@ pub fn check<'a>(
     }
     let p = p.filter(|&p| p > 0 && p < n);
 
-    // Signatures of every role present.
-    let q = ("q", real_array(n));
-    let qd = ("qd", real_array(n));
-    let w = ("w", real_array(n));
+    // Signatures of every role present. An optional role with a wrong signature is left out
+    // of the model (its error stands), so that the rest of the model is still checked.
+    let mut dropped = Vec::new();
     for (role, rf) in &roles.by_role {
-        let (expected_args, expected_out): (Vec<(&str, Shape)>, Option<Shape>) = match role {
-            Role::Lagrangian | Role::KineticEnergy => {
-                (vec![q.clone(), qd.clone()], Some(Shape::Real))
-            }
-            Role::PotentialEnergy => (vec![q.clone()], Some(Shape::Real)),
-            Role::QuasiLagrangian => (vec![q.clone(), w.clone()], Some(Shape::Real)),
-            Role::Constraints => (vec![q.clone(), qd.clone()], None),
-            Role::QuasiVelocities => (vec![q.clone(), qd.clone()], p.map(|p| real_array(n - p))),
-            Role::Velocities => (vec![q.clone(), w.clone()], Some(real_array(n))),
-            Role::Forces => (
-                vec![
-                    ("t", Shape::Real),
-                    q.clone(),
-                    qd.clone(),
-                    ("u", real_array(m)),
-                ],
-                Some(real_array(n)),
-            ),
-        };
-        if !check_signature(
+        let fits = check_signature(
             *role,
             rf,
-            &expected_args,
-            expected_out.as_ref(),
+            &expected(*role, n, m, p),
             lowerer,
-            &coordinates,
+            (&coordinates, &names.inputs),
             p,
-        ) {
-            ok = false;
+        );
+        if !fits {
+            lowerer.mark_faulty(rf.f.sig.ident.to_string());
+            match role {
+                Role::Velocities | Role::Forces => dropped.push(*role),
+                _ => ok = false,
+            }
         }
     }
 
     // Names of the speeds: given, or w{p+1}…w{n} as in the paper.
+    // A mistake in the names is reported, but does not stop the model from being checked.
     let speeds = match (names.speeds, p) {
         (Some((span, list)), Some(p)) if list.len() != n - p => {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(
-                    span,
-                    format!(
-                        "{} speed names for {} free quasi-velocities ({n} coordinates − {p} constraints)",
-                        list.len(),
-                        n - p
-                    ),
+            lowerer.push_error(syn::Error::new(
+                span,
+                format!(
+                    "{} for {} ({} − {}): name one speed per quasi-velocity",
+                    count(list.len(), "speed name"),
+                    count(n - p, "quasi-velocity"),
+                    count(n, "coordinate"),
+                    count(p, "constraint"),
                 ),
-            );
+            ));
             list
         }
         (Some((_, list)), _) => list,
@@ -213,18 +214,14 @@ pub fn check<'a>(
             .insert(ident.unraw().to_string().to_uppercase(), ident)
             .is_some()
         {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(
-                    ident.span(),
-                    format!(
-                        "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
-                         (also in upper case, which names their index constants, `Self::{}`)",
-                        ident.unraw().to_string().to_uppercase()
-                    ),
+            lowerer.push_error(syn::Error::new(
+                ident.span(),
+                format!(
+                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
+                     (also in upper case, which names their index constants, `Self::{}`)",
+                    ident.unraw().to_string().to_uppercase()
                 ),
-            );
+            ));
         }
     }
 
@@ -239,9 +236,77 @@ pub fn check<'a>(
         energy: energy?,
         constraints: constraints?.f,
         quasi_velocities: quasi_velocities?.f,
-        velocities: roles.get(Role::Velocities).map(|r| r.f),
-        forces: roles.get(Role::Forces).map(|r| r.f),
+        velocities: roles
+            .get(Role::Velocities)
+            .filter(|_| !dropped.contains(&Role::Velocities))
+            .map(|r| r.f),
+        forces: roles
+            .get(Role::Forces)
+            .filter(|_| !dropped.contains(&Role::Forces))
+            .map(|r| r.f),
     })
+}
+
+/// What a role's function must take and return (`p`: the number of constraints, when known).
+fn expected(
+    role: Role,
+    n: usize,
+    m: usize,
+    p: Option<usize>,
+) -> (Vec<(&'static str, Shape)>, Option<Shape>) {
+    let real_array = |len: usize| Shape::Array(len, Box::new(Shape::Real));
+    let q = ("q", real_array(n));
+    let qd = ("qd", real_array(n));
+    let w = ("w", real_array(n));
+    match role {
+        Role::Lagrangian | Role::KineticEnergy => (vec![q, qd], Some(Shape::Real)),
+        Role::PotentialEnergy => (vec![q], Some(Shape::Real)),
+        Role::QuasiLagrangian => (vec![q, w], Some(Shape::Real)),
+        Role::Constraints => (vec![q, qd], None),
+        Role::QuasiVelocities => (vec![q, qd], p.map(|p| real_array(n - p))),
+        Role::Velocities => (vec![q, w], Some(real_array(n))),
+        Role::Forces => (
+            vec![("t", Shape::Real), q, qd, ("u", real_array(m))],
+            Some(real_array(n)),
+        ),
+    }
+}
+
+/// The length of a return type written `[f64; 3]` (or `&[f64; 3]`), if it is a literal.
+fn written_length(output: &syn::ReturnType) -> Option<usize> {
+    let syn::ReturnType::Type(_, ty) = output else {
+        return None;
+    };
+    let syn::Type::Array(a) = &**ty else {
+        return None;
+    };
+    match &a.len {
+        syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(i),
+            ..
+        }) => i.base10_parse().ok(),
+        _ => None,
+    }
+}
+
+/// "1 constraint", "2 constraints".
+fn count(k: usize, what: &str) -> String {
+    if k == 1 {
+        format!("1 {what}")
+    } else if let Some(stem) = what.strip_suffix('y') {
+        format!("{k} {stem}ies")
+    } else {
+        format!("{k} {what}s")
+    }
+}
+
+/// "x, y, theta".
+fn names_of(idents: &[syn::Ident]) -> String {
+    idents
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn fail(lowerer: &mut Lowerer<'_, '_>, ok: &mut bool, e: syn::Error) {
@@ -253,30 +318,73 @@ fn required<'r, 'a>(
     roles: &'r Roles<'a>,
     role: Role,
     lowerer: &mut Lowerer<'_, '_>,
-    at: Span,
+    at: &TokenStream,
     ok: &mut bool,
     what: &str,
+    aside: &str,
 ) -> Option<&'r RoleFn<'a>> {
     let found = roles.get(role);
     if found.is_none() {
-        lowerer.push_error(syn::Error::new(
-            at,
-            format!(
-                "missing role `#[{}]`: mark the function that gives {what}; expected signature `{}`",
-                role.attribute(),
-                role.expected_signature()
+        let attribute = role.attribute();
+        let signature = role.expected_signature();
+        lowerer.push_error(match forgotten(roles, role) {
+            Some(f) => syn::Error::new_spanned(
+                &f.sig.ident,
+                format!(
+                    "missing role `#[{attribute}]`: no function is marked with it; if `{}` gives \
+                     {what}, put `#[{attribute}]` above it (expected signature `{signature}`)",
+                    f.sig.ident,
+                ),
             ),
-        ));
+            None => syn::Error::new_spanned(
+                at,
+                format!(
+                    "missing role `#[{attribute}]`: mark the function that gives {what}{aside}; \
+                     expected signature `{signature}`"
+                ),
+            ),
+        });
         *ok = false;
     }
     found
+}
+
+/// The one unmarked function that looks as if it should have played `role` (its name is the
+/// role's, or its signature has the role's form), if there is exactly one.
+fn forgotten<'a>(roles: &Roles<'a>, role: Role) -> Option<&'a syn::ImplItemFn> {
+    let typed = |f: &syn::ImplItemFn| {
+        f.sig
+            .inputs
+            .iter()
+            .filter(|a| matches!(a, syn::FnArg::Typed(_)))
+            .count()
+    };
+    let returns_array = |f: &syn::ImplItemFn| matches!(&f.sig.output, syn::ReturnType::Type(_, ty) if matches!(**ty, syn::Type::Array(_)));
+    let returns_f64 = |f: &syn::ImplItemFn| matches!(&f.sig.output, syn::ReturnType::Type(_, ty) if ty.to_token_stream().to_string() == "f64");
+    if let Some(f) = roles
+        .unmarked
+        .iter()
+        .find(|f| f.sig.ident == role.attribute())
+    {
+        return Some(f);
+    }
+    let fits = |f: &&&syn::ImplItemFn| match role {
+        Role::Constraints | Role::QuasiVelocities => typed(f) == 2 && returns_array(f),
+        Role::Lagrangian | Role::KineticEnergy => typed(f) == 2 && returns_f64(f),
+        _ => false,
+    };
+    let mut candidates = roles.unmarked.iter().filter(fits);
+    match (candidates.next(), candidates.next()) {
+        (Some(f), None) => Some(f),
+        _ => None,
+    }
 }
 
 /// Exactly one way of giving the energy.
 fn energy_roles<'a>(
     roles: &Roles<'a>,
     lowerer: &mut Lowerer<'_, '_>,
-    at: Span,
+    at: &TokenStream,
     ok: &mut bool,
 ) -> Option<Energy<'a>> {
     let l = roles.get(Role::Lagrangian);
@@ -284,10 +392,14 @@ fn energy_roles<'a>(
     let v = roles.get(Role::PotentialEnergy);
     let lq = roles.get(Role::QuasiLagrangian);
     let mut conflict = |second: &RoleFn<'_>, first: Role, message: &str| {
+        let holder = roles
+            .get(first)
+            .map(|rf| format!(" (`{}`)", rf.f.sig.ident))
+            .unwrap_or_default();
         lowerer.push_error(syn::Error::new_spanned(
             second.attr,
             format!(
-                "ambiguous energy: this model already has a `#[{}]`; {message}",
+                "ambiguous energy: this model already has a `#[{}]`{holder}; {message}",
                 first.attribute()
             ),
         ));
@@ -324,10 +436,21 @@ fn energy_roles<'a>(
             *ok = false;
         }
         (None, None, None, None) => {
-            lowerer.push_error(syn::Error::new(
-                at,
-                format!("missing role: the model needs its energy; {give}"),
-            ));
+            let message = format!("missing role: the model needs its energy; {give}");
+            lowerer.push_error(match forgotten(roles, Role::KineticEnergy)
+                .or_else(|| forgotten(roles, Role::Lagrangian))
+            {
+                Some(f) => syn::Error::new_spanned(
+                    &f.sig.ident,
+                    format!(
+                        "missing role: no function is marked as the model's energy; if `{}` is the \
+                         kinetic energy T, put `#[kinetic_energy]` above it (`#[lagrangian]` if it \
+                         is L = T − V)",
+                        f.sig.ident
+                    ),
+                ),
+                None => syn::Error::new_spanned(at, message),
+            });
             *ok = false;
         }
         _ => {}
@@ -353,16 +476,18 @@ fn error_at_output(f: &syn::ImplItemFn, message: impl std::fmt::Display) -> syn:
     }
 }
 
-/// Compare a role function's signature with what its role needs.
+/// Compare a role function's signature with what its role needs (`expected`: its arguments
+/// and result; `names`: the coordinates and inputs).
 fn check_signature(
     role: Role,
     rf: &RoleFn<'_>,
-    expected: &[(&str, Shape)],
-    output: Option<&Shape>,
+    expected: &(Vec<(&str, Shape)>, Option<Shape>),
     lowerer: &mut Lowerer<'_, '_>,
-    coordinates: &[syn::Ident],
+    names: (&[syn::Ident], &[syn::Ident]),
     p: Option<usize>,
 ) -> bool {
+    let (expected, output) = (&expected.0, expected.1.as_ref());
+    let (coordinates, inputs) = names;
     let f = rf.f;
     let Some(sig) = lowerer.signature(f) else {
         return false;
@@ -371,30 +496,34 @@ fn check_signature(
     let mut ok = true;
     if sig.args.len() != expected.len() {
         lowerer.push_error(syn::Error::new_spanned(
-            &f.sig,
+            &f.sig.inputs,
             format!(
-                "`#[{}]` takes {} argument(s) besides `&self`, this function takes {}: expected `{rendered}`",
+                "`#[{}]` takes {} besides `&self`, this function takes {}: expected `{rendered}`",
                 role.attribute(),
-                expected.len(),
+                count(expected.len(), "argument"),
                 sig.args.len()
             ),
         ));
         return false;
     }
-    let names: Vec<String> = coordinates.iter().map(ToString::to_string).collect();
     for (arg, (name, shape)) in sig.args.iter().zip(expected) {
         if arg.shape != *shape {
             let why = match shape {
-                Shape::Array(len, _) if *name == "u" => {
-                    format!("one per input ({len} declared in `inputs(..)`)")
+                Shape::Array(_, _) if *name == "u" && inputs.is_empty() => {
+                    "one per input, and the model declares none (name them in \
+                     `#[hamel_system(inputs(..))]`)"
+                        .to_string()
                 }
-                Shape::Array(..) => format!("one per coordinate: {}", names.join(", ")),
+                Shape::Array(..) if *name == "u" => {
+                    format!("one per input ({})", names_of(inputs))
+                }
+                Shape::Array(..) => format!("one per coordinate ({})", names_of(coordinates)),
                 _ => "the time".to_string(),
             };
             lowerer.push_error(syn::Error::new_spanned(
                 &arg.ty,
                 format!(
-                    "argument `{}` of `#[{}]` must be {} ({why}), found {}; expected `{rendered}`",
+                    "argument `{}` of `#[{}]` must be {}, {why}; found {}. Expected `{rendered}`",
                     arg.pat.to_token_stream(),
                     role.attribute(),
                     shape.describe(),
@@ -407,27 +536,22 @@ fn check_signature(
     if let (Some(want), Some(got)) = (output, &sig.output)
         && want != got
     {
-        let why = match (role, p) {
+        let (attribute, want, got) = (role.attribute(), want.describe(), got.describe());
+        let message = match (role, p) {
             (Role::QuasiVelocities, Some(p)) => format!(
-                "there are {} coordinates and {p} constraints, so the quasi-velocities that complete \
-                 them number {}",
-                coordinates.len(),
-                coordinates.len() - p
+                "`#[{attribute}]` must return {want}, found {got}: with {} and {}, {} complete the \
+                 constraints to ω = A(q)·qd",
+                count(coordinates.len(), "coordinate"),
+                count(p, "constraint"),
+                count(coordinates.len() - p, "quasi-velocity"),
             ),
-            (Role::Velocities | Role::Forces, _) => {
-                format!("one per coordinate: {}", names.join(", "))
-            }
-            _ => "a scalar".to_string(),
+            (Role::Velocities | Role::Forces, _) => format!(
+                "`#[{attribute}]` must return {want}, one per coordinate ({}); found {got}",
+                names_of(coordinates)
+            ),
+            _ => format!("`#[{attribute}]` must return {want}, found {got}"),
         };
-        lowerer.push_error(error_at_output(
-            f,
-            format!(
-                "`#[{}]` must return {} ({why}), found {}",
-                role.attribute(),
-                want.describe(),
-                got.describe()
-            ),
-        ));
+        lowerer.push_error(error_at_output(f, message));
         ok = false;
     }
     ok && sig.output.is_some()

@@ -84,20 +84,6 @@ impl<'a> Lowerer<'a, '_> {
                 ),
             };
         }
-        if name == "sin_cos" && m.args.is_empty() {
-            return match receiver {
-                Value::Real(x) => {
-                    let s = self.graph.unary(Func::Sin, x);
-                    let c = self.graph.unary(Func::Cos, x);
-                    Value::Tuple(vec![Value::Real(s), Value::Real(c)])
-                }
-                Value::Poison => Value::Poison,
-                other => self.error(
-                    &m.receiver,
-                    format!("`sin_cos` needs an `f64`, this is {}", other.describe()),
-                ),
-            };
-        }
         let args: Vec<Value> = m.args.iter().map(|a| self.expr(env, a)).collect();
         self.elementary(&name, receiver, args, m, &m.method)
     }
@@ -117,7 +103,10 @@ impl<'a> Lowerer<'a, '_> {
             ["f64", name] | ["std" | "core", "f64", name] => {
                 let mut args = c.args.iter();
                 let Some(first) = args.next() else {
-                    return self.error(c, format!("`f64::{name}` needs its receiver as first argument"));
+                    return self.error(
+                        c,
+                        format!("`f64::{name}` needs its receiver as first argument"),
+                    );
                 };
                 let receiver = self.expr(env, first);
                 let rest: Vec<Value> = args.map(|a| self.expr(env, a)).collect();
@@ -128,22 +117,49 @@ impl<'a> Lowerer<'a, '_> {
                 let name = name.to_string();
                 self.inline(env, &name, false, c.args.iter(), c)
             }
-            [name] => self.error(
-                &c.func,
-                format!(
-                    "unknown function `{name}`: a body may call functions of this impl (as \
-                     `self.{name}(..)` or `Self::{name}(..)`) and the elementary functions of `f64`: \
-                     {ELEMENTARY}"
-                ),
-            ),
-            _ => self.error(
-                &c.func,
-                format!(
-                    "unknown function `{}`: the macro can only see functions of this impl and the \
-                     elementary functions of `f64`: {ELEMENTARY}",
-                    segments.join("::")
-                ),
-            ),
+            [name] => {
+                match env.get(name).map(|local| local.value.clone()) {
+                    // A local whose definition was already reported (a closure).
+                    Some(Value::Poison) => return Value::Poison,
+                    Some(other) => {
+                        return self.error(
+                            &c.func,
+                            format!(
+                                "`{name}` is a local holding {}, not a function",
+                                other.describe()
+                            ),
+                        );
+                    }
+                    None => {}
+                }
+                let message = match self.ctx.function(name) {
+                    Some(f) if f.sig.receiver().is_some() => format!(
+                        "`{name}` is a function of this impl that takes `self`: call it as `self.{name}(..)`"
+                    ),
+                    Some(_) => format!(
+                        "`{name}` is a function of this impl: call it as `Self::{name}(..)`"
+                    ),
+                    None => format!(
+                        "unknown function `{name}`: the macro differentiates the source of what a body \
+                         calls, and it sees only the functions of this impl block and the elementary \
+                         functions of `f64` ({ELEMENTARY}); move `{name}` into this impl and call it as \
+                         `Self::{name}(..)`"
+                    ),
+                };
+                self.error_once(format!("call {name}"), &c.func, message)
+            }
+            _ => {
+                let path = segments.join("::");
+                self.error_once(
+                    format!("call {path}"),
+                    &c.func,
+                    format!(
+                        "unknown function `{path}`: the macro differentiates the source of what a \
+                         body calls, and it sees only the functions of this impl block and the \
+                         elementary functions of `f64` ({ELEMENTARY})"
+                    ),
+                )
+            }
         }
     }
 
@@ -155,6 +171,25 @@ impl<'a> Lowerer<'a, '_> {
         call: &dyn ToTokens,
         name_tokens: &dyn ToTokens,
     ) -> Value {
+        // The one elementary function with two results (`x.sin_cos()`, `f64::sin_cos(x)`).
+        if name == "sin_cos" {
+            return match (receiver, args.as_slice()) {
+                (Value::Real(x), []) => {
+                    let s = self.graph.unary(Func::Sin, x);
+                    let c = self.graph.unary(Func::Cos, x);
+                    Value::Tuple(vec![Value::Real(s), Value::Real(c)])
+                }
+                (Value::Poison, _) => Value::Poison,
+                (_, [_, ..]) => self.error(
+                    call.to_token_stream(),
+                    "`sin_cos` takes no argument besides the receiver",
+                ),
+                (other, []) => self.error(
+                    call.to_token_stream(),
+                    format!("`sin_cos` needs an `f64`, this is {}", other.describe()),
+                ),
+            };
+        }
         let Some(f) = Elementary::by_name(name) else {
             return self.error(
                 name_tokens.to_token_stream(),
@@ -261,7 +296,8 @@ impl<'a> Lowerer<'a, '_> {
             } else {
                 String::new()
             };
-            return self.error(
+            return self.error_once(
+                format!("call self {name}"),
                 call.to_token_stream(),
                 format!(
                     "no function `{name}` in this impl: the macro can only inline functions defined in \

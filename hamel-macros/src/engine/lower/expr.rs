@@ -325,23 +325,74 @@ impl<'a> Lowerer<'a, '_> {
         let index = self.expr(env, &i.index);
         match (base, index) {
             (Value::Poison, _) | (_, Value::Poison) => Value::Poison,
-            (Value::Array(items), Value::Int(k)) => match usize::try_from(k).ok().and_then(|k| items.get(k)) {
-                Some(v) => v.clone(),
-                None => self.error(
-                    i,
-                    format!("index {k} is out of bounds for an array of length {}", items.len()),
-                ),
-            },
-            (Value::Array(_), other) => self.error(
-                &i.index,
-                format!(
-                    "an index must be an integer known at compile time (a literal, a loop counter or \
-                     a constant), found {}",
-                    other.describe()
-                ),
+            (Value::Array(items), Value::Int(k)) => {
+                match usize::try_from(k).ok().and_then(|k| items.get(k)) {
+                    Some(v) => v.clone(),
+                    None => self.error(
+                        i,
+                        format!(
+                            "index {k} is out of bounds for an array of length {}",
+                            items.len()
+                        ),
+                    ),
+                }
+            }
+            (Value::Array(_), other) => {
+                let message = self.index_message(env, &i.index, &other);
+                self.error(&i.index, message)
+            }
+            (other, _) => self.error(
+                &i.expr,
+                format!("only arrays can be indexed, this is {}", other.describe()),
             ),
-            (other, _) => self.error(&i.expr, format!("only arrays can be indexed, this is {}", other.describe())),
         }
+    }
+
+    /// Why an index is not an integer known at compile time; an unknown name gets a
+    /// suggestion among the constants the macro knows.
+    fn index_message(&self, env: &Env, index: &Expr, value: &Value) -> String {
+        let generic = format!(
+            "an index must be an integer known at compile time (a literal, a loop counter or a \
+             constant), found {}",
+            value.describe()
+        );
+        let Expr::Path(p) = index else {
+            return generic;
+        };
+        let segments: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
+        let name = match segments.as_slice() {
+            [s, name] if s == "Self" => name.clone(),
+            // A bare name that is no local: a constant from outside the impl.
+            [name] if env.get(name).is_none() && is_constant_name(name) => name.clone(),
+            _ => return generic,
+        };
+        let written = segments.join("::");
+        let known = self.ctx.generated_names();
+        if known.contains(&name) {
+            return format!("write `Self::{name}`: the index constants belong to the model");
+        }
+        if known.is_empty() {
+            return format!(
+                "`{written}` is not an integer constant of this impl: an index must be known at \
+                 compile time; define it in the impl, `const {name}: usize = ..;`, and write \
+                 `Self::{name}`"
+            );
+        }
+        let list: Vec<String> = known.iter().map(|k| format!("`Self::{k}`")).collect();
+        let hint = match closest(&name, known) {
+            Some(k) => format!("; did you mean `Self::{k}`?"),
+            None => String::new(),
+        };
+        format!(
+            "`{written}` is not a coordinate, speed or input of this model{hint} (the index \
+             constants are the names in `#[hamel_system(..)]` in upper case: {})",
+            list.join(", ")
+        )
     }
 
     fn binary(&mut self, env: &mut Env, b: &syn::ExprBinary) -> Value {
@@ -565,9 +616,13 @@ impl<'a> Lowerer<'a, '_> {
         let name = match base {
             Expr::Path(p) if p.path.get_ident().is_some() => p.path.segments[0].ident.to_string(),
             Expr::Field(f) if matches!(&*f.base, Expr::Path(p) if p.path.is_ident("self")) => {
+                let field = f.member.to_token_stream().to_string();
                 self.error(
                     target,
-                    "parameters are read-only: copy into a local first, `let mut x = self.x;`",
+                    format!(
+                        "parameters are read-only in the model's functions: copy `self.{field}` \
+                         into a local first, `let mut {field} = self.{field};`"
+                    ),
                 );
                 return;
             }
@@ -647,6 +702,39 @@ impl<'a> Lowerer<'a, '_> {
             local.value = whole;
         }
     }
+}
+
+/// The candidate closest to `name`, if it is close enough to be a typo (edit distance with
+/// transpositions, at most a third of the name's length, at least one).
+pub fn closest<'c>(name: &str, candidates: &'c [String]) -> Option<&'c String> {
+    let distance = |a: &str, b: &str| {
+        let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+        let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+        for (i, row) in d.iter_mut().enumerate() {
+            row[0] = i;
+        }
+        d[0] = (0..=b.len()).collect();
+        for i in 1..=a.len() {
+            for j in 1..=b.len() {
+                let cost = usize::from(a[i - 1] != b[j - 1]);
+                let mut best = (d[i - 1][j] + 1)
+                    .min(d[i][j - 1] + 1)
+                    .min(d[i - 1][j - 1] + cost);
+                if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                    best = best.min(d[i - 2][j - 2] + 1);
+                }
+                d[i][j] = best;
+            }
+        }
+        d[a.len()][b.len()]
+    };
+    let limit = (name.chars().count() / 3).max(1);
+    candidates
+        .iter()
+        .map(|c| (distance(name, c), c))
+        .filter(|&(d, _)| d <= limit)
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, c)| c)
 }
 
 /// Whether a value may replace another in an assignment.

@@ -20,13 +20,14 @@ mod types;
 mod value;
 
 pub use env::Env;
-pub use types::Signature;
+pub use expr::closest;
+pub use types::{Signature, render_type};
 pub use value::{Shape, Value};
 
 use crate::engine::graph::{Graph, NodeId};
 use proc_macro2::TokenStream;
 use quote::ToTokens;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Display;
 
 /// Ceiling on the total number of unrolled loop iterations in one expansion.
@@ -41,6 +42,8 @@ pub struct ImplContext<'a> {
     consts: HashMap<String, &'a syn::ImplItemConst>,
     /// Integer constants the expansion itself defines (`Self::ALPHA`, a coordinate's index).
     generated: HashMap<String, i64>,
+    /// Their names in the order they were defined, for messages.
+    generated_names: Vec<String>,
 }
 
 impl<'a> ImplContext<'a> {
@@ -62,12 +65,20 @@ impl<'a> ImplContext<'a> {
             fns,
             consts,
             generated: HashMap::new(),
+            generated_names: Vec::new(),
         }
     }
 
     /// Make `Self::name` an integer constant known to bodies.
     pub fn define_index(&mut self, name: String, value: i64) {
-        self.generated.insert(name, value);
+        if self.generated.insert(name.clone(), value).is_none() {
+            self.generated_names.push(name);
+        }
+    }
+
+    /// The names of the index constants the expansion defines, in order.
+    pub fn generated_names(&self) -> &[String] {
+        &self.generated_names
     }
 
     fn generated_index(&self, name: &str) -> Option<i64> {
@@ -129,6 +140,20 @@ pub struct Lowerer<'a, 'g> {
     const_stack: Vec<String>,
     unrolled: usize,
     reported_budget: bool,
+    /// Functions whose signature or body had an error (by name): the error fallback stubs
+    /// their bodies, so that rustc does not report the same mistake a second time.
+    faulty: HashSet<String>,
+    /// Functions whose bodies have been lowered (by name).
+    lowered: HashSet<String>,
+    /// Mistakes reported once per expansion however often they occur (an unknown function).
+    reported_once: HashSet<String>,
+    /// The signature a function must have, by name (the role functions of a model): type
+    /// errors in its signature say what is expected there.
+    pub signature_hints: HashMap<String, String>,
+    /// The arguments a function must take, by name (the role functions of a model): a body
+    /// checked on its own is checked on these, not on a mistaken signature.
+    pub expected_arguments: HashMap<String, Vec<Shape>>,
+    current_signature: Option<String>,
 }
 
 impl<'a, 'g> Lowerer<'a, 'g> {
@@ -143,22 +168,70 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             const_stack: Vec::new(),
             unrolled: 0,
             reported_budget: false,
+            faulty: HashSet::new(),
+            lowered: HashSet::new(),
+            reported_once: HashSet::new(),
+            signature_hints: HashMap::new(),
+            expected_arguments: HashMap::new(),
+            current_signature: None,
         }
     }
 
     /// Record an error at the span of `tokens`; returns poison to stand in for the value.
     pub fn error(&mut self, tokens: impl ToTokens, message: impl Display) -> Value {
-        self.errors.push(syn::Error::new_spanned(tokens, message));
+        self.push_error(syn::Error::new_spanned(tokens, message));
+        Value::Poison
+    }
+
+    /// Record an error only the first time `key` is seen (one report per mistake, not one per
+    /// occurrence); returns poison either way.
+    fn error_once(&mut self, key: String, tokens: impl ToTokens, message: impl Display) -> Value {
+        if self.reported_once.insert(key) {
+            self.error(tokens, message);
+        } else if let Some(name) = self.call_stack.last() {
+            self.faulty.insert(name.clone());
+        }
         Value::Poison
     }
 
     pub fn push_error(&mut self, error: syn::Error) {
+        // An error while a body is lowered lies in that body (the innermost call).
+        if let Some(name) = self.call_stack.last() {
+            self.faulty.insert(name.clone());
+        }
         self.errors.push(error);
     }
 
-    /// All errors so far, combined into one (or `Ok` if there were none).
+    /// Whether any error has been recorded so far.
+    pub fn has_errors(&self) -> bool {
+        !self.errors.is_empty()
+    }
+
+    /// Note that the function `name` has a mistake reported elsewhere (its signature does not
+    /// fit its role): the error fallback leaves its body out too.
+    pub fn mark_faulty(&mut self, name: String) {
+        self.faulty.insert(name);
+    }
+
+    /// The functions whose signature or body had an error.
+    pub fn faulty_functions(&self) -> &HashSet<String> {
+        &self.faulty
+    }
+
+    /// Whether the body of the function `name` has been lowered.
+    pub fn was_lowered(&self, name: &str) -> bool {
+        self.lowered.contains(name)
+    }
+
+    /// All errors so far, combined into one (or `Ok` if there were none). The same message at
+    /// the same place is kept once, however many times it was found (a function lowered
+    /// twice, a signature checked twice).
     pub fn take_errors(&mut self) -> syn::Result<()> {
-        let mut errors = std::mem::take(&mut self.errors).into_iter();
+        let mut seen = HashSet::new();
+        let mut errors = std::mem::take(&mut self.errors)
+            .into_iter()
+            .flatten()
+            .filter(|e| seen.insert((format!("{:?}", e.span()), e.to_string())));
         match errors.next() {
             None => Ok(()),
             Some(mut first) => {
@@ -177,6 +250,23 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         f: &'a syn::ImplItemFn,
         args: Vec<Value>,
         call_site: &dyn ToTokens,
+    ) -> Value {
+        self.call_checked(f, args, call_site, true)
+    }
+
+    /// Lower a function's body on arguments of the shapes its role needs, whatever its
+    /// signature says (a mistaken signature is reported elsewhere): what the body would do
+    /// once the signature is fixed.
+    pub fn check_body(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Value {
+        self.call_checked(f, args, &f.sig.ident, false)
+    }
+
+    fn call_checked(
+        &mut self,
+        f: &'a syn::ImplItemFn,
+        args: Vec<Value>,
+        call_site: &dyn ToTokens,
+        check_args: bool,
     ) -> Value {
         let name = f.sig.ident.to_string();
         if self.call_stack.contains(&name) {
@@ -211,7 +301,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         let mut env = Env::default();
         env.push();
         for (arg, value) in signature.args.iter().zip(args) {
-            if !arg.shape.admits(&value) {
+            if check_args && !arg.shape.admits(&value) {
                 self.error(
                     call_site.to_token_stream(),
                     format!(
@@ -225,6 +315,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             }
             self.bind_pattern(&mut env, &arg.pat, value, false);
         }
+        self.lowered.insert(name.clone());
         self.call_stack.push(name);
         let result = self.block(&mut env, &f.block);
         self.call_stack.pop();
@@ -237,7 +328,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
                 .last()
                 .map(|s| s.to_token_stream())
                 .unwrap_or_else(|| f.block.to_token_stream());
-            return self.error(
+            self.error(
                 tail,
                 format!(
                     "`{}` is declared to return {}, but its body evaluates to {}",
@@ -246,6 +337,8 @@ impl<'a, 'g> Lowerer<'a, 'g> {
                     result.describe()
                 ),
             );
+            self.faulty.insert(f.sig.ident.to_string());
+            return Value::Poison;
         }
         result
     }
@@ -276,12 +369,23 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         true
     }
 
-    /// Note the source of a freshly created real node.
+    /// Note the source of a freshly created real node, and of the fresh nodes below it that
+    /// no inner expression claimed (those the graph's normal forms create: in `-a * b` the
+    /// product `a * b` under the negation), so that an error about any of them can point
+    /// at the smallest expression that made it.
     fn note(&mut self, value: &Value, before: usize, e: &syn::Expr) {
-        if let Value::Real(id) = value
-            && id.index() >= before
-        {
-            self.graph.note_span(*id, span::expr_range(e));
+        let Value::Real(id) = value else { return };
+        if id.index() < before || self.graph.span(*id).is_some() {
+            return;
+        }
+        let range = span::expr_range(e);
+        let mut stack = vec![*id];
+        while let Some(id) = stack.pop() {
+            if id.index() < before || self.graph.span(id).is_some() {
+                continue;
+            }
+            self.graph.note_span(id, range);
+            stack.extend_from_slice(self.graph.node(id).operands().as_slice());
         }
     }
 }

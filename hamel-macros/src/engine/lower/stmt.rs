@@ -243,9 +243,14 @@ impl<'a> Lowerer<'a, '_> {
             Value::Int(n) => Some(n),
             Value::Poison => None,
             other => {
+                let is_parameter = matches!(e, Expr::Field(f) if matches!(&*f.base, Expr::Path(p) if p.path.is_ident("self")));
                 let hint = if matches!(e, Expr::Path(p) if p.path.get_ident().is_some()) {
                     " (a constant defined outside this impl is invisible to the macro: define it in \
                      the impl, `const N: usize = 5;`, and write `Self::N`)"
+                } else if is_parameter {
+                    " (a parameter is an `f64` read at run time, but loops are unrolled at compile \
+                     time: use a literal or a constant of the impl, `const N: usize = 5;` and \
+                     `0..Self::N`)"
                 } else {
                     ""
                 };
@@ -304,10 +309,14 @@ impl<'a> Lowerer<'a, '_> {
             let (Some(a), Some(b)) = (then_env.at(level, &name), else_env.at(level, &name)) else {
                 continue;
             };
-            if a.value != b.value {
-                let merged = self.merge(c, a.value.clone(), b.value.clone(), i, &name);
-                env.set_at(level, &name, merged);
-            }
+            // Both branches may have changed the local, to the same value or not: an `if`
+            // whose branches both do `y += x` still updates `y`.
+            let merged = if a.value == b.value {
+                a.value.clone()
+            } else {
+                self.merge(c, a.value.clone(), b.value.clone(), i, &name)
+            };
+            env.set_at(level, &name, merged);
         }
         self.merge(c, then_value, else_value, i, "the value of this `if`")
     }

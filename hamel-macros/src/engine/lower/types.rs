@@ -29,6 +29,29 @@ pub struct Signature {
     pub output: Option<Shape>,
 }
 
+/// A type as the user would write it: `Vec<f64>`, `&[f32; 3]` (token streams print as
+/// `Vec < f64 >`).
+pub fn render_type(ty: &Type) -> String {
+    let mut text = ty.to_token_stream().to_string();
+    for (from, to) in [
+        (" <", "<"),
+        ("< ", "<"),
+        (" >", ">"),
+        (" ,", ","),
+        (" ;", ";"),
+        ("& ", "&"),
+        ("[ ", "["),
+        (" ]", "]"),
+        ("( ", "("),
+        (" )", ")"),
+        (" ::", "::"),
+        (":: ", "::"),
+    ] {
+        text = text.replace(from, to);
+    }
+    text
+}
+
 fn is_integer_type(name: &str) -> bool {
     matches!(
         name,
@@ -40,6 +63,17 @@ impl<'a> Lowerer<'a, '_> {
     /// Check a signature against the supported subset; errors are recorded, and `None`
     /// comes back when the function cannot be lowered at all.
     pub fn signature(&mut self, f: &syn::ImplItemFn) -> Option<Signature> {
+        let errors_before = self.errors.len();
+        self.current_signature = self.signature_hints.get(&f.sig.ident.to_string()).cloned();
+        let signature = self.signature_inner(f);
+        self.current_signature = None;
+        if self.errors.len() > errors_before {
+            self.faulty.insert(f.sig.ident.to_string());
+        }
+        signature
+    }
+
+    fn signature_inner(&mut self, f: &syn::ImplItemFn) -> Option<Signature> {
         let sig = &f.sig;
         let mut ok = true;
         if !sig.generics.params.is_empty() {
@@ -84,12 +118,15 @@ impl<'a> Lowerer<'a, '_> {
         }
         let output = match &sig.output {
             ReturnType::Default => {
+                let expected = match &self.current_signature {
+                    Some(signature) => {
+                        format!("this function must have the signature `{signature}`")
+                    }
+                    None => format!("a differentiated function returns {SUPPORTED_TYPES}"),
+                };
                 self.error(
                     &sig.ident,
-                    format!(
-                        "`{}` returns nothing: a differentiated function returns {SUPPORTED_TYPES}",
-                        sig.ident
-                    ),
+                    format!("`{}` returns nothing: {expected}", sig.ident),
                 );
                 None
             }
@@ -145,7 +182,7 @@ impl<'a> Lowerer<'a, '_> {
                 }
             }
             Type::Path(p) if p.qself.is_none() => {
-                let name = p.path.to_token_stream().to_string();
+                let name = render_type(ty);
                 if name == "f64" {
                     Some(Shape::Real)
                 } else if is_integer_type(&name) {
@@ -156,17 +193,28 @@ impl<'a> Lowerer<'a, '_> {
                     } else {
                         ""
                     };
-                    self.error(
-                        ty,
-                        format!("unsupported type `{name}`{hint}: expected {SUPPORTED_TYPES}"),
-                    );
+                    let expected = self.expected_types();
+                    self.error(ty, format!("unsupported type `{name}`{hint}: {expected}"));
                     None
                 }
             }
             _ => {
-                self.error(ty, format!("unsupported type: expected {SUPPORTED_TYPES}"));
+                let expected = self.expected_types();
+                self.error(
+                    ty,
+                    format!("unsupported type `{}`: {expected}", render_type(ty)),
+                );
                 None
             }
+        }
+    }
+
+    /// What a type should have been, for messages: the role's signature when a role function
+    /// is being checked, else the subset's types.
+    fn expected_types(&self) -> String {
+        match &self.current_signature {
+            Some(signature) => format!("this function must have the signature `{signature}`"),
+            None => format!("expected {SUPPORTED_TYPES}"),
         }
     }
 

@@ -376,7 +376,7 @@ fn signatures_outside_the_subset_are_named() {
         item(
             "tuple return type",
             "impl Model { fn f(&self, x: f64) -> (f64, f64) { (x, x) } }",
-            "unsupported type: expected `f64` or a fixed-size array",
+            "unsupported type `(f64, f64)`: expected `f64` or a fixed-size array",
         ),
         item(
             "no return type",
@@ -386,7 +386,7 @@ fn signatures_outside_the_subset_are_named() {
         item(
             "Vec argument",
             "impl Model { fn f(&self, x: Vec<f64>) -> f64 { 0.0 } }",
-            "unsupported type `Vec < f64 >`",
+            "unsupported type `Vec<f64>`",
         ),
         item(
             "array of integers",

@@ -1,0 +1,11 @@
+//! Compile-fail suite: every file in `tests/ui/` is a small model with one kind of mistake (or,
+//! in `several_independent_mistakes.rs`, several), and its `.stderr` is what a user sees. The
+//! messages must point at the user's own code and say what is wrong and what is expected.
+//!
+//! After changing a message: `TRYBUILD=overwrite cargo test --test ui`, then read the diff.
+
+#[test]
+fn malformed_models_fail_to_build_with_messages_that_point_at_the_mistake() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/*.rs");
+}
