@@ -141,8 +141,9 @@ fn check_unreached_bodies<'a>(roles: &model::Roles<'a>, lowerer: &mut Lowerer<'a
 /// as written (without our role attributes, which rustc would not know) together with the
 /// index constants, so that the rest of the user's code still resolves and rustc adds no
 /// errors of its own about them. The bodies of the functions the errors are about are left
-/// out (`unimplemented!()`), so that rustc does not report the same mistake again in its own
-/// words (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
+/// out (an `unreachable!()`: with our `compile_error!` the crate never builds, so it never
+/// runs), so that rustc does not report the same mistake again in its own words (`self.m =
+/// ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
 fn fallback(
     imp: &syn::ItemImpl,
     faulty: &HashSet<String>,
@@ -156,7 +157,11 @@ fn fallback(
             syn::ImplItem::Fn(f) => {
                 taken.insert(f.sig.ident.to_string());
                 if faulty.contains(&f.sig.ident.to_string()) {
-                    f.block = syn::parse_quote!({ ::core::unimplemented!() });
+                    f.block = syn::parse_quote!({
+                        ::core::unreachable!(
+                            "hamel: this function has errors, reported at build time"
+                        )
+                    });
                     f.attrs.push(syn::parse_quote!(#[allow(unused_variables)]));
                 }
             }
