@@ -351,20 +351,20 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         }
         (_, Solver::Numeric(_)) => None,
     };
+    let vectors = Vectors {
+        q: &q,
+        w: &w,
+        qd: &qd,
+        b_free: &b_free,
+        rows: &rows,
+        v: &v,
+        forces: &forces,
+    };
     let assembled = match (quasi_lagrangian, &solver) {
         (Some((lt, f)), _) => {
             if !requires_velocities(lowerer, f, lt, &omega, "the Lagrangian") {
                 return None;
             }
-            let vectors = Vectors {
-                q: &q,
-                w: &w,
-                qd: &qd,
-                b_free: &b_free,
-                rows: &rows,
-                v: &v,
-                forces: &forces,
-            };
             hamel(lowerer.graph, lt, &omega, &vectors, p)
         }
         (None, Solver::Numeric(lu)) => {
@@ -372,15 +372,6 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             if !requires_velocities(lowerer, f, l, &v, "the Lagrangian") {
                 return None;
             }
-            let vectors = Vectors {
-                q: &q,
-                w: &w,
-                qd: &qd,
-                b_free: &b_free,
-                rows: &rows,
-                v: &v,
-                forces: &forces,
-            };
             projected(lowerer.graph, l, lu, &vectors)
         }
         (None, Solver::Closed(_)) => return None,
