@@ -407,7 +407,16 @@ fn companions(ctx: &ImplContext<'_>, f: &syn::ImplItemFn) -> syn::Result<TokenSt
         hessian_ops,
         second_ops,
     ] = counts;
-    let ops_name = format_ident!("{}_OPS", name.unraw().to_string().to_uppercase());
+    let upper = format!("{}_OPS", name.unraw().to_string().to_uppercase());
+    let Ok(mut ops_name) = syn::parse_str::<syn::Ident>(&upper) else {
+        return Err(syn::Error::new_spanned(
+            name,
+            format!(
+                "`{name}` has no upper-case form that is an identifier (`{upper}`), which names its operation counts"
+            ),
+        ));
+    };
+    ops_name.set_span(name.span());
     let ops_doc = format!("Operation counts of {of} and its generated derivatives.");
     out.extend(quote! {
         #[doc = #ops_doc]

@@ -275,18 +275,17 @@ pub fn generate(
 
     // Index constants: `Model::ALPHA` is the index of `alpha` in q.
     let index_consts = |idents: &[syn::Ident], what: &str| -> Vec<TokenStream> {
+        // (`spec` has checked that every name upper-cases to an identifier.)
         idents
             .iter()
             .enumerate()
-            .map(|(i, id)| {
-                let name = format_ident!(
-                    "{}",
-                    id.unraw().to_string().to_uppercase(),
-                    span = id.span()
-                );
+            .filter_map(|(i, id)| {
+                let upper = id.unraw().to_string().to_uppercase();
+                let mut name = syn::parse_str::<syn::Ident>(&upper).ok()?;
+                name.set_span(id.span());
                 let doc = format!("Index of `{id}` among the {what}.");
                 let i = lit(i);
-                quote!(#[doc = #doc] pub const #name: usize = #i;)
+                Some(quote!(#[doc = #doc] pub const #name: usize = #i;))
             })
             .collect()
     };

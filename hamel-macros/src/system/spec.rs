@@ -210,6 +210,20 @@ pub fn check<'a>(
     };
     let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
     for ident in coordinates.iter().chain(&speeds).chain(&names.inputs) {
+        let upper = ident.unraw().to_string().to_uppercase();
+        if syn::parse_str::<syn::Ident>(&upper).is_err() {
+            fail(
+                lowerer,
+                &mut ok,
+                syn::Error::new(
+                    ident.span(),
+                    format!(
+                        "the name `{ident}` has no upper-case form that is an identifier (`{upper}`), \
+                         which its index constant needs: choose another name"
+                    ),
+                ),
+            );
+        }
         if seen
             .insert(ident.unraw().to_string().to_uppercase(), ident)
             .is_some()
