@@ -8,7 +8,7 @@ use hamel::HamelSystem;
 use hamel::models::{MobileRobot, MobileRobotPaper};
 use std::hint::black_box;
 
-#[path = "../tests/common/robot_closed_form.rs"]
+#[path = "../validation/tests/common/robot_closed_form.rs"]
 mod closed_form;
 
 /// Seeded states and inputs (xorshift64*), the same in every run.

@@ -6,11 +6,11 @@
 // tests (benches are built with `cfg(test)`, without running the tests), is unused here.
 #![allow(unused)]
 
-#[path = "../src/differentiate.rs"]
+#[path = "../hamel-macros/src/differentiate.rs"]
 mod differentiate;
-#[path = "../src/engine/mod.rs"]
+#[path = "../hamel-macros/src/engine/mod.rs"]
 mod engine;
-#[path = "../src/system/mod.rs"]
+#[path = "../hamel-macros/src/system/mod.rs"]
 mod system;
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -20,7 +20,7 @@ use std::hint::black_box;
 
 /// The `#[hamel_system(..)]` impl blocks of the catalogue's robot: (name, arguments, item).
 fn robot_impls() -> Vec<(String, TokenStream, TokenStream)> {
-    let source = include_str!("../../src/models/mobile_robot.rs");
+    let source = include_str!("../src/models/mobile_robot.rs");
     let file: syn::File = syn::parse_str(source).expect("the model file parses");
     file.items
         .into_iter()
