@@ -377,7 +377,7 @@ fn a_run_that_reaches_a_singular_transformation() {
 // ---------------------------------------------------------------------------------------------
 
 /// A typo in a closed-form inverse is a compile error (the macro evaluates B(q)·A(q) − I at
-/// generic configurations and parameters; see `tests/ui/inverse_is_not_the_inverse.rs`). What
+/// generic configurations and parameters; see `ui/tests/ui/inverse_is_not_the_inverse.rs`). What
 /// remains for run time is an inverse that is right only for some parameter values: this
 /// sleigh's inverse uses |a| where a belongs, right for a ≥ 0 (so it compiles), wrong for a
 /// contact point in front of the centre of mass (a < 0).
