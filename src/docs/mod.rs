@@ -1,4 +1,11 @@
 //! Guides, with runnable examples.
+//!
+//! * [`model`] — writing a model: every role and its signature, the names, the state layout,
+//!   inputs and forces, the errors, and a worked example of each input form.
+//! * [`subset`] — the part of Rust a role function's body may use.
+
+#[doc = include_str!("model.md")]
+pub mod model {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
