@@ -3,9 +3,14 @@
 //! * [`model`] — writing a model: every role and its signature, the names, the state layout,
 //!   inputs and forces, the errors, and a worked example of each input form.
 //! * [`subset`] — the part of Rust a role function's body may use.
+//! * [`design`] — the design notes: the mathematics the generated code computes, and how it
+//!   obtains each derivative.
 
 #[doc = include_str!("model.md")]
 pub mod model {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
+
+#[doc = include_str!("design.md")]
+pub mod design {}
