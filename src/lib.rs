@@ -1,9 +1,17 @@
 #![doc = include_str!("../README.md")]
 //!
+//! # Guides
+//!
+//! * [`docs::model`] — how to write a model: every role with its exact signature, the names
+//!   and the state layout, inputs and forces, the errors, and a worked example of each input
+//!   form.
+//! * [`docs::subset`] — the part of Rust a role function's body may use.
+//! * [`docs::design`] — the design notes: the mathematics the generated code computes.
+//!
 //! # How a model becomes a simulator
 //!
 //! `#[hamel_system]` lowers the role functions' bodies into one expression graph and builds
-//! Hamel's equations on it (`../shared/design/HAMEL.md` restates the mathematics): the
+//! Hamel's equations on it ([`docs::design`] restates the mathematics): the
 //! gradient of L̃(q, ω) by a reverse sweep, the reduced mass matrix and (∂²L̃/∂ω∂q)·q̇ by
 //! tangent sweeps over it, and the γ terms as two bidirectional second derivatives of
 //! Φ(q, v) = pᵀA(q)v per free direction, never the n³ tensor. With a closed-form inverse B the
@@ -16,7 +24,8 @@
 //! The constraint role `#[constraints]` takes `(&self, q, qd)` and must be linear and
 //! homogeneous in `qd`; affine, time-dependent constraints A(q)q̇ + a(q, t) = 0 (a ball on a
 //! turntable) will take a leading `t: f64` argument, with the affine part read off the same
-//! function, so models written now keep compiling.
+//! function, so models written now keep compiling ([`docs::model`] says what is supported
+//! today).
 //!
 //! # The differentiation engine
 //!

@@ -16,7 +16,30 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
     guarded(|| differentiate::expand(attr.into(), item.into())).into()
 }
 
-/// Turn a model into a simulator; see the `hamel` crate.
+/// Turn a model into a simulator: Hamel's equations, differentiated at compile time.
+///
+/// Goes on two items. On the parameter struct (no arguments): every field is a named `f64`,
+/// and the struct gets an implementation of `hamel::Parameters` (get and set by name). On the
+/// model's inherent impl block, `#[hamel_system(coordinates(..), speeds(..), inputs(..))]`
+/// names the coordinates (required), the free quasi-velocities (default `w{p+1}`…`w{n}`) and
+/// the inputs (default none), and role attributes mark the functions:
+///
+/// * the energy, in one of three forms: `#[lagrangian]` L(q, q̇), or `#[kinetic_energy]`
+///   T(q, q̇) with an optional `#[potential_energy]` V(q), or `#[quasi_lagrangian]` L̃(q, ω);
+/// * `#[constraints]` and `#[quasi_velocities]` (required): the rows of ω = A(q) q̇, linear and
+///   homogeneous in q̇, the constrained ones and those that complete them;
+/// * `#[velocities]` (optional): the inverse q̇ = B(q) ω over all n quasi-velocities, the
+///   constrained ones first; computed by LU of A(q) when absent;
+/// * `#[forces]` (optional): the generalized forces f(t, q, q̇, u).
+///
+/// The macro implements `hamel::HamelSystem` for the model — the reduced ODE of dimension
+/// 2n − p in the state x = (q, free quasi-velocities) — and adds an index constant per name
+/// (`Model::THETA`) and `rhs_generic`. A malformed model is a compile error at the mistake.
+///
+/// See [`hamel::docs::model`](../hamel/docs/model/index.html) for every role's exact
+/// signature, the state layout and worked examples,
+/// [`hamel::docs::subset`](../hamel/docs/subset/index.html) for what a body may contain, and
+/// [`hamel::docs::design`](../hamel/docs/design/index.html) for the mathematics.
 #[proc_macro_attribute]
 pub fn hamel_system(attr: TokenStream, item: TokenStream) -> TokenStream {
     guarded(|| system::expand(attr.into(), item.into())).into()
