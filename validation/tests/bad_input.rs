@@ -30,7 +30,8 @@ fn assert_message(e: &Error, parts: &[&str]) -> String {
 const ROBOT_Q: [f64; 5] = [0.5, -0.3, 0.1, 0.0, 0.0];
 
 /// Admissible velocities at `ROBOT_Q`: rolling forward at 0.4 m/s, pitching at 0.2 rad/s,
-/// not turning. ẋ = ω⁴, φ̇ᵢ = −α̇ + ω⁴/r (HAMEL.md, kinematics with ϑ = 0, ω⁵ = 0).
+/// not turning. ẋ = ω⁴, φ̇ᵢ = −α̇ + ω⁴/r (the robot's kinematics in `hamel::docs::design`,
+/// with ϑ = 0, ω⁵ = 0).
 fn robot_admissible_qd() -> [f64; 5] {
     let r = MobileRobot::default().r;
     let (alpha_dot, forward) = (0.2, 0.4);

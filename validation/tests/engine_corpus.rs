@@ -13,8 +13,8 @@
 //! would lose more than two digits to cancellation (`support::harness::MAX_CONDITION`):
 //! there the reference's own rounding would approach the tolerance.
 //! The corpus covers every form of the engine's subset at least once, the paper's mobile
-//! robot (HAMEL.md, "Worked example") and a 20-link pendulum chain; the last two also get the
-//! cheap-gradient check on the generated operation counts.
+//! robot (`hamel::docs::design`, "Worked example") and a 20-link pendulum chain; the last two
+//! also get the cheap-gradient check on the generated operation counts.
 
 mod support;
 
@@ -473,7 +473,7 @@ impl Corpus {
 }
 
 // ---------------------------------------------------------------------------------------
-// The corpus: the paper's mobile robot (HAMEL.md, "Worked example")
+// The corpus: the paper's mobile robot (`hamel::docs::design`, "Worked example")
 // ---------------------------------------------------------------------------------------
 
 /// A two-wheeled robot with a pendulum body: mass and inertias of the body, mass of a wheel,
@@ -996,9 +996,10 @@ fn harness_detects_wrong_derivatives() {
     );
 }
 
-/// The corpus robot is the paper's: in the quasi-velocities of HAMEL.md ("Worked example")
-/// its mass matrix M_kl = B_kᵀ (∂²L/∂q̇²) B_l (k, l = 3, 4, 5) has the stated entries, and
-/// the velocity rows A(q) map those columns B_k of B = A⁻¹ to the unit vectors e_k.
+/// The corpus robot is the paper's: in the quasi-velocities of `hamel::docs::design`
+/// ("Worked example") its mass matrix M_kl = B_kᵀ (∂²L/∂q̇²) B_l (k, l = 3, 4, 5) has the
+/// stated entries, and the velocity rows A(q) map those columns B_k of B = A⁻¹ to the unit
+/// vectors e_k.
 #[test]
 fn robot_matches_the_worked_example() {
     let Robot {
@@ -1020,7 +1021,7 @@ fn robot_matches_the_worked_example() {
         let alpha = q[2];
         let (s, c) = ROBOT.heading(q[3], q[4]).sin_cos();
         let k = b / (2.0 * r);
-        // q̇ = B₃ω³ + B₄ω⁴ + B₅ω⁵ (HAMEL.md, kinematics).
+        // q̇ = B₃ω³ + B₄ω⁴ + B₅ω⁵ (`hamel::docs::design`, kinematics).
         let columns = [
             [0.0, 0.0, 1.0, -1.0, -1.0],
             [c, s, 0.0, 1.0 / r, 1.0 / r],

@@ -2,7 +2,7 @@
 //! forms — `MobileRobot` (energies from the bodies' 3D motion, B = A⁻¹ computed numerically)
 //! and `MobileRobotPaper` (the paper's L̃(q, ω) of eq. (12), B given) — checked against
 //!
-//! 1. the closed form of HAMEL.md (right-hand side and the coefficients γ),
+//! 1. the closed form of `hamel::docs::design` (right-hand side and the coefficients γ),
 //! 2. each other (right-hand sides and whole trajectories),
 //! 3. the invariants of a free motion (energy, constraints),
 //! 4. Lagrange's equations projected on the admissible directions, derived independently
@@ -122,7 +122,7 @@ fn normwise_error(a: &[f64], b: &[f64]) -> f64 {
     diff / scale.max(f64::MIN_POSITIVE)
 }
 
-/// HAMEL.md's closed form as a function returning ẋ.
+/// The closed form of `hamel::docs::design` as a function returning ẋ.
 fn closed_form(p: &MobileRobot, x: &[f64; 8], u: &[f64; 2]) -> [f64; 8] {
     let mut dx = [0.0; 8];
     robot_rhs(p, x, u, &mut dx);
@@ -173,11 +173,11 @@ fn worst_rhs_errors(
 }
 
 // ---------------------------------------------------------------------------------------
-// 1. The closed form of HAMEL.md
+// 1. The closed form of `hamel::docs::design`
 // ---------------------------------------------------------------------------------------
 
-/// The generated ẋ — kinematics q̇ = Bᵣ ω and the accelerations ω̇ — equals HAMEL.md's closed
-/// form (with its corrected signs of the γ terms) for both input forms.
+/// The generated ẋ — kinematics q̇ = Bᵣ ω and the accelerations ω̇ — equals the closed form
+/// of `hamel::docs::design` (with its corrected signs of the γ terms) for both input forms.
 #[test]
 fn generated_rhs_equals_the_closed_form() {
     worst_rhs_errors(0x5eed_0001, "closed form", closed_form);
@@ -209,8 +209,9 @@ fn generated_accelerations_equal_the_closed_form_on_their_own_scale() {
     println!("closed form, ω̇ block on its own scale: worst {worst:.2e}");
 }
 
-/// γ¹₄,₅ = −1, γ¹₅,₄ = +1 (1-based, as in HAMEL.md) and every other γʲ_{l,k} with l, k > 2
-/// vanishes, at every configuration. `gamma` is indexed [j][l − p][k − p], 0-based, p = 2.
+/// γ¹₄,₅ = −1, γ¹₅,₄ = +1 (1-based, as in `hamel::docs::design`) and every other γʲ_{l,k} with
+/// l, k > 2 vanishes, at every configuration. `gamma` is indexed [j][l − p][k − p], 0-based,
+/// p = 2.
 #[test]
 fn gamma_has_only_the_two_entries_of_the_paper() {
     let mut rng = XorShift::new(0x5eed_0003);

@@ -1,5 +1,5 @@
 //! Hamel's equations, assembled on the graph from derivatives of the user's functions
-//! (`../shared/design/HAMEL.md` has the mathematics; indices there are 1-based, here 0-based).
+//! (`hamel::docs::design` has the mathematics; indices there are 1-based, here 0-based).
 //!
 //! With ω = A(q) q̇, q̇ = B(q) ω and k > p:
 //!

@@ -1,5 +1,6 @@
-//! The mobile robot's equations of motion written out by hand, as HAMEL.md states them
-//! (with its corrected signs): the reference for tests and the baseline of the benchmark.
+//! The mobile robot's equations of motion written out by hand, as `hamel::docs::design`
+//! states them (with its corrected signs): the reference for tests and the baseline of the
+//! benchmark.
 //! Written as a careful engineer would: each sine and cosine once, the 2×2 block solved by
 //! Cramer's rule, the decoupled yaw equation by one division.
 

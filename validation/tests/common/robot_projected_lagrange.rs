@@ -1,6 +1,6 @@
 //! The mobile robot's equations of motion by a second, independent route: Lagrange's
-//! equations in q, projected on the admissible directions B_k (HAMEL.md, "Equivalent
-//! projected-Lagrange form"):
+//! equations in q, projected on the admissible directions B_k (`hamel::docs::design`,
+//! "B from a numeric LU: the projected-Lagrange form"):
 //!
 //!   Bᵣᵀ (M_full q̈ + (∂²L/∂q̇∂q) q̇ − ∂L/∂q − f) = 0,   q̈ = Bᵣ ω̇ + Ḃω,   Ḃω = −B (D_q̇A) q̇.
 //!
