@@ -147,6 +147,9 @@ pub struct Lowerer<'a, 'g> {
     lowered: HashSet<String>,
     /// Mistakes reported once per expansion however often they occur (an unknown function).
     reported_once: HashSet<String>,
+    /// Mistakes met so far, counting those reported once but met again: a body that met one
+    /// has no value to draw verdicts from.
+    mistakes: usize,
     /// The signature a function must have, by name (the role functions of a model): type
     /// errors in its signature say what is expected there.
     pub signature_hints: HashMap<String, String>,
@@ -171,6 +174,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             faulty: HashSet::new(),
             lowered: HashSet::new(),
             reported_once: HashSet::new(),
+            mistakes: 0,
             signature_hints: HashMap::new(),
             expected_arguments: HashMap::new(),
             current_signature: None,
@@ -188,8 +192,11 @@ impl<'a, 'g> Lowerer<'a, 'g> {
     fn error_once(&mut self, key: String, tokens: impl ToTokens, message: impl Display) -> Value {
         if self.reported_once.insert(key) {
             self.error(tokens, message);
-        } else if let Some(name) = self.call_stack.last() {
-            self.faulty.insert(name.clone());
+        } else {
+            self.mistakes += 1;
+            if let Some(name) = self.call_stack.last() {
+                self.faulty.insert(name.clone());
+            }
         }
         Value::Poison
     }
@@ -199,6 +206,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         if let Some(name) = self.call_stack.last() {
             self.faulty.insert(name.clone());
         }
+        self.mistakes += 1;
         self.errors.push(error);
     }
 
@@ -317,8 +325,15 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         }
         self.lowered.insert(name.clone());
         self.call_stack.push(name);
+        let mistakes = self.mistakes;
         let result = self.block(&mut env, &f.block);
         self.call_stack.pop();
+        // After a mistake the body's value is not what the user meant (a `loop` that was
+        // skipped leaves a local at its initial value): drawing a verdict from it, such as
+        // "does not depend on the velocities", would add a false error to the true one.
+        if self.mistakes > mistakes {
+            return Value::Poison;
+        }
         if let Some(shape) = &signature.output
             && !shape.admits(&result)
         {
