@@ -109,8 +109,19 @@ fn check_unreached_bodies<'a>(roles: &model::Roles<'a>, lowerer: &mut Lowerer<'a
         };
         // On the arguments the role needs, when the signature has them in the wrong shape
         // (its error is reported): `q[2]` is no mistake in a body whose `q` should have three.
+        // Each argument is what its name says it is, when the name is the role's (a misplaced
+        // argument is reported): in `fn(&self, qd, q)` the body reads `q[2]` as a coordinate.
         let shapes: Vec<Shape> = match lowerer.expected_arguments.get(&name) {
-            Some(shapes) if shapes.len() == signature.args.len() => shapes.clone(),
+            Some(expected) if expected.len() == signature.args.len() => signature
+                .args
+                .iter()
+                .enumerate()
+                .map(|(i, arg)| {
+                    let named = spec::argument_name(&arg.pat)
+                        .and_then(|n| expected.iter().position(|(e, _)| *e == n));
+                    expected[named.unwrap_or(i)].1.clone()
+                })
+                .collect(),
             _ => signature.args.iter().map(|a| a.shape.clone()).collect(),
         };
         let args: Option<Vec<Value>> = signature

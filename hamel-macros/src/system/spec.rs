@@ -2,7 +2,7 @@
 //! made from the signatures alone. All mistakes are reported together, each at its span.
 
 use super::model::{Names, Role, RoleFn, Roles};
-use crate::engine::lower::{Lowerer, Shape};
+use crate::engine::lower::{Arg, Lowerer, Shape};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, format_ident};
 use std::collections::HashMap;
@@ -121,9 +121,7 @@ pub fn check<'a>(
         lowerer
             .signature_hints
             .insert(name.clone(), render(&args, out.as_ref()));
-        lowerer
-            .expected_arguments
-            .insert(name, args.into_iter().map(|(_, shape)| shape).collect());
+        lowerer.expected_arguments.insert(name, args);
     }
 
     // p comes from the constraints' result type.
@@ -520,6 +518,10 @@ fn check_signature(
         ));
         return false;
     }
+    if let Some(e) = misplaced(role, &sig.args, expected, &rendered) {
+        lowerer.push_error(e);
+        return false;
+    }
     for (arg, (name, shape)) in sig.args.iter().zip(expected) {
         if arg.shape != *shape {
             let why = match shape {
@@ -569,6 +571,61 @@ fn check_signature(
         ok = false;
     }
     ok && sig.output.is_some()
+}
+
+/// The name an argument is written with, without the leading underscores that only silence
+/// "unused" warnings: `_q` is `q`. `None` for a pattern that is not a plain name.
+pub fn argument_name(pat: &syn::Pat) -> Option<String> {
+    match pat {
+        syn::Pat::Ident(p) => Some(
+            p.ident
+                .unraw()
+                .to_string()
+                .trim_start_matches('_')
+                .to_string(),
+        ),
+        _ => None,
+    }
+}
+
+/// Arguments named as other arguments of the role (`fn(&self, qd, q)`): the names would say
+/// one thing and the positions another, so the order is an error (other names, `config`,
+/// `vel`, are the user's choice). One error for the whole list, at the first misplaced one.
+fn misplaced(
+    role: Role,
+    args: &[Arg],
+    expected: &[(&str, Shape)],
+    rendered: &str,
+) -> Option<syn::Error> {
+    let swaps: Vec<(&Arg, &str)> = args
+        .iter()
+        .zip(expected)
+        .filter_map(|(arg, (place, _))| {
+            let name = argument_name(&arg.pat)?;
+            let other = expected.iter().any(|(e, _)| *e == name);
+            (other && name != *place).then_some((arg, *place))
+        })
+        .collect();
+    let (first, place) = swaps.first()?;
+    let rest: Vec<String> = swaps[1..]
+        .iter()
+        .map(|(arg, place)| {
+            format!(
+                " and `{}` in the place of `{place}`",
+                arg.pat.to_token_stream()
+            )
+        })
+        .collect();
+    Some(syn::Error::new_spanned(
+        &first.pat,
+        format!(
+            "argument `{}` is in the place of `{place}`{}: `#[{}]` takes `{rendered}`; put the \
+             arguments in this order",
+            first.pat.to_token_stream(),
+            rest.concat(),
+            role.attribute()
+        ),
+    ))
 }
 
 fn render(args: &[(&str, Shape)], output: Option<&Shape>) -> String {

@@ -21,7 +21,7 @@ mod value;
 
 pub use env::Env;
 pub use expr::closest;
-pub use types::{Signature, render_type};
+pub use types::{Arg, Signature, render_type};
 pub use value::{Shape, Value};
 
 use crate::engine::graph::{Graph, NodeId};
@@ -153,9 +153,10 @@ pub struct Lowerer<'a, 'g> {
     /// The signature a function must have, by name (the role functions of a model): type
     /// errors in its signature say what is expected there.
     pub signature_hints: HashMap<String, String>,
-    /// The arguments a function must take, by name (the role functions of a model): a body
-    /// checked on its own is checked on these, not on a mistaken signature.
-    pub expected_arguments: HashMap<String, Vec<Shape>>,
+    /// The arguments a function must take, named as in its role's signature (`q`, `qd`), by
+    /// function name (the role functions of a model): a body checked on its own is checked
+    /// on these, not on a mistaken signature.
+    pub expected_arguments: HashMap<String, Vec<(&'static str, Shape)>>,
     current_signature: Option<String>,
 }
 
