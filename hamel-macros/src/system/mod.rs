@@ -10,10 +10,12 @@
 mod equations;
 mod fallback;
 mod generate;
+mod generic;
 mod ldlt;
 mod linearity;
 mod model;
 mod parameters;
+mod rank;
 mod sparse_lu;
 mod spec;
 
