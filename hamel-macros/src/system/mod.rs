@@ -16,6 +16,7 @@ mod linearity;
 mod model;
 mod parameters;
 mod rank;
+mod reserved;
 mod sparse_lu;
 mod spec;
 

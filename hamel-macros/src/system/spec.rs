@@ -1,7 +1,8 @@
 //! The checked model: dimensions, names and role functions, after every check that can be
 //! made from the signatures alone. All mistakes are reported together, each at its span.
 
-use super::model::{Names, Role, RoleFn, Roles};
+use super::model::{Names, Role, RoleFn, Roles, names_of};
+use super::reserved;
 use crate::engine::lower::{Arg, Lowerer, Shape};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, format_ident};
@@ -63,29 +64,13 @@ pub fn check<'a>(
 ) -> Option<Spec<'a>> {
     let mut ok = true;
 
-    let coordinates = match names.coordinates {
-        Some((span, list)) if list.is_empty() => {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(span, "a model needs at least one coordinate"),
-            );
-            Vec::new()
-        }
-        Some((_, list)) => list,
-        None => {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new_spanned(
-                    at,
-                    "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
-                     (the names appear in accessors, `Debug` output and CSV headers)",
-                ),
-            );
-            Vec::new()
-        }
-    };
+    let coordinates = coordinate_names(
+        names.coordinates.clone(),
+        names.garbled,
+        lowerer,
+        at,
+        &mut ok,
+    );
     let n = coordinates.len();
     let m = names.inputs.len();
 
@@ -206,35 +191,25 @@ pub fn check<'a>(
         (None, Some(p)) => (p + 1..=n).map(|k| format_ident!("w{}", k)).collect(),
         (None, None) => Vec::new(),
     };
-    let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
-    for ident in coordinates.iter().chain(&speeds).chain(&names.inputs) {
-        let upper = ident.unraw().to_string().to_uppercase();
-        if syn::parse_str::<syn::Ident>(&upper).is_err() {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(
-                    ident.span(),
-                    format!(
-                        "the name `{ident}` has no upper-case form that is an identifier (`{upper}`), \
-                         which its index constant needs: choose another name"
-                    ),
-                ),
-            );
-        }
-        if seen
-            .insert(ident.unraw().to_string().to_uppercase(), ident)
-            .is_some()
-        {
-            lowerer.push_error(syn::Error::new(
-                ident.span(),
-                format!(
-                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
-                     (also in upper case, which names their index constants, `Self::{}`)",
-                    ident.unraw().to_string().to_uppercase()
-                ),
-            ));
-        }
+    check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
+    if let Some(written) = &names.inputs_written
+        && !names.inputs.is_empty()
+        && roles.get(Role::Forces).is_none()
+    {
+        let (args, out) = expected(Role::Forces, n, m, None);
+        let (declared, them) = match names.inputs.as_slice() {
+            [one] => (format!("the input `{one}` is declared"), "it"),
+            all => (format!("the inputs {} are declared", names_of(all)), "them"),
+        };
+        lowerer.push_error(syn::Error::new_spanned(
+            written,
+            format!(
+                "{declared}, but the model has no `#[forces]` to read {them}, so {them} would \
+                 be ignored: add a `#[forces]` function `{}` that uses `u`, or remove \
+                 `inputs(..)`",
+                render(&args, out.as_ref())
+            ),
+        ));
     }
 
     if !ok {
@@ -257,6 +232,79 @@ pub fn check<'a>(
             .filter(|_| !dropped.contains(&Role::Forces))
             .map(|r| r.f),
     })
+}
+
+/// The coordinates' names; an error when there are none (unless the list could not be read,
+/// which is reported already).
+fn coordinate_names(
+    written: Option<(proc_macro2::Span, Vec<syn::Ident>)>,
+    garbled: bool,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+) -> Vec<syn::Ident> {
+    let error = match written {
+        Some((_, list)) if !list.is_empty() => return list,
+        _ if garbled => {
+            *ok = false;
+            return Vec::new();
+        }
+        Some((span, _)) => syn::Error::new(span, "a model needs at least one coordinate"),
+        None => syn::Error::new_spanned(
+            at,
+            "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
+             (the names appear in accessors, `Debug` output and CSV headers)",
+        ),
+    };
+    fail(lowerer, ok, error);
+    Vec::new()
+}
+
+/// Each name must have an upper-case form that is an identifier (its index constant), be
+/// distinct from the others, and not be reserved.
+fn check_names(
+    coordinates: &[syn::Ident],
+    speeds: &[syn::Ident],
+    inputs: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) {
+    let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
+    for ident in coordinates.iter().chain(speeds).chain(inputs) {
+        let upper = ident.unraw().to_string().to_uppercase();
+        if syn::parse_str::<syn::Ident>(&upper).is_err() {
+            fail(
+                lowerer,
+                ok,
+                syn::Error::new(
+                    ident.span(),
+                    format!(
+                        "the name `{ident}` has no upper-case form that is an identifier (`{upper}`), \
+                         which its index constant needs: choose another name"
+                    ),
+                ),
+            );
+        }
+        if let Some(why) = reserved::clash(&ident.unraw().to_string()) {
+            lowerer.push_error(syn::Error::new(
+                ident.span(),
+                format!("the name `{ident}` is reserved: {why}; choose another name"),
+            ));
+        }
+        if seen
+            .insert(ident.unraw().to_string().to_uppercase(), ident)
+            .is_some()
+        {
+            lowerer.push_error(syn::Error::new(
+                ident.span(),
+                format!(
+                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
+                     (also in upper case, which names their index constants, `Self::{}`)",
+                    ident.unraw().to_string().to_uppercase()
+                ),
+            ));
+        }
+    }
 }
 
 /// What a role's function must take and return (`p`: the number of constraints, when known).
@@ -310,15 +358,6 @@ fn count(k: usize, what: &str) -> String {
     } else {
         format!("{k} {what}s")
     }
-}
-
-/// "x, y, theta".
-fn names_of(idents: &[syn::Ident]) -> String {
-    idents
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 fn fail(lowerer: &mut Lowerer<'_, '_>, ok: &mut bool, e: syn::Error) {
