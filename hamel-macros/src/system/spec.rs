@@ -365,6 +365,10 @@ fn fail(lowerer: &mut Lowerer<'_, '_>, ok: &mut bool, e: syn::Error) {
     *ok = false;
 }
 
+/// Where the roles go, for messages about a missing one (it may be in another impl block).
+const ONE_BLOCK: &str = "All the roles of a model must be in the impl block that carries \
+                         `#[hamel_system]`";
+
 fn required<'r, 'a>(
     roles: &'r Roles<'a>,
     role: Role,
@@ -391,7 +395,7 @@ fn required<'r, 'a>(
                 at,
                 format!(
                     "missing role `#[{attribute}]`: mark the function that gives {what}{aside}; \
-                     expected signature `{signature}`"
+                     expected signature `{signature}`. {ONE_BLOCK}"
                 ),
             ),
         });
@@ -487,7 +491,7 @@ fn energy_roles<'a>(
             *ok = false;
         }
         (None, None, None, None) => {
-            let message = format!("missing role: the model needs its energy; {give}");
+            let message = format!("missing role: the model needs its energy; {give}. {ONE_BLOCK}");
             lowerer.push_error(match forgotten(roles, Role::KineticEnergy)
                 .or_else(|| forgotten(roles, Role::Lagrangian))
             {
