@@ -9,7 +9,7 @@
 //! as they are known, and bodies that are `unreachable!()`: with our `compile_error!` the
 //! crate never builds, so they never run.
 
-use super::model::{Names, Role, Roles};
+use super::model::{Names, Role, Roles, array_length, written_length};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 use std::collections::HashSet;
@@ -94,13 +94,7 @@ fn dimensions(
     } else {
         coordinates.len()
     };
-    let written = |role: Role| {
-        let f = roles.get(role)?.f;
-        match &f.sig.output {
-            syn::ReturnType::Type(_, ty) => array_length(ty),
-            syn::ReturnType::Default => None,
-        }
-    };
+    let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
     let p = written(Role::Constraints)
         .filter(|&p| p < n)
         .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
@@ -117,23 +111,6 @@ fn typed_arguments(f: &syn::ImplItemFn) -> impl Iterator<Item = &syn::Type> {
         syn::FnArg::Typed(pt) => Some(&*pt.ty),
         syn::FnArg::Receiver(_) => None,
     })
-}
-
-/// The length of a type written `[f64; 3]` or `&[f64; 3]`, if it is a literal.
-pub fn array_length(ty: &syn::Type) -> Option<usize> {
-    match ty {
-        syn::Type::Reference(r) => array_length(&r.elem),
-        syn::Type::Paren(p) => array_length(&p.elem),
-        syn::Type::Group(g) => array_length(&g.elem),
-        syn::Type::Array(a) => match &a.len {
-            syn::Expr::Lit(syn::ExprLit {
-                lit: syn::Lit::Int(i),
-                ..
-            }) => i.base10_parse().ok(),
-            _ => None,
-        },
-        _ => None,
-    }
 }
 
 /// The errors, and the user's impl block as written (without our role attributes, which

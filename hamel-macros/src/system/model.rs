@@ -225,6 +225,31 @@ pub fn names_of(idents: &[syn::Ident]) -> String {
         .join(", ")
 }
 
+/// The length of a type written `[f64; 3]` or `&[f64; 3]`, if it is a literal.
+pub fn array_length(ty: &syn::Type) -> Option<usize> {
+    match ty {
+        syn::Type::Reference(r) => array_length(&r.elem),
+        syn::Type::Paren(p) => array_length(&p.elem),
+        syn::Type::Group(g) => array_length(&g.elem),
+        syn::Type::Array(a) => match &a.len {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(i),
+                ..
+            }) => i.base10_parse().ok(),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// The length of a result written `-> [f64; 3]`, if it is a literal.
+pub fn written_length(output: &syn::ReturnType) -> Option<usize> {
+    match output {
+        syn::ReturnType::Type(_, ty) => array_length(ty),
+        syn::ReturnType::Default => None,
+    }
+}
+
 /// A function with a role, and where its role attribute is.
 pub struct RoleFn<'a> {
     pub f: &'a syn::ImplItemFn,

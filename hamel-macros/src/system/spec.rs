@@ -1,7 +1,7 @@
 //! The checked model: dimensions, names and role functions, after every check that can be
 //! made from the signatures alone. All mistakes are reported together, each at its span.
 
-use super::model::{Names, Role, RoleFn, Roles, names_of};
+use super::model::{Names, Role, RoleFn, Roles, names_of, written_length};
 use super::reserved;
 use crate::engine::lower::{Arg, Lowerer, Shape};
 use proc_macro2::TokenStream;
@@ -109,46 +109,7 @@ pub fn check<'a>(
         lowerer.expected_arguments.insert(name, args);
     }
 
-    // p comes from the constraints' result type.
-    let p = constraints.and_then(|c| {
-        let sig = lowerer.signature(c.f)?;
-        match sig.output {
-            Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
-            Some(_) => {
-                fail(lowerer, &mut ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
-                None
-            }
-            None => None,
-        }
-    });
-    if let (Some(p), Some(c)) = (p, constraints) {
-        if p == 0 {
-            fail(
-                lowerer,
-                &mut ok,
-                error_at_output(
-                    c.f,
-                    "`#[constraints]` returns no constraint: a model needs at least one",
-                ),
-            );
-        } else if p >= n {
-            fail(
-                lowerer,
-                &mut ok,
-                error_at_output(
-                    c.f,
-                    format!(
-                        "{} on {} leave no motion: there must be fewer constraints than \
-                         coordinates ({})",
-                        count(p, "constraint"),
-                        count(n, "coordinate"),
-                        names_of(&coordinates)
-                    ),
-                ),
-            );
-        }
-    }
-    let p = p.filter(|&p| p > 0 && p < n);
+    let p = constraint_count(constraints, &coordinates, lowerer, &mut ok);
 
     // Signatures of every role present. An optional role with a wrong signature is left out
     // of the model (its error stands), so that the rest of the model is still checked.
@@ -171,46 +132,9 @@ pub fn check<'a>(
         }
     }
 
-    // Names of the speeds: given, or w{p+1}…w{n} as in the paper.
-    // A mistake in the names is reported, but does not stop the model from being checked.
-    let speeds = match (names.speeds, p) {
-        (Some((span, list)), Some(p)) if list.len() != n - p => {
-            lowerer.push_error(syn::Error::new(
-                span,
-                format!(
-                    "{} for {} ({} − {}): name one speed per quasi-velocity",
-                    count(list.len(), "speed name"),
-                    count(n - p, "quasi-velocity"),
-                    count(n, "coordinate"),
-                    count(p, "constraint"),
-                ),
-            ));
-            list
-        }
-        (Some((_, list)), _) => list,
-        (None, Some(p)) => (p + 1..=n).map(|k| format_ident!("w{}", k)).collect(),
-        (None, None) => Vec::new(),
-    };
+    let speeds = speed_names(names.speeds.clone(), n, p, lowerer);
     check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
-    if let Some(written) = &names.inputs_written
-        && !names.inputs.is_empty()
-        && roles.get(Role::Forces).is_none()
-    {
-        let (args, out) = expected(Role::Forces, n, m, None);
-        let (declared, them) = match names.inputs.as_slice() {
-            [one] => (format!("the input `{one}` is declared"), "it"),
-            all => (format!("the inputs {} are declared", names_of(all)), "them"),
-        };
-        lowerer.push_error(syn::Error::new_spanned(
-            written,
-            format!(
-                "{declared}, but the model has no `#[forces]` to read {them}, so {them} would \
-                 be ignored: add a `#[forces]` function `{}` that uses `u`, or remove \
-                 `inputs(..)`",
-                render(&args, out.as_ref())
-            ),
-        ));
-    }
+    check_inputs_are_read(&names, roles, n, lowerer);
 
     if !ok {
         return None;
@@ -232,6 +156,111 @@ pub fn check<'a>(
             .filter(|_| !dropped.contains(&Role::Forces))
             .map(|r| r.f),
     })
+}
+
+/// p, from the constraints' result type: at least one, and fewer than the coordinates.
+fn constraint_count(
+    constraints: Option<&RoleFn<'_>>,
+    coordinates: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<usize> {
+    let n = coordinates.len();
+    let p = constraints.and_then(|c| {
+        let sig = lowerer.signature(c.f)?;
+        match sig.output {
+            Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
+            Some(_) => {
+                fail(lowerer, ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
+                None
+            }
+            None => None,
+        }
+    });
+    if let (Some(p), Some(c)) = (p, constraints) {
+        if p == 0 {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    c.f,
+                    "`#[constraints]` returns no constraint: a model needs at least one",
+                ),
+            );
+        } else if p >= n {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    c.f,
+                    format!(
+                        "{} on {} leave no motion: there must be fewer constraints than \
+                         coordinates ({})",
+                        count(p, "constraint"),
+                        count(n, "coordinate"),
+                        names_of(coordinates)
+                    ),
+                ),
+            );
+        }
+    }
+    p.filter(|&p| p > 0 && p < n)
+}
+
+/// Inputs are read by the forces only: without `#[forces]` they would be silently ignored.
+fn check_inputs_are_read(
+    names: &Names,
+    roles: &Roles<'_>,
+    n: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+) {
+    if let Some(written) = &names.inputs_written
+        && !names.inputs.is_empty()
+        && roles.get(Role::Forces).is_none()
+    {
+        let (args, out) = expected(Role::Forces, n, names.inputs.len(), None);
+        let (declared, them) = match names.inputs.as_slice() {
+            [one] => (format!("the input `{one}` is declared"), "it"),
+            all => (format!("the inputs {} are declared", names_of(all)), "them"),
+        };
+        lowerer.push_error(syn::Error::new_spanned(
+            written,
+            format!(
+                "{declared}, but the model has no `#[forces]` to read {them}, so {them} would \
+                 be ignored: add a `#[forces]` function `{}` that uses `u`, or remove \
+                 `inputs(..)`",
+                render(&args, out.as_ref())
+            ),
+        ));
+    }
+}
+
+/// Names of the speeds: given, or w{p+1}…w{n} as in the paper. A mistake in the names is
+/// reported, but does not stop the model from being checked.
+fn speed_names(
+    written: Option<(proc_macro2::Span, Vec<syn::Ident>)>,
+    n: usize,
+    p: Option<usize>,
+    lowerer: &mut Lowerer<'_, '_>,
+) -> Vec<syn::Ident> {
+    match (written, p) {
+        (Some((span, list)), Some(p)) if list.len() != n - p => {
+            lowerer.push_error(syn::Error::new(
+                span,
+                format!(
+                    "{} for {} ({} − {}): name one speed per quasi-velocity",
+                    count(list.len(), "speed name"),
+                    count(n - p, "quasi-velocity"),
+                    count(n, "coordinate"),
+                    count(p, "constraint"),
+                ),
+            ));
+            list
+        }
+        (Some((_, list)), _) => list,
+        (None, Some(p)) => (p + 1..=n).map(|k| format_ident!("w{}", k)).collect(),
+        (None, None) => Vec::new(),
+    }
 }
 
 /// The coordinates' names; an error when there are none (unless the list could not be read,
@@ -329,23 +358,6 @@ fn expected(
             vec![("t", Shape::Real), q, qd, ("u", real_array(m))],
             Some(real_array(n)),
         ),
-    }
-}
-
-/// The length of a return type written `[f64; 3]` (or `&[f64; 3]`), if it is a literal.
-fn written_length(output: &syn::ReturnType) -> Option<usize> {
-    let syn::ReturnType::Type(_, ty) = output else {
-        return None;
-    };
-    let syn::Type::Array(a) = &**ty else {
-        return None;
-    };
-    match &a.len {
-        syn::Expr::Lit(syn::ExprLit {
-            lit: syn::Lit::Int(i),
-            ..
-        }) => i.base10_parse().ok(),
-        _ => None,
     }
 }
 

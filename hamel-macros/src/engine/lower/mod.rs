@@ -335,28 +335,36 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         if self.mistakes > mistakes {
             return Value::Poison;
         }
-        if let Some(shape) = &signature.output
-            && !shape.admits(&result)
-        {
-            let tail = f
-                .block
-                .stmts
-                .last()
-                .map(|s| s.to_token_stream())
-                .unwrap_or_else(|| f.block.to_token_stream());
-            self.error(
-                tail,
-                format!(
-                    "`{}` is declared to return {}, but its body evaluates to {}",
-                    f.sig.ident,
-                    shape.describe(),
-                    result.describe()
-                ),
-            );
-            self.faulty.insert(f.sig.ident.to_string());
-            return Value::Poison;
-        }
-        result
+        self.check_result(f, signature.output.as_ref(), result)
+    }
+
+    /// The body's value, if it has the declared type (else an error at the body's tail).
+    fn check_result(
+        &mut self,
+        f: &syn::ImplItemFn,
+        output: Option<&Shape>,
+        result: Value,
+    ) -> Value {
+        let Some(shape) = output.filter(|shape| !shape.admits(&result)) else {
+            return result;
+        };
+        let tail = f
+            .block
+            .stmts
+            .last()
+            .map(|s| s.to_token_stream())
+            .unwrap_or_else(|| f.block.to_token_stream());
+        self.error(
+            tail,
+            format!(
+                "`{}` is declared to return {}, but its body evaluates to {}",
+                f.sig.ident,
+                shape.describe(),
+                result.describe()
+            ),
+        );
+        self.faulty.insert(f.sig.ident.to_string());
+        Value::Poison
     }
 
     /// Lower a role function of the model: errors about the call point at its name.
