@@ -51,8 +51,15 @@ impl Role {
         }
     }
 
+    /// The role an attribute marks: `#[kinetic_energy]`, or by the path of its macro in
+    /// `hamel`, `#[hamel::kinetic_energy]` (which outside the model says where it belongs).
     fn from_attribute(attr: &syn::Attribute) -> Option<Role> {
-        let ident = attr.path().get_ident()?;
+        let segments: Vec<&syn::PathSegment> = attr.path().segments.iter().collect();
+        let ident = match segments.as_slice() {
+            [role] if attr.path().leading_colon.is_none() => &role.ident,
+            [krate, role] if krate.ident == "hamel" => &role.ident,
+            _ => return None,
+        };
         Role::ALL.into_iter().find(|r| ident == r.attribute())
     }
 
