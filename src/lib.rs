@@ -53,4 +53,10 @@ pub mod models;
 pub mod prelude;
 
 pub use hamel_macros::{differentiate, hamel_system};
+// The role attributes: `#[hamel_system]` reads them, so these run only when one is misplaced,
+// to say where it belongs.
+pub use hamel_macros::{
+    constraints, forces, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
+    quasi_velocities, velocities,
+};
 pub use hamel_runtime::*;

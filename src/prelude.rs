@@ -3,3 +3,8 @@
 pub use crate::{
     DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Trajectory, hamel_system,
 };
+// The role attributes, so that a misplaced one says where it belongs.
+pub use crate::{
+    constraints, forces, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
+    quasi_velocities, velocities,
+};

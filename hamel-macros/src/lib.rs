@@ -6,6 +6,7 @@
 
 mod differentiate;
 mod engine;
+mod stray_role;
 mod system;
 
 use proc_macro::TokenStream;
@@ -43,6 +44,70 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 #[proc_macro_attribute]
 pub fn hamel_system(attr: TokenStream, item: TokenStream) -> TokenStream {
     guarded(|| system::expand(attr.into(), item.into())).into()
+}
+
+/// Marks the Lagrangian L(q, q̇) = T − V, in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], qd: &[f64; N]) -> f64`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn lagrangian(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("lagrangian", item.into()).into()
+}
+
+/// Marks the kinetic energy T(q, q̇), in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], qd: &[f64; N]) -> f64`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn kinetic_energy(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("kinetic_energy", item.into()).into()
+}
+
+/// Marks the potential energy V(q), with a `#[kinetic_energy]`, in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N]) -> f64`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn potential_energy(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("potential_energy", item.into()).into()
+}
+
+/// Marks the Lagrangian in quasi-velocities L̃(q, ω), in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], w: &[f64; N]) -> f64`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn quasi_lagrangian(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("quasi_lagrangian", item.into()).into()
+}
+
+/// Marks the constraint rows ω¹…ωᵖ(q, q̇), linear in q̇ and zero on every motion, in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; P]`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn constraints(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("constraints", item.into()).into()
+}
+
+/// Marks the quasi-velocities ω^{p+1}…ωⁿ(q, q̇) that complete the constraints to an invertible ω = A(q)·q̇, in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; N - P]`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn quasi_velocities(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("quasi_velocities", item.into()).into()
+}
+
+/// Marks the inverse q̇ = B(q)·ω (optional: without it, B comes from A(q) at run time), in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, q: &[f64; N], w: &[f64; N]) -> [f64; N]`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn velocities(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("velocities", item.into()).into()
+}
+
+/// Marks the generalized forces f(t, q, q̇, u) (optional), in the model's impl block with `#[hamel_system]`, which reads
+/// and removes the attribute: `fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn forces(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("forces", item.into()).into()
 }
 
 /// Run an expansion; should it ever panic, report an error instead of "proc macro panicked".

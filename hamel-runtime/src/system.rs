@@ -53,6 +53,11 @@ pub trait Parameters {
 ///
 /// Implemented by `#[hamel_system]`; the methods are straight-line code generated from the
 /// model's Lagrangian, constraints and forces.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is not a hamel model",
+    label = "`{Self}` needs `#[hamel_system(coordinates(..))]` on its impl block",
+    note = "put `#[hamel_system(coordinates(..))]` on the impl block of `{Self}` that holds all its role functions (`#[kinetic_energy]`, `#[constraints]`, `#[quasi_velocities]`, ..)"
+)]
 pub trait HamelSystem: Parameters {
     /// `[f64; n]`
     type Coordinates: Vector;

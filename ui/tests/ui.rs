@@ -1,6 +1,9 @@
 //! Compile-fail suite: every file in `tests/ui/` is a small model with one kind of mistake (or,
 //! in `several_independent_mistakes.rs`, several), and its `.stderr` is what a user sees. The
-//! messages must point at the user's own code and say what is wrong and what is expected.
+//! messages must point at the user's own code and say what is wrong and what is expected, and
+//! one mistake gives one error: the `uses_model_*` cases use the broken model as a program
+//! would, and rustc must add nothing to the macro's error. (Role attributes outside the impl
+//! block with `#[hamel_system]` run one by one, so each reports itself.)
 //!
 //! After changing a message: `TRYBUILD=overwrite cargo test --test ui`, then read the diff.
 

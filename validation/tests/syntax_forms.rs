@@ -338,6 +338,69 @@ fn arguments_by_value() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Arguments named as the user likes (only a role's own names, `q`, `qd`, are held to their
+// places)
+// ---------------------------------------------------------------------------------------------
+
+knife_parameters!(KnifeOwnNames);
+
+#[hamel_system(coordinates(x, y, phi), speeds(v, omega))]
+impl KnifeOwnNames {
+    #[lagrangian]
+    fn lagrangian(&self, config: &[f64; 3], vel: &[f64; 3]) -> f64 {
+        0.5 * self.m * (vel[0] * vel[0] + vel[1] * vel[1])
+            + 0.5 * self.j * vel[2] * vel[2]
+            + self.m * self.g * self.incline.sin() * config[0]
+    }
+
+    #[constraints]
+    fn blade(&self, __q: &[f64; 3], rate: &[f64; 3]) -> [f64; 1] {
+        [rate[0] * __q[2].sin() - rate[1] * __q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    fn speeds(&self, pose: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * pose[2].cos() + qd[1] * pose[2].sin(), qd[2]]
+    }
+}
+
+#[test]
+fn arguments_with_names_of_ones_own() {
+    check_knife("own argument names", &KnifeOwnNames::new());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Role attributes by the path of their macros in `hamel`
+// ---------------------------------------------------------------------------------------------
+
+knife_parameters!(KnifeRolePaths);
+
+#[hamel::hamel_system(coordinates(x, y, phi), speeds(v, omega))]
+impl KnifeRolePaths {
+    #[hamel::lagrangian]
+    fn lagrangian(&self, q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1])
+            + 0.5 * self.j * qd[2] * qd[2]
+            + self.m * self.g * self.incline.sin() * q[0]
+    }
+
+    #[::hamel::constraints]
+    fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+}
+
+#[test]
+fn role_attributes_by_path() {
+    check_knife("role attributes by path", &KnifeRolePaths::new());
+}
+
+// ---------------------------------------------------------------------------------------------
 // Arguments by reference, `&[f64; N]`, destructured: `let [x, y, phi] = *q;`
 // ---------------------------------------------------------------------------------------------
 

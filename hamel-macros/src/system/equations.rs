@@ -20,8 +20,10 @@
 //! Directions in second derivatives (q̇, B_k, p) are fresh symbols while differentiating and
 //! are substituted afterwards: they depend on q themselves and must not be differentiated.
 
+use super::generic;
 use super::ldlt;
 use super::linearity::{self, Verdict, Why};
+use super::rank;
 use super::sparse_lu::SparseLu;
 use super::spec::{Energy, Spec};
 use crate::engine::diff;
@@ -240,32 +242,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let zero = g.zero();
     let one = g.one();
 
-    // A(q) from the rows, which must be linear in the velocities.
-    let constraint_rows = lower(lowerer, spec.constraints, vec![array(&q), array(&v)]);
-    let quasi_rows = lower(lowerer, spec.quasi_velocities, vec![array(&q), array(&v)]);
-    // Check whichever rows lowered, so that a mistake in one function does not hide one in
-    // the other; B and the equations are only built from rows that are all linear.
-    let mut linear = true;
-    if let Some(rows) = &constraint_rows {
-        linear &= check_linear(lowerer, spec.constraints, rows, &v, "constraint", "qd");
-    }
-    if let Some(rows) = &quasi_rows {
-        linear &= check_linear(
-            lowerer,
-            spec.quasi_velocities,
-            rows,
-            &v,
-            "quasi-velocity",
-            "qd",
-        );
-    }
-    let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
-    if !linear {
-        return None;
-    }
-    let rows: Vec<NodeId> = constraint_rows.iter().chain(&quasi_rows).copied().collect();
-    let a = coefficients(lowerer.graph, &rows, &v);
-
+    let (rows, a, structure) = transformation(lowerer, spec, &q, &v)?;
     // B(q): closed form from the user's inverse, or by LU of A(q) at run time.
     let omega = fresh(lowerer.graph, "omega", n);
     let mut transformation = None;
@@ -284,22 +261,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             (columns[p..].to_vec(), Solver::Closed(b))
         }
         None => {
-            let lu = match SparseLu::new(lowerer.graph, &a) {
-                Ok(lu) => lu,
-                Err(singular) => {
-                    let name = &spec.coordinates[singular.column];
-                    lowerer.push_error(syn::Error::new_spanned(
-                        &spec.quasi_velocities.sig.ident,
-                        format!(
-                            "the constraints and quasi-velocities cannot be inverted for any q: \
-                             together they do not determine the velocity of `{name}` (A(q) is \
-                             structurally singular); choose quasi-velocities that complete the \
-                             constraints"
-                        ),
-                    ));
-                    return None;
-                }
-            };
+            let lu = structure;
             let g = &mut *lowerer.graph;
             let mut pivots = Vec::new();
             let columns: Vec<Vec<NodeId>> = (p..n)
@@ -422,6 +384,71 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     })
 }
 
+/// The rows of ω = A(q)·v (constraints, then quasi-velocities) and the matrix A(q), after
+/// the checks that A can be inverted: rows linear in `v`, and A regular, structurally and at
+/// generic points. Also the structure of A, for its LU factorization.
+fn transformation<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    q: &[NodeId],
+    v: &[NodeId],
+) -> Option<(Vec<NodeId>, Vec<Vec<NodeId>>, SparseLu)> {
+    let constraint_rows = lower(lowerer, spec.constraints, vec![array(q), array(v)]);
+    let quasi_rows = lower(lowerer, spec.quasi_velocities, vec![array(q), array(v)]);
+    // Check whichever rows lowered, so that a mistake in one function does not hide one in
+    // the other; B and the equations are only built from rows that are all linear.
+    let mut linear = true;
+    if let Some(rows) = &constraint_rows {
+        linear &= check_linear(lowerer, spec.constraints, rows, v, "constraint", "qd");
+    }
+    if let Some(rows) = &quasi_rows {
+        linear &= check_linear(
+            lowerer,
+            spec.quasi_velocities,
+            rows,
+            v,
+            "quasi-velocity",
+            "qd",
+        );
+    }
+    let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
+    if !linear {
+        return None;
+    }
+    let rows: Vec<NodeId> = constraint_rows.iter().chain(&quasi_rows).copied().collect();
+    let a = coefficients(lowerer.graph, &rows, v);
+    let structure = match SparseLu::new(lowerer.graph, &a) {
+        Ok(lu) => lu,
+        Err(singular) => {
+            let name = &spec.coordinates[singular.column];
+            lowerer.push_error(syn::Error::new_spanned(
+                &spec.quasi_velocities.sig.ident,
+                format!(
+                    "the constraints and quasi-velocities cannot be inverted for any q: \
+                     together they do not determine the velocity of `{name}` (A(q) is \
+                     structurally singular); choose quasi-velocities that complete the \
+                     constraints"
+                ),
+            ));
+            return None;
+        }
+    };
+    let named = |f, count: usize, constraint| {
+        (0..count).map(move |index| rank::Row {
+            f,
+            index,
+            constraint,
+        })
+    };
+    let named_rows: Vec<rank::Row<'_>> = named(spec.constraints, constraint_rows.len(), true)
+        .chain(named(spec.quasi_velocities, quasi_rows.len(), false))
+        .collect();
+    if !rank::check(lowerer, &a, &named_rows, row_source) {
+        return None;
+    }
+    Some((rows, a, structure))
+}
+
 /// A closed-form inverse must invert A(q). A typo in it would not show in the motion's
 /// kinematics, only (through the momenta of the constrained directions and the γ terms) as
 /// a wrong acceleration, so it is checked here: B(q)·A(q) − I is evaluated at a few
@@ -449,19 +476,9 @@ fn check_inverse(
             defect.push(g.sub(product, identity));
         }
     }
-    // Three sample points: every input (coordinates, parameters) in [0.3, 1.3], pseudo-random.
-    let mut state: u64 = 0x2545_F491_4F6C_DD1D;
     let mut bad_rows: Option<Vec<(usize, f64)>> = None;
     let mut failures = 0;
-    for _ in 0..3 {
-        let values: Vec<f64> = (0..g.input_count())
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                0.3 + (state >> 11) as f64 / (1u64 << 53) as f64
-            })
-            .collect();
+    for values in generic::points(3, g.input_count()) {
         let d = g.evaluate(&defect, &values);
         if d.iter().any(|x| !x.is_finite()) {
             continue; // outside the inverse's domain here: no verdict from this point

@@ -4,23 +4,28 @@
 //! Phases, one file each: `model` (names and roles as written), `spec` (checks on the
 //! signatures), `equations` (the graph of Hamel's equations, with the checks that need it:
 //! linearity of the rows, a Lagrangian that depends on the velocities), `ldlt` (the unrolled
-//! solve), `linearity`, `generate` (the Rust that comes out), `parameters` (the struct).
+//! solve), `linearity`, `generate` (the Rust that comes out), `fallback` (what comes out
+//! instead when the model has mistakes), `parameters` (the struct).
 
 mod equations;
+mod fallback;
 mod generate;
+mod generic;
 mod ldlt;
 mod linearity;
 mod model;
 mod parameters;
+mod rank;
+mod reserved;
 mod sparse_lu;
 mod spec;
 
 use crate::engine::graph::Graph;
 use crate::engine::lower::{ImplContext, Lowerer, Shape, Value};
+use fallback::{Sketch, fallback};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, quote};
 use std::collections::HashSet;
-use syn::ext::IdentExt;
 use syn::spanned::Spanned;
 
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
@@ -48,26 +53,17 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
             path,
             "`#[hamel_system]` goes on the model's inherent impl block (`impl Model { .. }`)",
         );
-        return fallback(imp, &HashSet::new(), &[], error);
+        return fallback(imp, &HashSet::new(), &Sketch::empty(), error);
     }
     let mut errors = Vec::new();
     let names = model::parse_names(attr, &mut errors);
     let roles = model::Roles::find(&imp.items, &mut errors);
 
     // Bodies may index with the generated constants: `q[Self::ALPHA]`.
+    let sketch = Sketch::new(&names, &roles);
     let mut ctx = ImplContext::new(&imp.items);
-    let lists = [
-        names.coordinates.as_ref().map(|(_, l)| l),
-        names.speeds.as_ref().map(|(_, l)| l),
-        Some(&names.inputs),
-    ];
-    let mut index_consts = Vec::new();
-    for list in lists.into_iter().flatten() {
-        for (i, ident) in list.iter().enumerate() {
-            let name = ident.unraw().to_string().to_uppercase();
-            index_consts.push((name.clone(), i));
-            ctx.define_index(name, i as i64);
-        }
+    for (name, i) in &sketch.index_consts {
+        ctx.define_index(name.clone(), *i as i64);
     }
 
     let mut graph = Graph::new();
@@ -86,7 +82,7 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
     }
     if let Err(e) = lowerer.take_errors() {
         let faulty = lowerer.faulty_functions().clone();
-        return fallback(imp, &faulty, &index_consts, e);
+        return fallback(imp, &faulty, &sketch, e);
     }
     let externals = lowerer.externals.items.clone();
     drop(lowerer);
@@ -95,11 +91,11 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
             imp.impl_token.span(),
             "hamel internal error: model not built, but no error reported",
         );
-        return fallback(imp, &HashSet::new(), &index_consts, error);
+        return fallback(imp, &HashSet::new(), &sketch, error);
     };
     let stripped = model::strip_role_attributes(imp);
     generate::generate(&spec, &equations, &graph, &externals, &stripped)
-        .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &index_consts, e))
+        .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
 }
 
 /// When the model has a mistake, the bodies the equations did not reach (the model could not
@@ -116,8 +112,19 @@ fn check_unreached_bodies<'a>(roles: &model::Roles<'a>, lowerer: &mut Lowerer<'a
         };
         // On the arguments the role needs, when the signature has them in the wrong shape
         // (its error is reported): `q[2]` is no mistake in a body whose `q` should have three.
+        // Each argument is what its name says it is, when the name is the role's (a misplaced
+        // argument is reported): in `fn(&self, qd, q)` the body reads `q[2]` as a coordinate.
         let shapes: Vec<Shape> = match lowerer.expected_arguments.get(&name) {
-            Some(shapes) if shapes.len() == signature.args.len() => shapes.clone(),
+            Some(expected) if expected.len() == signature.args.len() => signature
+                .args
+                .iter()
+                .enumerate()
+                .map(|(i, arg)| {
+                    let named = spec::argument_name(&arg.pat)
+                        .and_then(|n| expected.iter().position(|(e, _)| *e == n));
+                    expected[named.unwrap_or(i)].1.clone()
+                })
+                .collect(),
             _ => signature.args.iter().map(|a| a.shape.clone()).collect(),
         };
         let args: Option<Vec<Value>> = signature
@@ -135,63 +142,4 @@ fn check_unreached_bodies<'a>(roles: &model::Roles<'a>, lowerer: &mut Lowerer<'a
             lowerer.check_body(rf.f, args);
         }
     }
-}
-
-/// What the macro emits when the model has mistakes: the errors, and the user's impl block
-/// as written (without our role attributes, which rustc would not know) together with the
-/// index constants, so that the rest of the user's code still resolves and rustc adds no
-/// errors of its own about them. The bodies of the functions the errors are about are left
-/// out (an `unreachable!()`: with our `compile_error!` the crate never builds, so it never
-/// runs), so that rustc does not report the same mistake again in its own words (`self.m =
-/// ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
-fn fallback(
-    imp: &syn::ItemImpl,
-    faulty: &HashSet<String>,
-    index_consts: &[(String, usize)],
-    error: syn::Error,
-) -> TokenStream {
-    let mut stripped = model::strip_role_attributes(imp);
-    let mut taken: HashSet<String> = HashSet::new();
-    for item in &mut stripped.items {
-        match item {
-            syn::ImplItem::Fn(f) => {
-                taken.insert(f.sig.ident.to_string());
-                if faulty.contains(&f.sig.ident.to_string()) {
-                    f.block = syn::parse_quote!({
-                        ::core::unreachable!(
-                            "hamel: this function has errors, reported at build time"
-                        )
-                    });
-                    f.attrs.push(syn::parse_quote!(#[allow(unused_variables)]));
-                }
-            }
-            syn::ImplItem::Const(c) => {
-                taken.insert(c.ident.to_string());
-            }
-            _ => {}
-        }
-    }
-    let consts = index_consts.iter().filter_map(|(name, i)| {
-        let ident = syn::parse_str::<syn::Ident>(name).ok()?;
-        if !taken.insert(name.clone()) {
-            return None;
-        }
-        let i = proc_macro2::Literal::usize_unsuffixed(*i);
-        Some(quote!(pub const #ident: usize = #i;))
-    });
-    let consts: Vec<TokenStream> = consts.collect();
-    let ty = &imp.self_ty;
-    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
-    let consts = if consts.is_empty() || imp.trait_.is_some() {
-        TokenStream::new()
-    } else {
-        quote! {
-            #[allow(dead_code)]
-            impl #impl_generics #ty #where_clause {
-                #(#consts)*
-            }
-        }
-    };
-    let error = error.into_compile_error();
-    quote!(#stripped #consts #error)
 }

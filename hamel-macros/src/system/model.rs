@@ -51,8 +51,15 @@ impl Role {
         }
     }
 
+    /// The role an attribute marks: `#[kinetic_energy]`, or by the path of its macro in
+    /// `hamel`, `#[hamel::kinetic_energy]` (which outside the model says where it belongs).
     fn from_attribute(attr: &syn::Attribute) -> Option<Role> {
-        let ident = attr.path().get_ident()?;
+        let segments: Vec<&syn::PathSegment> = attr.path().segments.iter().collect();
+        let ident = match segments.as_slice() {
+            [role] if attr.path().leading_colon.is_none() => &role.ident,
+            [krate, role] if krate.ident == "hamel" => &role.ident,
+            _ => return None,
+        };
         Role::ALL.into_iter().find(|r| ident == r.attribute())
     }
 
@@ -80,9 +87,16 @@ pub struct Names {
     pub coordinates: Option<(Span, Vec<syn::Ident>)>,
     pub speeds: Option<(Span, Vec<syn::Ident>)>,
     pub inputs: Vec<syn::Ident>,
+    /// `inputs(..)` as written, for errors about the inputs as a whole.
+    pub inputs_written: Option<TokenStream>,
+    /// A list could not be read (its error is reported): that it holds no names, or none
+    /// that fit, is no further mistake.
+    pub garbled: bool,
 }
 
 pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)` and `inputs(..)`";
+
+const KEYS: [&str; 4] = ["coordinates", "speeds", "quasi_velocities", "inputs"];
 
 /// Parse the attribute's arguments, collecting every mistake.
 pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
@@ -91,61 +105,19 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
         return names;
     }
     let parser = syn::meta::parser(|meta| {
-        let key = meta
-            .path
-            .get_ident()
-            .map(ToString::to_string)
-            .unwrap_or_default();
-        let mut list = Vec::new();
         let span = meta.path.span();
-        // An empty list `coordinates()` is no syntax error (it is reported as "no coordinate").
-        let empty = matches!(
-            meta.input.fork().parse::<proc_macro2::Group>(),
-            Ok(g) if g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
-        );
-        let result = if empty {
-            meta.input.parse::<proc_macro2::Group>().map(|_| ())
-        } else {
-            meta.parse_nested_meta(|inner| match inner.path.get_ident() {
-                Some(ident) if inner.input.is_empty() || inner.input.peek(syn::Token![,]) => {
-                    list.push(ident.clone());
-                    Ok(())
-                }
-                _ => Err(inner.error("expected a name (an identifier)")),
-            })
-        };
-        if let Err(e) = result {
-            errors.push(e);
-        }
-        const KEYS: [&str; 4] = ["coordinates", "speeds", "quasi_velocities", "inputs"];
-        let key = if KEYS.contains(&key.as_str()) {
-            key
-        } else {
-            let known: Vec<String> = KEYS.iter().map(ToString::to_string).collect();
-            let guess = crate::engine::lower::closest(&key, &known).cloned();
-            let hint = match &guess {
-                Some(k) => format!("; did you mean `{k}(..)`?"),
-                None => String::new(),
-            };
-            errors.push(syn::Error::new_spanned(
-                &meta.path,
-                format!(
-                    "unknown key `{}`{hint} (`#[hamel_system]` on an impl block takes {NAME_KEYS})",
-                    meta.path.to_token_stream()
-                ),
-            ));
-            // Read the names as the key it most likely meant, so that this one mistake is
-            // not followed by "name the coordinates".
-            match guess {
-                Some(k) => k,
-                None => return Ok(()),
-            }
+        let (list, written) = parse_list(&meta, errors, &mut names.garbled)?;
+        // An unknown key is read as the key it most likely meant, so that this one mistake
+        // is not followed by "name the coordinates".
+        let Some(key) = known_key(&meta.path, errors) else {
+            return Ok(());
         };
         let slot = match key.as_str() {
             "coordinates" => &mut names.coordinates,
             "speeds" | "quasi_velocities" => &mut names.speeds,
             _ => {
                 names.inputs = list;
+                names.inputs_written = Some(written);
                 return Ok(());
             }
         };
@@ -159,6 +131,130 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
         errors.push(e);
     }
     names
+}
+
+/// The names of one key, `coordinates(x, y, theta)`, and the key with its list as written.
+/// `coordinates = [x, y, theta]` is read too, with an error that says how to write it.
+fn parse_list(
+    meta: &syn::meta::ParseNestedMeta<'_>,
+    errors: &mut Vec<syn::Error>,
+    garbled: &mut bool,
+) -> syn::Result<(Vec<syn::Ident>, TokenStream)> {
+    let path = &meta.path;
+    let mut list = Vec::new();
+    if meta.input.peek(syn::Token![=]) {
+        let eq: syn::Token![=] = meta.input.parse()?;
+        let value: syn::Expr = meta.input.parse()?;
+        let written = quote::quote!(#path #eq #value);
+        let idents = match &value {
+            syn::Expr::Array(a) => a
+                .elems
+                .iter()
+                .map(|e| match e {
+                    syn::Expr::Path(p) => p.path.get_ident().cloned(),
+                    _ => None,
+                })
+                .collect::<Option<Vec<_>>>(),
+            _ => None,
+        };
+        let shown = match &idents {
+            Some(l) if !l.is_empty() => names_of(l),
+            _ => "x, y, theta".to_string(),
+        };
+        errors.push(syn::Error::new_spanned(
+            &written,
+            format!(
+                "write `{}({shown})`: `#[hamel_system]` takes the names in parentheses, not \
+                 after `=`",
+                path.to_token_stream()
+            ),
+        ));
+        *garbled |= idents.is_none();
+        return Ok((idents.unwrap_or_default(), written));
+    }
+    let group = meta.input.fork().parse::<proc_macro2::Group>().ok();
+    let written = quote::quote!(#path #group);
+    // An empty list `coordinates()` is no syntax error (it is reported as "no coordinate").
+    let empty = matches!(
+        &group,
+        Some(g) if g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
+    );
+    let result = if empty {
+        meta.input.parse::<proc_macro2::Group>().map(|_| ())
+    } else {
+        meta.parse_nested_meta(|inner| match inner.path.get_ident() {
+            Some(ident) if inner.input.is_empty() || inner.input.peek(syn::Token![,]) => {
+                list.push(ident.clone());
+                Ok(())
+            }
+            _ => Err(inner.error("expected a name (an identifier)")),
+        })
+    };
+    if let Err(e) = result {
+        errors.push(e);
+        *garbled = true;
+    }
+    Ok((list, written))
+}
+
+/// The key as written, or the known key it most likely meant (with an error); `None` when
+/// it resembles none.
+fn known_key(path: &syn::Path, errors: &mut Vec<syn::Error>) -> Option<String> {
+    let key = path
+        .get_ident()
+        .map(ToString::to_string)
+        .unwrap_or_default();
+    if KEYS.contains(&key.as_str()) {
+        return Some(key);
+    }
+    let known: Vec<String> = KEYS.iter().map(ToString::to_string).collect();
+    let guess = crate::engine::lower::closest(&key, &known).cloned();
+    let hint = match &guess {
+        Some(k) => format!("; did you mean `{k}(..)`?"),
+        None => String::new(),
+    };
+    errors.push(syn::Error::new_spanned(
+        path,
+        format!(
+            "unknown key `{}`{hint} (`#[hamel_system]` on an impl block takes {NAME_KEYS})",
+            path.to_token_stream()
+        ),
+    ));
+    guess
+}
+
+/// "x, y, theta".
+pub fn names_of(idents: &[syn::Ident]) -> String {
+    idents
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The length of a type written `[f64; 3]` or `&[f64; 3]`, if it is a literal.
+pub fn array_length(ty: &syn::Type) -> Option<usize> {
+    match ty {
+        syn::Type::Reference(r) => array_length(&r.elem),
+        syn::Type::Paren(p) => array_length(&p.elem),
+        syn::Type::Group(g) => array_length(&g.elem),
+        syn::Type::Array(a) => match &a.len {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(i),
+                ..
+            }) => i.base10_parse().ok(),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// The length of a result written `-> [f64; 3]`, if it is a literal.
+pub fn written_length(output: &syn::ReturnType) -> Option<usize> {
+    match output {
+        syn::ReturnType::Type(_, ty) => array_length(ty),
+        syn::ReturnType::Default => None,
+    }
 }
 
 /// A function with a role, and where its role attribute is.
@@ -243,4 +339,27 @@ pub fn strip_role_attributes(imp: &syn::ItemImpl) -> syn::ItemImpl {
         }
     }
     imp
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_names;
+    use quote::quote;
+
+    #[test]
+    fn name_value_lists_are_read_with_one_error() {
+        let mut errors = Vec::new();
+        let names = parse_names(quote!(coordinates = [x, y], inputs(u1)), &mut errors);
+        assert_eq!(errors.len(), 1);
+        assert!(errors[0].to_string().contains("write `coordinates(x, y)`"));
+        let list = names.coordinates.map(|(_, l)| l.len());
+        assert_eq!(list, Some(2));
+        assert!(!names.garbled);
+        assert_eq!(names.inputs.len(), 1);
+
+        let mut errors = Vec::new();
+        let names = parse_names(quote!(coordinates = 3), &mut errors);
+        assert_eq!(errors.len(), 1);
+        assert!(names.garbled);
+    }
 }

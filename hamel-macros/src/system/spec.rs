@@ -1,8 +1,9 @@
 //! The checked model: dimensions, names and role functions, after every check that can be
 //! made from the signatures alone. All mistakes are reported together, each at its span.
 
-use super::model::{Names, Role, RoleFn, Roles};
-use crate::engine::lower::{Lowerer, Shape};
+use super::model::{Names, Role, RoleFn, Roles, names_of, written_length};
+use super::reserved;
+use crate::engine::lower::{Arg, Lowerer, Shape};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, format_ident};
 use std::collections::HashMap;
@@ -63,29 +64,13 @@ pub fn check<'a>(
 ) -> Option<Spec<'a>> {
     let mut ok = true;
 
-    let coordinates = match names.coordinates {
-        Some((span, list)) if list.is_empty() => {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(span, "a model needs at least one coordinate"),
-            );
-            Vec::new()
-        }
-        Some((_, list)) => list,
-        None => {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new_spanned(
-                    at,
-                    "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
-                     (the names appear in accessors, `Debug` output and CSV headers)",
-                ),
-            );
-            Vec::new()
-        }
-    };
+    let coordinates = coordinate_names(
+        names.coordinates.clone(),
+        names.garbled,
+        lowerer,
+        at,
+        &mut ok,
+    );
     let n = coordinates.len();
     let m = names.inputs.len();
 
@@ -121,51 +106,10 @@ pub fn check<'a>(
         lowerer
             .signature_hints
             .insert(name.clone(), render(&args, out.as_ref()));
-        lowerer
-            .expected_arguments
-            .insert(name, args.into_iter().map(|(_, shape)| shape).collect());
+        lowerer.expected_arguments.insert(name, args);
     }
 
-    // p comes from the constraints' result type.
-    let p = constraints.and_then(|c| {
-        let sig = lowerer.signature(c.f)?;
-        match sig.output {
-            Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
-            Some(_) => {
-                fail(lowerer, &mut ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
-                None
-            }
-            None => None,
-        }
-    });
-    if let (Some(p), Some(c)) = (p, constraints) {
-        if p == 0 {
-            fail(
-                lowerer,
-                &mut ok,
-                error_at_output(
-                    c.f,
-                    "`#[constraints]` returns no constraint: a model needs at least one",
-                ),
-            );
-        } else if p >= n {
-            fail(
-                lowerer,
-                &mut ok,
-                error_at_output(
-                    c.f,
-                    format!(
-                        "{} on {} leave no motion: there must be fewer constraints than \
-                         coordinates ({})",
-                        count(p, "constraint"),
-                        count(n, "coordinate"),
-                        names_of(&coordinates)
-                    ),
-                ),
-            );
-        }
-    }
-    let p = p.filter(|&p| p > 0 && p < n);
+    let p = constraint_count(constraints, &coordinates, lowerer, &mut ok);
 
     // Signatures of every role present. An optional role with a wrong signature is left out
     // of the model (its error stands), so that the rest of the model is still checked.
@@ -188,56 +132,9 @@ pub fn check<'a>(
         }
     }
 
-    // Names of the speeds: given, or w{p+1}…w{n} as in the paper.
-    // A mistake in the names is reported, but does not stop the model from being checked.
-    let speeds = match (names.speeds, p) {
-        (Some((span, list)), Some(p)) if list.len() != n - p => {
-            lowerer.push_error(syn::Error::new(
-                span,
-                format!(
-                    "{} for {} ({} − {}): name one speed per quasi-velocity",
-                    count(list.len(), "speed name"),
-                    count(n - p, "quasi-velocity"),
-                    count(n, "coordinate"),
-                    count(p, "constraint"),
-                ),
-            ));
-            list
-        }
-        (Some((_, list)), _) => list,
-        (None, Some(p)) => (p + 1..=n).map(|k| format_ident!("w{}", k)).collect(),
-        (None, None) => Vec::new(),
-    };
-    let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
-    for ident in coordinates.iter().chain(&speeds).chain(&names.inputs) {
-        let upper = ident.unraw().to_string().to_uppercase();
-        if syn::parse_str::<syn::Ident>(&upper).is_err() {
-            fail(
-                lowerer,
-                &mut ok,
-                syn::Error::new(
-                    ident.span(),
-                    format!(
-                        "the name `{ident}` has no upper-case form that is an identifier (`{upper}`), \
-                         which its index constant needs: choose another name"
-                    ),
-                ),
-            );
-        }
-        if seen
-            .insert(ident.unraw().to_string().to_uppercase(), ident)
-            .is_some()
-        {
-            lowerer.push_error(syn::Error::new(
-                ident.span(),
-                format!(
-                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
-                     (also in upper case, which names their index constants, `Self::{}`)",
-                    ident.unraw().to_string().to_uppercase()
-                ),
-            ));
-        }
-    }
+    let speeds = speed_names(names.speeds.clone(), n, p, lowerer);
+    check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
+    check_inputs_are_read(&names, roles, n, lowerer);
 
     if !ok {
         return None;
@@ -259,6 +156,184 @@ pub fn check<'a>(
             .filter(|_| !dropped.contains(&Role::Forces))
             .map(|r| r.f),
     })
+}
+
+/// p, from the constraints' result type: at least one, and fewer than the coordinates.
+fn constraint_count(
+    constraints: Option<&RoleFn<'_>>,
+    coordinates: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<usize> {
+    let n = coordinates.len();
+    let p = constraints.and_then(|c| {
+        let sig = lowerer.signature(c.f)?;
+        match sig.output {
+            Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
+            Some(_) => {
+                fail(lowerer, ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
+                None
+            }
+            None => None,
+        }
+    });
+    if let (Some(p), Some(c)) = (p, constraints) {
+        if p == 0 {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    c.f,
+                    "`#[constraints]` returns no constraint: a model needs at least one",
+                ),
+            );
+        } else if p >= n {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    c.f,
+                    format!(
+                        "{} on {} leave no motion: there must be fewer constraints than \
+                         coordinates ({})",
+                        count(p, "constraint"),
+                        count(n, "coordinate"),
+                        names_of(coordinates)
+                    ),
+                ),
+            );
+        }
+    }
+    p.filter(|&p| p > 0 && p < n)
+}
+
+/// Inputs are read by the forces only: without `#[forces]` they would be silently ignored.
+fn check_inputs_are_read(
+    names: &Names,
+    roles: &Roles<'_>,
+    n: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+) {
+    if let Some(written) = &names.inputs_written
+        && !names.inputs.is_empty()
+        && roles.get(Role::Forces).is_none()
+    {
+        let (args, out) = expected(Role::Forces, n, names.inputs.len(), None);
+        let (declared, them) = match names.inputs.as_slice() {
+            [one] => (format!("the input `{one}` is declared"), "it"),
+            all => (format!("the inputs {} are declared", names_of(all)), "them"),
+        };
+        lowerer.push_error(syn::Error::new_spanned(
+            written,
+            format!(
+                "{declared}, but the model has no `#[forces]` to read {them}, so {them} would \
+                 be ignored: add a `#[forces]` function `{}` that uses `u`, or remove \
+                 `inputs(..)`",
+                render(&args, out.as_ref())
+            ),
+        ));
+    }
+}
+
+/// Names of the speeds: given, or w{p+1}…w{n} as in the paper. A mistake in the names is
+/// reported, but does not stop the model from being checked.
+fn speed_names(
+    written: Option<(proc_macro2::Span, Vec<syn::Ident>)>,
+    n: usize,
+    p: Option<usize>,
+    lowerer: &mut Lowerer<'_, '_>,
+) -> Vec<syn::Ident> {
+    match (written, p) {
+        (Some((span, list)), Some(p)) if list.len() != n - p => {
+            lowerer.push_error(syn::Error::new(
+                span,
+                format!(
+                    "{} for {} ({} − {}): name one speed per quasi-velocity",
+                    count(list.len(), "speed name"),
+                    count(n - p, "quasi-velocity"),
+                    count(n, "coordinate"),
+                    count(p, "constraint"),
+                ),
+            ));
+            list
+        }
+        (Some((_, list)), _) => list,
+        (None, Some(p)) => (p + 1..=n).map(|k| format_ident!("w{}", k)).collect(),
+        (None, None) => Vec::new(),
+    }
+}
+
+/// The coordinates' names; an error when there are none (unless the list could not be read,
+/// which is reported already).
+fn coordinate_names(
+    written: Option<(proc_macro2::Span, Vec<syn::Ident>)>,
+    garbled: bool,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+) -> Vec<syn::Ident> {
+    let error = match written {
+        Some((_, list)) if !list.is_empty() => return list,
+        _ if garbled => {
+            *ok = false;
+            return Vec::new();
+        }
+        Some((span, _)) => syn::Error::new(span, "a model needs at least one coordinate"),
+        None => syn::Error::new_spanned(
+            at,
+            "name the generalized coordinates: `#[hamel_system(coordinates(x, y, theta))]` \
+             (the names appear in accessors, `Debug` output and CSV headers)",
+        ),
+    };
+    fail(lowerer, ok, error);
+    Vec::new()
+}
+
+/// Each name must have an upper-case form that is an identifier (its index constant), be
+/// distinct from the others, and not be reserved.
+fn check_names(
+    coordinates: &[syn::Ident],
+    speeds: &[syn::Ident],
+    inputs: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) {
+    let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
+    for ident in coordinates.iter().chain(speeds).chain(inputs) {
+        let upper = ident.unraw().to_string().to_uppercase();
+        if syn::parse_str::<syn::Ident>(&upper).is_err() {
+            fail(
+                lowerer,
+                ok,
+                syn::Error::new(
+                    ident.span(),
+                    format!(
+                        "the name `{ident}` has no upper-case form that is an identifier (`{upper}`), \
+                         which its index constant needs: choose another name"
+                    ),
+                ),
+            );
+        }
+        if let Some(why) = reserved::clash(&ident.unraw().to_string()) {
+            lowerer.push_error(syn::Error::new(
+                ident.span(),
+                format!("the name `{ident}` is reserved: {why}; choose another name"),
+            ));
+        }
+        if seen
+            .insert(ident.unraw().to_string().to_uppercase(), ident)
+            .is_some()
+        {
+            lowerer.push_error(syn::Error::new(
+                ident.span(),
+                format!(
+                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
+                     (also in upper case, which names their index constants, `Self::{}`)",
+                    ident.unraw().to_string().to_uppercase()
+                ),
+            ));
+        }
+    }
 }
 
 /// What a role's function must take and return (`p`: the number of constraints, when known).
@@ -286,23 +361,6 @@ fn expected(
     }
 }
 
-/// The length of a return type written `[f64; 3]` (or `&[f64; 3]`), if it is a literal.
-fn written_length(output: &syn::ReturnType) -> Option<usize> {
-    let syn::ReturnType::Type(_, ty) = output else {
-        return None;
-    };
-    let syn::Type::Array(a) = &**ty else {
-        return None;
-    };
-    match &a.len {
-        syn::Expr::Lit(syn::ExprLit {
-            lit: syn::Lit::Int(i),
-            ..
-        }) => i.base10_parse().ok(),
-        _ => None,
-    }
-}
-
 /// "1 constraint", "2 constraints".
 fn count(k: usize, what: &str) -> String {
     if k == 1 {
@@ -314,19 +372,14 @@ fn count(k: usize, what: &str) -> String {
     }
 }
 
-/// "x, y, theta".
-fn names_of(idents: &[syn::Ident]) -> String {
-    idents
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 fn fail(lowerer: &mut Lowerer<'_, '_>, ok: &mut bool, e: syn::Error) {
     lowerer.push_error(e);
     *ok = false;
 }
+
+/// Where the roles go, for messages about a missing one (it may be in another impl block).
+const ONE_BLOCK: &str = "All the roles of a model must be in the impl block that carries \
+                         `#[hamel_system]`";
 
 fn required<'r, 'a>(
     roles: &'r Roles<'a>,
@@ -354,7 +407,7 @@ fn required<'r, 'a>(
                 at,
                 format!(
                     "missing role `#[{attribute}]`: mark the function that gives {what}{aside}; \
-                     expected signature `{signature}`"
+                     expected signature `{signature}`. {ONE_BLOCK}"
                 ),
             ),
         });
@@ -450,7 +503,7 @@ fn energy_roles<'a>(
             *ok = false;
         }
         (None, None, None, None) => {
-            let message = format!("missing role: the model needs its energy; {give}");
+            let message = format!("missing role: the model needs its energy; {give}. {ONE_BLOCK}");
             lowerer.push_error(match forgotten(roles, Role::KineticEnergy)
                 .or_else(|| forgotten(roles, Role::Lagrangian))
             {
@@ -520,6 +573,10 @@ fn check_signature(
         ));
         return false;
     }
+    if let Some(e) = misplaced(role, &sig.args, expected, &rendered) {
+        lowerer.push_error(e);
+        return false;
+    }
     for (arg, (name, shape)) in sig.args.iter().zip(expected) {
         if arg.shape != *shape {
             let why = match shape {
@@ -569,6 +626,61 @@ fn check_signature(
         ok = false;
     }
     ok && sig.output.is_some()
+}
+
+/// The name an argument is written with, without the leading underscores that only silence
+/// "unused" warnings: `_q` is `q`. `None` for a pattern that is not a plain name.
+pub fn argument_name(pat: &syn::Pat) -> Option<String> {
+    match pat {
+        syn::Pat::Ident(p) => Some(
+            p.ident
+                .unraw()
+                .to_string()
+                .trim_start_matches('_')
+                .to_string(),
+        ),
+        _ => None,
+    }
+}
+
+/// Arguments named as other arguments of the role (`fn(&self, qd, q)`): the names would say
+/// one thing and the positions another, so the order is an error (other names, `config`,
+/// `vel`, are the user's choice). One error for the whole list, at the first misplaced one.
+fn misplaced(
+    role: Role,
+    args: &[Arg],
+    expected: &[(&str, Shape)],
+    rendered: &str,
+) -> Option<syn::Error> {
+    let swaps: Vec<(&Arg, &str)> = args
+        .iter()
+        .zip(expected)
+        .filter_map(|(arg, (place, _))| {
+            let name = argument_name(&arg.pat)?;
+            let other = expected.iter().any(|(e, _)| *e == name);
+            (other && name != *place).then_some((arg, *place))
+        })
+        .collect();
+    let (first, place) = swaps.first()?;
+    let rest: Vec<String> = swaps[1..]
+        .iter()
+        .map(|(arg, place)| {
+            format!(
+                " and `{}` in the place of `{place}`",
+                arg.pat.to_token_stream()
+            )
+        })
+        .collect();
+    Some(syn::Error::new_spanned(
+        &first.pat,
+        format!(
+            "argument `{}` is in the place of `{place}`{}: `#[{}]` takes `{rendered}`; put the \
+             arguments in this order",
+            first.pat.to_token_stream(),
+            rest.concat(),
+            role.attribute()
+        ),
+    ))
 }
 
 fn render(args: &[(&str, Shape)], output: Option<&Shape>) -> String {

@@ -21,7 +21,7 @@ mod value;
 
 pub use env::Env;
 pub use expr::closest;
-pub use types::{Signature, render_type};
+pub use types::{Arg, Signature, render_type};
 pub use value::{Shape, Value};
 
 use crate::engine::graph::{Graph, NodeId};
@@ -147,12 +147,16 @@ pub struct Lowerer<'a, 'g> {
     lowered: HashSet<String>,
     /// Mistakes reported once per expansion however often they occur (an unknown function).
     reported_once: HashSet<String>,
+    /// Mistakes met so far, counting those reported once but met again: a body that met one
+    /// has no value to draw verdicts from.
+    mistakes: usize,
     /// The signature a function must have, by name (the role functions of a model): type
     /// errors in its signature say what is expected there.
     pub signature_hints: HashMap<String, String>,
-    /// The arguments a function must take, by name (the role functions of a model): a body
-    /// checked on its own is checked on these, not on a mistaken signature.
-    pub expected_arguments: HashMap<String, Vec<Shape>>,
+    /// The arguments a function must take, named as in its role's signature (`q`, `qd`), by
+    /// function name (the role functions of a model): a body checked on its own is checked
+    /// on these, not on a mistaken signature.
+    pub expected_arguments: HashMap<String, Vec<(&'static str, Shape)>>,
     current_signature: Option<String>,
 }
 
@@ -171,6 +175,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             faulty: HashSet::new(),
             lowered: HashSet::new(),
             reported_once: HashSet::new(),
+            mistakes: 0,
             signature_hints: HashMap::new(),
             expected_arguments: HashMap::new(),
             current_signature: None,
@@ -188,8 +193,11 @@ impl<'a, 'g> Lowerer<'a, 'g> {
     fn error_once(&mut self, key: String, tokens: impl ToTokens, message: impl Display) -> Value {
         if self.reported_once.insert(key) {
             self.error(tokens, message);
-        } else if let Some(name) = self.call_stack.last() {
-            self.faulty.insert(name.clone());
+        } else {
+            self.mistakes += 1;
+            if let Some(name) = self.call_stack.last() {
+                self.faulty.insert(name.clone());
+            }
         }
         Value::Poison
     }
@@ -199,6 +207,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         if let Some(name) = self.call_stack.last() {
             self.faulty.insert(name.clone());
         }
+        self.mistakes += 1;
         self.errors.push(error);
     }
 
@@ -317,30 +326,45 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         }
         self.lowered.insert(name.clone());
         self.call_stack.push(name);
+        let mistakes = self.mistakes;
         let result = self.block(&mut env, &f.block);
         self.call_stack.pop();
-        if let Some(shape) = &signature.output
-            && !shape.admits(&result)
-        {
-            let tail = f
-                .block
-                .stmts
-                .last()
-                .map(|s| s.to_token_stream())
-                .unwrap_or_else(|| f.block.to_token_stream());
-            self.error(
-                tail,
-                format!(
-                    "`{}` is declared to return {}, but its body evaluates to {}",
-                    f.sig.ident,
-                    shape.describe(),
-                    result.describe()
-                ),
-            );
-            self.faulty.insert(f.sig.ident.to_string());
+        // After a mistake the body's value is not what the user meant (a `loop` that was
+        // skipped leaves a local at its initial value): drawing a verdict from it, such as
+        // "does not depend on the velocities", would add a false error to the true one.
+        if self.mistakes > mistakes {
             return Value::Poison;
         }
-        result
+        self.check_result(f, signature.output.as_ref(), result)
+    }
+
+    /// The body's value, if it has the declared type (else an error at the body's tail).
+    fn check_result(
+        &mut self,
+        f: &syn::ImplItemFn,
+        output: Option<&Shape>,
+        result: Value,
+    ) -> Value {
+        let Some(shape) = output.filter(|shape| !shape.admits(&result)) else {
+            return result;
+        };
+        let tail = f
+            .block
+            .stmts
+            .last()
+            .map(|s| s.to_token_stream())
+            .unwrap_or_else(|| f.block.to_token_stream());
+        self.error(
+            tail,
+            format!(
+                "`{}` is declared to return {}, but its body evaluates to {}",
+                f.sig.ident,
+                shape.describe(),
+                result.describe()
+            ),
+        );
+        self.faulty.insert(f.sig.ident.to_string());
+        Value::Poison
     }
 
     /// Lower a role function of the model: errors about the call point at its name.

@@ -1,0 +1,326 @@
+//! What `#[hamel_system]` emits when the model has mistakes: the errors, and enough of the
+//! model for the user's other code to type-check, so that rustc adds no errors of its own
+//! to ours (the idea of thiserror's `fallback.rs`).
+//!
+//! Code that uses a model calls `sleigh.state_from_speeds(..)`, passes it to
+//! `Simulation::new`, reads `Sleigh::THETA`. Without an `impl HamelSystem` each of these
+//! is an error of rustc's, with lists of the catalogue's models; a wrong array length in
+//! the stand-in would be one too. So the stand-in has the dimensions the user wrote, as far
+//! as they are known, and bodies that are `unreachable!()`: with our `compile_error!` the
+//! crate never builds, so they never run.
+
+use super::model::{Names, Role, Roles, array_length, written_length};
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+use std::collections::HashSet;
+use syn::ext::IdentExt;
+
+/// What the user wrote about the model's shape, read without checking it.
+pub struct Sketch {
+    /// `Model::THETA` and the like: each name upper-cased, with its index.
+    pub index_consts: Vec<(String, usize)>,
+    /// n, p, m when the written code tells them.
+    dims: Option<(usize, usize, usize)>,
+    coordinates: Vec<String>,
+    speeds: Vec<String>,
+    inputs: Vec<String>,
+    constraint_fn: String,
+}
+
+impl Sketch {
+    pub fn new(names: &Names, roles: &Roles<'_>) -> Sketch {
+        let list = |l: &Option<(proc_macro2::Span, Vec<syn::Ident>)>| {
+            l.as_ref().map(|(_, l)| l.clone()).unwrap_or_default()
+        };
+        let (coordinates, speeds) = (list(&names.coordinates), list(&names.speeds));
+        let mut index_consts = Vec::new();
+        for list in [&coordinates, &speeds, &names.inputs] {
+            for (i, ident) in list.iter().enumerate() {
+                index_consts.push((ident.unraw().to_string().to_uppercase(), i));
+            }
+        }
+        let plain =
+            |l: &[syn::Ident]| -> Vec<String> { l.iter().map(|i| i.unraw().to_string()).collect() };
+        let dims = dimensions(&coordinates, speeds.len(), names.inputs.len(), roles);
+        let speeds = match dims {
+            Some((n, p, _)) if speeds.len() != n - p => {
+                (p + 1..=n).map(|k| format!("w{k}")).collect()
+            }
+            _ => plain(&speeds),
+        };
+        let constraint_fn = roles.get(Role::Constraints).map_or_else(
+            || "constraints".into(),
+            |c| c.f.sig.ident.unraw().to_string(),
+        );
+        Sketch {
+            index_consts,
+            dims,
+            coordinates: plain(&coordinates),
+            speeds,
+            inputs: plain(&names.inputs),
+            constraint_fn,
+        }
+    }
+
+    /// A sketch that knows nothing (the attribute is on the wrong kind of impl).
+    pub fn empty() -> Sketch {
+        Sketch {
+            index_consts: Vec::new(),
+            dims: None,
+            coordinates: Vec::new(),
+            speeds: Vec::new(),
+            inputs: Vec::new(),
+            constraint_fn: String::new(),
+        }
+    }
+}
+
+/// n from the coordinates' names or else from the length of `q` in a role's signature; p
+/// from the constraints' written result, or else from the quasi-velocities' or the number
+/// of speed names; m from the inputs' names. `None` when n or p is not to be had: a stand-in
+/// with made-up lengths would only trade rustc's errors for others.
+fn dimensions(
+    coordinates: &[syn::Ident],
+    speed_names: usize,
+    m: usize,
+    roles: &Roles<'_>,
+) -> Option<(usize, usize, usize)> {
+    let n = if coordinates.is_empty() {
+        roles.by_role.iter().find_map(|(role, rf)| {
+            let position = if *role == Role::Forces { 1 } else { 0 };
+            let ty = typed_arguments(rf.f).nth(position)?;
+            array_length(ty).filter(|&n| n > 0)
+        })?
+    } else {
+        coordinates.len()
+    };
+    let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
+    let p = written(Role::Constraints)
+        .filter(|&p| p < n)
+        .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
+        .or_else(|| {
+            (speed_names > 0)
+                .then(|| n.checked_sub(speed_names))
+                .flatten()
+        })?;
+    Some((n, p, m))
+}
+
+fn typed_arguments(f: &syn::ImplItemFn) -> impl Iterator<Item = &syn::Type> {
+    f.sig.inputs.iter().filter_map(|a| match a {
+        syn::FnArg::Typed(pt) => Some(&*pt.ty),
+        syn::FnArg::Receiver(_) => None,
+    })
+}
+
+/// The errors, and the user's impl block as written (without our role attributes, which
+/// rustc would not know) with the index constants, `rhs_generic` and `impl HamelSystem` as
+/// stand-ins. The bodies of the functions the errors are about are left out too (an
+/// `unreachable!()`), so that rustc does not report the same mistake again in its own words
+/// (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
+pub fn fallback(
+    imp: &syn::ItemImpl,
+    faulty: &HashSet<String>,
+    sketch: &Sketch,
+    error: syn::Error,
+) -> TokenStream {
+    let mut stripped = super::model::strip_role_attributes(imp);
+    let mut taken: HashSet<String> = HashSet::new();
+    for item in &mut stripped.items {
+        match item {
+            syn::ImplItem::Fn(f) => {
+                taken.insert(f.sig.ident.to_string());
+                if faulty.contains(&f.sig.ident.to_string()) {
+                    f.block = syn::parse_quote!({
+                        ::core::unreachable!(
+                            "hamel: this function has errors, reported at build time"
+                        )
+                    });
+                    f.attrs.push(syn::parse_quote!(#[allow(unused_variables)]));
+                }
+            }
+            syn::ImplItem::Const(c) => {
+                taken.insert(c.ident.to_string());
+            }
+            _ => {}
+        }
+    }
+    let error = error.into_compile_error();
+    if imp.trait_.is_some() {
+        return quote!(#stripped #error);
+    }
+    let inherent = inherent_items(imp, sketch, &mut taken);
+    let system = sketch.dims.map(|dims| trait_impl(imp, sketch, dims));
+    quote!(#stripped #inherent #system #error)
+}
+
+fn lit(i: usize) -> Literal {
+    Literal::usize_unsuffixed(i)
+}
+
+/// The index constants, and `rhs_generic` when the dimensions are known; each only when the
+/// user's impl has no item of that name.
+fn inherent_items(
+    imp: &syn::ItemImpl,
+    sketch: &Sketch,
+    taken: &mut HashSet<String>,
+) -> TokenStream {
+    let consts: Vec<TokenStream> = sketch
+        .index_consts
+        .iter()
+        .filter_map(|(name, i)| {
+            let ident = syn::parse_str::<syn::Ident>(name).ok()?;
+            if !taken.insert(name.clone()) {
+                return None;
+            }
+            let i = lit(*i);
+            Some(quote!(pub const #ident: usize = #i;))
+        })
+        .collect();
+    let rhs_generic = match sketch.dims {
+        Some((n, p, m)) if taken.insert("rhs_generic".into()) => {
+            let (state, m) = (lit(2 * n - p), lit(m));
+            quote! {
+                pub fn rhs_generic<S: ::hamel::Scalar>(
+                    &self,
+                    _t: S,
+                    _x: &[S; #state],
+                    _u: &[S; #m],
+                    _dx: &mut [S; #state],
+                ) -> ::core::result::Result<(), ::hamel::Singularity> {
+                    ::core::unreachable!("hamel: the model has errors, reported at build time")
+                }
+            }
+        }
+        _ => TokenStream::new(),
+    };
+    if consts.is_empty() && rhs_generic.is_empty() {
+        return TokenStream::new();
+    }
+    let ty = &imp.self_ty;
+    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    quote! {
+        #[allow(dead_code, clippy::all)]
+        impl #impl_generics #ty #where_clause {
+            #(#consts)*
+            #rhs_generic
+        }
+    }
+}
+
+/// `impl HamelSystem` with the written dimensions and names, and unreachable methods.
+fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize)) -> TokenStream {
+    let (n, p, m) = dims;
+    let (n_l, p_l, m_l, free, state) = (lit(n), lit(p), lit(m), lit(n - p), lit(2 * n - p));
+    let ty = &imp.self_ty;
+    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    let Sketch {
+        coordinates,
+        speeds,
+        inputs,
+        constraint_fn,
+        ..
+    } = sketch;
+    let constraints: Vec<String> = (0..p).map(|i| format!("{constraint_fn}[{i}]")).collect();
+    let state_names = coordinates.iter().chain(speeds);
+    let never = quote!(::core::unreachable!(
+        "hamel: the model has errors, reported at build time"
+    ));
+    let result = quote!(::core::result::Result);
+    let singularity = quote!(::hamel::Singularity);
+    quote! {
+        #[allow(clippy::all)]
+        impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
+            type Coordinates = [f64; #n_l];
+            type Speeds = [f64; #free];
+            type Constraints = [f64; #p_l];
+            type State = [f64; #state];
+            type Inputs = [f64; #m_l];
+            type MassMatrix = [[f64; #free]; #free];
+            type Gamma = [[[f64; #free]; #free]; #n_l];
+
+            const N: usize = #n_l;
+            const P: usize = #p_l;
+            const M: usize = #m_l;
+            const COORDINATES: &'static [&'static str] = &[#(#coordinates),*];
+            const SPEEDS: &'static [&'static str] = &[#(#speeds),*];
+            const CONSTRAINTS: &'static [&'static str] = &[#(#constraints),*];
+            const INPUTS: &'static [&'static str] = &[#(#inputs),*];
+            const STATE: &'static [&'static str] = &[#(#state_names),*];
+
+            fn rhs(&self, _t: f64, _x: &[f64; #state], _u: &[f64; #m_l], _dx: &mut [f64; #state]) -> #result<(), #singularity> {
+                #never
+            }
+            fn velocities(&self, _x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
+                #never
+            }
+            fn energy(&self, _x: &[f64; #state]) -> #result<f64, #singularity> {
+                #never
+            }
+            fn constraint_residual(&self, _q: &[f64; #n_l], _qd: &[f64; #n_l]) -> [f64; #p_l] {
+                #never
+            }
+            fn speeds(&self, _q: &[f64; #n_l], _qd: &[f64; #n_l]) -> [f64; #free] {
+                #never
+            }
+            fn mass_matrix(&self, _x: &[f64; #state]) -> #result<[[f64; #free]; #free], #singularity> {
+                #never
+            }
+            fn inverse_defect(&self, _q: &[f64; #n_l]) -> #result<f64, #singularity> {
+                #never
+            }
+            fn gamma(&self, _q: &[f64; #n_l]) -> #result<[[[f64; #free]; #free]; #n_l], #singularity> {
+                #never
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sketch(attr: TokenStream, imp: syn::ItemImpl) -> Option<(usize, usize, usize)> {
+        let mut errors = Vec::new();
+        let names = super::super::model::parse_names(attr, &mut errors);
+        let roles = Roles::find(&imp.items, &mut errors);
+        Sketch::new(&names, &roles).dims
+    }
+
+    #[test]
+    fn dimensions_come_from_what_is_written() {
+        let imp: syn::ItemImpl = syn::parse_quote! {
+            impl Sleigh {
+                #[forces]
+                fn f(&self, t: f64, q: &[f64; 4], qd: &[f64; 4], u: &[f64; 1]) -> [f64; 4] { todo() }
+                #[constraints]
+                fn c(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 2] { todo() }
+            }
+        };
+        // Without coordinate names, n is the length of `q` (the second argument of forces).
+        assert_eq!(sketch(quote!(inputs(push)), imp.clone()), Some((4, 2, 1)));
+        assert_eq!(
+            sketch(quote!(coordinates(x, y, theta)), imp),
+            // p = 2 < 3 from the constraints' result.
+            Some((3, 2, 0))
+        );
+        let imp: syn::ItemImpl = syn::parse_quote! {
+            impl Sleigh {
+                #[quasi_velocities]
+                fn s(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] { todo() }
+            }
+        };
+        // Without constraints, p from the quasi-velocities: 3 − 2.
+        assert_eq!(
+            sketch(quote!(coordinates(x, y, theta)), imp),
+            Some((3, 1, 0))
+        );
+        let imp: syn::ItemImpl = syn::parse_quote!(impl Sleigh {});
+        // Nothing tells p: no stand-in.
+        assert_eq!(sketch(quote!(coordinates(x, y, theta)), imp.clone()), None);
+        assert_eq!(
+            sketch(quote!(coordinates(x, y, theta), speeds(v, omega)), imp),
+            Some((3, 1, 0))
+        );
+    }
+}
