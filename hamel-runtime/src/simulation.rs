@@ -113,7 +113,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         }
         // A closed-form inverse B(q) that does not invert A(q) would make every step wrong.
         self.system
-            .check_configuration(&S::coordinates_of(&self.x0))?;
+            .check_configuration(self.t0, &S::coordinates_of(&self.x0))?;
         let times = self.sample_times()?;
 
         let names = ["t"]
@@ -197,10 +197,10 @@ impl<'s, S: HamelSystem> Recorder<'s, S> {
 
     fn record(&mut self, t: f64, x: &S::State) -> Result<(), Error> {
         let at = |s: crate::Singularity| S::singular(s, t, x);
-        let energy = self.system.energy(x).map_err(at)?;
+        let energy = self.system.energy(t, x).map_err(at)?;
         let q = S::coordinates_of(x);
-        let qd = self.system.velocities(x).map_err(at)?;
-        let residual = self.system.constraint_residual(&q, &qd);
+        let qd = self.system.generalized_velocities(t, x).map_err(at)?;
+        let residual = self.system.constraint_residual(t, &q, &qd);
 
         let first = self.trajectory.is_empty();
         self.trajectory.push(

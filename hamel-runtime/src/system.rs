@@ -49,7 +49,12 @@ pub trait Parameters {
 
 /// A nonholonomic mechanical system with n coordinates and p constraints, reduced by Hamel's
 /// equations to an ODE of dimension 2n − p in the state x = (q, ω_{p+1}, …, ω_n): the
-/// coordinates and the quasi-velocities that are not constrained to zero.
+/// coordinates and the quasi-velocities that are not constrained.
+///
+/// The constraint rows may be affine in the velocities and depend on the time,
+/// A_c(q, t) q̇ + a_c(q, t) = 0; k of the p rows may be the time derivatives of holonomic
+/// constraints f(t, q) = 0, each of which determines one coordinate ([`Self::DEPENDENT`]).
+/// Every method that can depend on the time takes it.
 ///
 /// Implemented by `#[hamel_system]`; the methods are straight-line code generated from the
 /// model's Lagrangian, constraints and forces.
@@ -69,6 +74,13 @@ pub trait HamelSystem: Parameters {
     type State: Vector;
     /// `[f64; m]`: the inputs (motor torques, ...).
     type Inputs: Vector;
+    /// `[f64; k]`: the holonomic constraints f(t, q).
+    type Holonomic: Vector;
+    /// `[f64; k·n]`: ∂f/∂q, row by row.
+    type HolonomicJacobian: Vector;
+    /// `[f64; 2n − p + 1]`: the state and, last, the work done on the system since the start
+    /// (what a simulation integrates to check the energy balance).
+    type Extended: Vector;
     /// `[[f64; n − p]; n − p]`
     type MassMatrix: Copy + core::fmt::Debug;
     /// `[[[f64; n − p]; n − p]; n]`: γʲ_{l,k} for j = 1…n and l, k = p+1…n.
@@ -76,21 +88,33 @@ pub trait HamelSystem: Parameters {
 
     /// n, the number of generalized coordinates.
     const N: usize;
-    /// p, the number of nonholonomic constraints (the state has 2n − p components).
+    /// p, the number of constraints, holonomic ones included (the state has 2n − p
+    /// components).
     const P: usize;
     /// m, the number of inputs.
     const M: usize;
+    /// k, the number of holonomic constraints (the last k of the p constraint rows are their
+    /// time derivatives).
+    const K: usize;
 
     /// Names of the coordinates q.
     const COORDINATES: &'static [&'static str];
     /// Names of the free quasi-velocities.
     const SPEEDS: &'static [&'static str];
-    /// Names of the constraints (the rows of the constraint function).
+    /// Names of the constraints: the rows of the constraint function (`blade[0]`), then
+    /// those of the holonomic function (`contact[0]`).
     const CONSTRAINTS: &'static [&'static str];
     /// Names of the inputs.
     const INPUTS: &'static [&'static str];
     /// Names of the state components: the coordinates, then the speeds.
     const STATE: &'static [&'static str];
+    /// The coordinates the holonomic constraints determine (indices into q), one per
+    /// holonomic constraint, in the model's order.
+    const DEPENDENT: &'static [usize];
+    /// Whether the energy is an integral of the motion: no forces, no affine part in the
+    /// rows, nothing that depends on the time explicitly. Otherwise a simulation checks the
+    /// energy balance E(t) − E(t₀) = ∫ P dt with the power [`Self::power`].
+    const CONSERVATIVE: bool;
 
     /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
     fn rhs(
@@ -101,39 +125,68 @@ pub trait HamelSystem: Parameters {
         dx: &mut Self::State,
     ) -> Result<(), Singularity>;
 
-    /// The generalized velocities q̇ = Σ_{k>p} B_k(q) ω_k of a state.
-    fn velocities(&self, x: &Self::State) -> Result<Self::Coordinates, Singularity>;
+    /// The generalized velocities q̇ = B(q, t)(ω − a(q, t)) of a state, ω = (0, speeds).
+    fn generalized_velocities(
+        &self,
+        t: f64,
+        x: &Self::State,
+    ) -> Result<Self::Coordinates, Singularity>;
 
-    /// The energy T + V of a state (for a general Lagrangian, q̇·∂L/∂q̇ − L).
-    fn energy(&self, x: &Self::State) -> Result<f64, Singularity>;
+    /// The energy E = q̇·∂L/∂q̇ − L of a state (T + V when the kinetic energy is a quadratic
+    /// form in q̇).
+    fn energy(&self, t: f64, x: &Self::State) -> Result<f64, Singularity>;
 
-    /// The constraint rows A_c(q) q̇ (zero on every admissible motion).
+    /// The rate of change of the energy along the motion, from its causes:
+    /// dE/dt = f·q̇ − λᵀa_c − ∂L/∂t (the power of the forces, of the constraint forces of
+    /// affine or moving constraints, and of an explicit time dependence of L).
+    fn power(&self, t: f64, x: &Self::State, u: &Self::Inputs) -> Result<f64, Singularity>;
+
+    /// The constraint forces: the Lagrange multipliers λ of
+    /// d/dt ∂L/∂q̇ − ∂L/∂q = f + A_cᵀ λ, one per constraint row. The generalized reaction
+    /// force is A_cᵀ λ; λ_j has the units of a force (or torque) divided by those of row j's
+    /// velocity terms per unit velocity, e.g. newtons for a row that is a velocity in m/s.
+    fn constraint_forces(
+        &self,
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+    ) -> Result<Self::Constraints, Singularity>;
+
+    /// The constraint rows A_c(q, t) q̇ + a_c(q, t) (zero on every admissible motion).
     fn constraint_residual(
         &self,
+        t: f64,
         q: &Self::Coordinates,
         qd: &Self::Coordinates,
     ) -> Self::Constraints;
 
-    /// The quasi-velocities ω_{p+1…n} of a configuration and velocity.
-    fn speeds(&self, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Speeds;
+    /// The free quasi-velocities ω_{p+1…n} = A_f(q, t) q̇ + a_f(q, t).
+    fn speeds(&self, t: f64, q: &Self::Coordinates, qd: &Self::Coordinates) -> Self::Speeds;
+
+    /// The holonomic constraints f(t, q) (zero on every admissible configuration).
+    fn holonomic_residual(&self, t: f64, q: &Self::Coordinates) -> Self::Holonomic;
+
+    /// ∂f/∂q at (t, q), row-major (k rows of n).
+    fn holonomic_jacobian(&self, t: f64, q: &Self::Coordinates) -> Self::HolonomicJacobian;
 
     /// The reduced mass matrix M_kl = ∂²L̃/∂ω_k∂ω_l (k, l > p) at a state.
-    fn mass_matrix(&self, x: &Self::State) -> Result<Self::MassMatrix, Singularity>;
+    fn mass_matrix(&self, t: f64, x: &Self::State) -> Result<Self::MassMatrix, Singularity>;
 
     /// The coefficients γʲ_{l,k} of Hamel's equations at a configuration.
-    fn gamma(&self, q: &Self::Coordinates) -> Result<Self::Gamma, Singularity>;
+    fn gamma(&self, t: f64, q: &Self::Coordinates) -> Result<Self::Gamma, Singularity>;
 
-    /// max |(A(q)·B(q) − I)ᵢⱼ| when the model gives the inverse B in closed form: how far the
-    /// given inverse is from being one (zero when B is computed from A).
-    fn inverse_defect(&self, q: &Self::Coordinates) -> Result<f64, Singularity>;
+    /// max |(A(q, t)·B(q, t) − I)ᵢⱼ| and |A·Q₀ + a| when the model gives the inverse in
+    /// closed form: how far the given inverse is from being one (zero when B is computed
+    /// from A).
+    fn inverse_defect(&self, t: f64, q: &Self::Coordinates) -> Result<f64, Singularity>;
 
-    /// Check the parameters, and that a closed-form inverse B really inverts A at `q`.
-    fn check_configuration(&self, q: &Self::Coordinates) -> Result<(), Error> {
+    /// Check the parameters, and that a closed-form inverse B really inverts A at (t, q).
+    fn check_configuration(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
-        let defect = self.inverse_defect(q).map_err(|s| {
+        let defect = self.inverse_defect(t, q).map_err(|s| {
             s.at(
-                0.0,
+                t,
                 NamedValues::new(Self::COORDINATES, q.as_ref()),
                 Self::COORDINATES,
                 Self::SPEEDS,
@@ -149,16 +202,17 @@ pub trait HamelSystem: Parameters {
         Ok(())
     }
 
-    /// The state of a configuration and velocities, after checking that the parameters and
-    /// values are finite and that the velocities satisfy the constraints.
+    /// The state of a configuration and velocities at time `t`, after checking that the
+    /// parameters and values are finite and that the velocities satisfy the constraints.
     fn state_from_velocities(
         &self,
+        t: f64,
         q: &Self::Coordinates,
         qd: &Self::Coordinates,
     ) -> Result<Self::State, Error> {
-        self.check_configuration(q)?;
+        self.check_configuration(t, q)?;
         check_finite(Self::COORDINATES, qd.as_ref(), "d/dt ")?;
-        let residual = self.constraint_residual(q, qd);
+        let residual = self.constraint_residual(t, q, qd);
         let scale = qd.as_ref().iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let tolerance = CONSTRAINT_TOLERANCE * scale;
         for (name, r) in Self::CONSTRAINTS.iter().zip(residual.as_ref()) {
@@ -170,17 +224,19 @@ pub trait HamelSystem: Parameters {
                 });
             }
         }
-        let speeds = self.speeds(q, qd);
+        let speeds = self.speeds(t, q, qd);
         Ok(join::<Self>(q, &speeds))
     }
 
-    /// The state of a configuration and the free quasi-velocities (always admissible).
+    /// The state of a configuration and the free quasi-velocities at time `t` (always
+    /// admissible).
     fn state_from_speeds(
         &self,
+        t: f64,
         q: &Self::Coordinates,
         speeds: &Self::Speeds,
     ) -> Result<Self::State, Error> {
-        self.check_configuration(q)?;
+        self.check_configuration(t, q)?;
         check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
         Ok(join::<Self>(q, speeds))
     }
