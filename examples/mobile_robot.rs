@@ -120,7 +120,7 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
     let robot = &s.robot;
     let q = MobileRobot::coordinates_of(&s.state);
     let speeds = MobileRobot::speeds_of(&s.state);
-    let x0 = robot.state_from_speeds(&q, &speeds)?;
+    let x0 = robot.state_from_speeds(0.0, &q, &speeds)?;
     println!(
         "Mobile robot (Franke, Zaiczek, Röbenack): n = 5 coordinates, p = 2 constraints, 8 states"
     );

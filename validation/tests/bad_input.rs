@@ -48,12 +48,12 @@ fn sideways_velocity_violates_no_slip_0() {
     let robot = MobileRobot::default();
     // The admissible velocities are accepted...
     robot
-        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
         .unwrap();
     // ...and a sideways velocity ẏ = 0.2 m/s is not: at ϑ = 0, ω¹ = ẋ sinϑ − ẏ cosϑ = −0.2.
     let mut qd = robot_admissible_qd();
     qd[1] = 0.2;
-    let e = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap_err();
+    let e = robot.state_from_velocities(0.0, &ROBOT_Q, &qd).unwrap_err();
     match &e {
         Error::ConstraintViolation {
             name,
@@ -82,7 +82,7 @@ fn spinning_wheels_of_a_robot_at_rest_violate_no_slip_1() {
     let robot = MobileRobot::default();
     // Both wheels turn at 1 rad/s while the robot stands still: ω² = r(φ̇₁ + φ̇₂)/2 = 0.1.
     let qd = [0.0, 0.0, 0.0, 1.0, 1.0];
-    let e = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap_err();
+    let e = robot.state_from_velocities(0.0, &ROBOT_Q, &qd).unwrap_err();
     match &e {
         Error::ConstraintViolation { name, residual, .. } => {
             assert_eq!(name, "no_slip[1]");
@@ -113,19 +113,19 @@ fn assert_invalid_parameter(e: &Error, expected: &str) {
 fn nan_parameter_is_refused_everywhere() {
     let good = MobileRobot::default();
     let x0 = good
-        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
         .unwrap();
     let bad = MobileRobot {
         m0: f64::NAN,
         ..Default::default()
     };
     let from_velocities = bad
-        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
         .unwrap_err();
     assert_invalid_parameter(&from_velocities, "m0");
     assert!(from_velocities.to_string().contains("is NaN"));
     let from_speeds = bad
-        .state_from_speeds(&ROBOT_Q, &[0.2, 0.4, 0.0])
+        .state_from_speeds(0.0, &ROBOT_Q, &[0.2, 0.4, 0.0])
         .unwrap_err();
     assert_invalid_parameter(&from_speeds, "m0");
 
@@ -241,7 +241,7 @@ fn degenerate_quasi_velocity_is_a_singular_transformation() {
         other => panic!("expected a singular transformation, got {other:?}"),
     }
     assert!(matches!(
-        sys.velocities(&x),
+        sys.generalized_velocities(0.0, &x),
         Err(Singularity::Transformation { .. })
     ));
 
@@ -326,7 +326,7 @@ impl LineSkate {
 fn a_run_that_reaches_a_singular_transformation() {
     let sys = LineSkate { m: 1.0, j: 0.1 };
     let x0 = sys
-        .state_from_speeds(&[-1.0, 0.0, 0.0], &[1.0, 0.0])
+        .state_from_speeds(0.0, &[-1.0, 0.0, 0.0], &[1.0, 0.0])
         .unwrap();
     // Up to just before the line, all is well.
     let before = Simulation::new(&sys, x0)
@@ -362,7 +362,7 @@ fn a_run_that_reaches_a_singular_transformation() {
 
     // Started on the line, at a later start time.
     let on_line = sys
-        .state_from_speeds(&[0.0, 3.0, 0.4], &[1.0, 0.0])
+        .state_from_speeds(0.0, &[0.0, 3.0, 0.4], &[1.0, 0.0])
         .unwrap();
     let e = Simulation::new(&sys, on_line)
         .start_time(-4.0)
@@ -424,13 +424,15 @@ fn inverse_wrong_for_these_parameters_is_an_inverse_mismatch() {
         inertia: 0.5,
         a: 0.4,
     };
-    assert!(behind.state_from_speeds(&q, &[1.0, 0.5]).is_ok());
+    assert!(behind.state_from_speeds(0.0, &q, &[1.0, 0.5]).is_ok());
 
     let in_front = SignBlindSleigh {
         a: -0.4,
         ..behind.clone()
     };
-    let e = in_front.state_from_speeds(&q, &[1.0, 0.5]).unwrap_err();
+    let e = in_front
+        .state_from_speeds(0.0, &q, &[1.0, 0.5])
+        .unwrap_err();
     match &e {
         // A·B − I has one nonzero entry: the constraint row against B's ω-column, |a| − a = 0.8.
         Error::InverseMismatch {
@@ -462,7 +464,7 @@ fn inverse_wrong_for_these_parameters_is_an_inverse_mismatch() {
         0.3f64.sin() + 0.3f64.cos() * (-0.4 * 0.5),
         0.5,
     ];
-    let e = in_front.state_from_velocities(&q, &qd).unwrap_err();
+    let e = in_front.state_from_velocities(0.0, &q, &qd).unwrap_err();
     assert!(matches!(e, Error::InverseMismatch { .. }), "{e:?}");
     let x0 = [q[0], q[1], q[2], 1.0, 0.5];
     let e = Simulation::new(&in_front, x0)
@@ -500,23 +502,31 @@ fn non_finite_initial_values_are_named() {
 
     let mut q = ROBOT_Q;
     q[2] = f64::NAN;
-    assert_non_finite(&robot.state_from_velocities(&q, &qd).unwrap_err(), "alpha");
+    assert_non_finite(
+        &robot.state_from_velocities(0.0, &q, &qd).unwrap_err(),
+        "alpha",
+    );
     q[2] = 0.1;
     q[4] = f64::NEG_INFINITY;
-    assert_non_finite(&robot.state_from_speeds(&q, &[0.0; 3]).unwrap_err(), "phi2");
+    assert_non_finite(
+        &robot.state_from_speeds(0.0, &q, &[0.0; 3]).unwrap_err(),
+        "phi2",
+    );
 
     let mut bad_qd = qd;
     bad_qd[3] = f64::INFINITY;
-    let e = robot.state_from_velocities(&ROBOT_Q, &bad_qd).unwrap_err();
+    let e = robot
+        .state_from_velocities(0.0, &ROBOT_Q, &bad_qd)
+        .unwrap_err();
     assert_non_finite(&e, "d/dt phi1");
 
     let e = robot
-        .state_from_speeds(&ROBOT_Q, &[0.0, f64::NAN, 0.0])
+        .state_from_speeds(0.0, &ROBOT_Q, &[0.0, f64::NAN, 0.0])
         .unwrap_err();
     assert_non_finite(&e, "w4");
 
     // A state assembled by hand and handed to the simulation.
-    let good = robot.state_from_velocities(&ROBOT_Q, &qd).unwrap();
+    let good = robot.state_from_velocities(0.0, &ROBOT_Q, &qd).unwrap();
     for (i, name) in MobileRobot::STATE.iter().enumerate() {
         let mut x0 = good;
         x0[i] = if i % 2 == 0 { f64::NAN } else { f64::INFINITY };
@@ -557,7 +567,7 @@ fn assert_invalid_setting(e: &Error, expected: &str, value: f64) {
 fn invalid_settings_are_named() {
     let robot = MobileRobot::default();
     let x0 = robot
-        .state_from_velocities(&ROBOT_Q, &robot_admissible_qd())
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
         .unwrap();
     let u = [0.0, 0.0];
     let sim = || Simulation::new(&robot, x0).end_time(0.5);
@@ -623,9 +633,9 @@ fn skate_without_moment_of_inertia_has_a_singular_mass_matrix() {
     };
     // The parameters are finite, so the state is built.
     let x0 = sys
-        .state_from_speeds(&[0.0, 0.0, 0.2], &[1.0, 0.5])
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.2], &[1.0, 0.5])
         .unwrap();
-    let m = sys.mass_matrix(&x0).unwrap();
+    let m = sys.mass_matrix(0.0, &x0).unwrap();
     assert_eq!(m, [[1.0, 0.0], [0.0, 0.0]]);
     let mut dx = [0.0; 5];
     assert_eq!(
@@ -708,7 +718,10 @@ impl BeadSkate {
 #[test]
 fn bead_over_the_contact_point_makes_the_mass_matrix_singular() {
     let sys = BeadSkate { m0: 2.0, mb: 0.5 };
-    let m_at = |s: f64| sys.mass_matrix(&[0.0, 0.0, 0.0, s, 0.0, 0.0, 0.0]).unwrap();
+    let m_at = |s: f64| {
+        sys.mass_matrix(0.0, &[0.0, 0.0, 0.0, s, 0.0, 0.0, 0.0])
+            .unwrap()
+    };
     assert_eq!(
         m_at(2.0),
         [[2.5, 0.0, 0.5], [0.0, 2.0, 0.0], [0.5, 0.0, 0.5]]
@@ -716,7 +729,7 @@ fn bead_over_the_contact_point_makes_the_mass_matrix_singular() {
     assert_eq!(m_at(0.0)[1][1], 0.0);
 
     let x0 = sys
-        .state_from_speeds(&[0.3, -0.2, 0.0, 1.0], &[0.0, 0.0, -1.0])
+        .state_from_speeds(0.0, &[0.3, -0.2, 0.0, 1.0], &[0.0, 0.0, -1.0])
         .unwrap();
     let before = Simulation::new(&sys, x0)
         .end_time(0.75)
@@ -754,7 +767,7 @@ fn bead_over_the_contact_point_makes_the_mass_matrix_singular() {
 
     // Started with the bead on the contact point: at the start time.
     let x0 = sys
-        .state_from_speeds(&[0.0, 0.0, 1.0, 0.0], &[1.0, 0.2, 0.3])
+        .state_from_speeds(0.0, &[0.0, 0.0, 1.0, 0.0], &[1.0, 0.2, 0.3])
         .unwrap();
     let e = Simulation::new(&sys, x0)
         .run_constant(&DormandPrince::new(1e-9, 1e-9), [])

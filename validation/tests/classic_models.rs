@@ -35,8 +35,10 @@ where
             *xi = column[i];
         }
         let q = S::coordinates_of(&x);
-        let qd = sys.velocities(&x).expect("regular transformation");
-        for r in sys.constraint_residual(&q, &qd).as_ref() {
+        let qd = sys
+            .generalized_velocities(0.0, &x)
+            .expect("regular transformation");
+        for r in sys.constraint_residual(0.0, &q, &qd).as_ref() {
             assert!(r.is_finite());
             worst = worst.max(r.abs());
         }
@@ -212,7 +214,7 @@ fn knife_edge_matches_closed_form() {
     for (sys, s) in knife_cases() {
         let period = std::f64::consts::TAU / s.omega.abs();
         let x0 = sys
-            .state_from_speeds(&[s.x0, s.y0, s.phi0], &[s.v0, s.omega])
+            .state_from_speeds(0.0, &[s.x0, s.y0, s.phi0], &[s.v0, s.omega])
             .unwrap();
         let run = Simulation::new(&sys, x0)
             .end_time(5.0 * period)
@@ -260,7 +262,7 @@ fn knife_edge_conserves_energy_and_constraint() {
     for (sys, s) in knife_cases() {
         let period = std::f64::consts::TAU / s.omega.abs();
         let x0 = sys
-            .state_from_speeds(&[s.x0, s.y0, s.phi0], &[s.v0, s.omega])
+            .state_from_speeds(0.0, &[s.x0, s.y0, s.phi0], &[s.v0, s.omega])
             .unwrap();
         let run = Simulation::new(&sys, x0)
             .end_time(5.0 * period)
@@ -401,7 +403,7 @@ fn sleigh_matches_reduced_equations() {
     for (v0, w0, theta0) in SLEIGH_STARTS {
         let sys = ChaplyginSleigh::default();
         let q0 = [0.2, -0.1, theta0];
-        let x0 = sys.state_from_speeds(&q0, &[v0, w0]).unwrap();
+        let x0 = sys.state_from_speeds(0.0, &q0, &[v0, w0]).unwrap();
         let run = Simulation::new(&sys, x0)
             .end_time(25.0)
             .sample_interval(0.05)
@@ -550,7 +552,7 @@ fn sleigh_speed_tends_to_sqrt_2e_over_m() {
     let sys = ChaplyginSleigh::default();
     for (v0, w0, theta0) in SLEIGH_STARTS {
         let x0 = sys
-            .state_from_speeds(&[0.0, 0.0, theta0], &[v0, w0])
+            .state_from_speeds(0.0, &[0.0, 0.0, theta0], &[v0, w0])
             .unwrap();
         let run = Simulation::new(&sys, x0)
             .end_time(150.0)
@@ -593,7 +595,7 @@ fn sleigh_conserves_energy_and_constraint() {
     let sys = ChaplyginSleigh::default();
     for (v0, w0, theta0) in SLEIGH_STARTS {
         let x0 = sys
-            .state_from_speeds(&[1.0, 2.0, theta0], &[v0, w0])
+            .state_from_speeds(0.0, &[1.0, 2.0, theta0], &[v0, w0])
             .unwrap();
         let run = Simulation::new(&sys, x0)
             .end_time(40.0)

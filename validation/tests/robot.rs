@@ -226,8 +226,8 @@ fn gamma_has_only_the_two_entries_of_the_paper() {
         for _ in 0..RANDOM_POINTS {
             let q = random_configuration(&mut rng);
             for (name, gamma) in [
-                ("MobileRobot", robot.gamma(&q).unwrap()),
-                ("MobileRobotPaper", paper.gamma(&q).unwrap()),
+                ("MobileRobot", robot.gamma(0.0, &q).unwrap()),
+                ("MobileRobotPaper", paper.gamma(0.0, &q).unwrap()),
             ] {
                 for (j, gamma_j) in gamma.iter().enumerate() {
                     for (l, row) in gamma_j.iter().enumerate() {
@@ -332,8 +332,8 @@ fn paper_form_and_everyday_form_give_the_same_trajectories() {
                         .unwrap(),
                 )
             };
-            let x0 = robot.state_from_speeds(&q, &speeds).unwrap();
-            assert_eq!(x0, paper.state_from_speeds(&q, &speeds).unwrap());
+            let x0 = robot.state_from_speeds(0.0, &q, &speeds).unwrap();
+            assert_eq!(x0, paper.state_from_speeds(0.0, &q, &speeds).unwrap());
             let (everyday, papers) = simulate(x0);
             assert_eq!(everyday.len(), 301);
             let (err, column) = worst_column_difference::<MobileRobot>(&papers, &everyday);
@@ -375,7 +375,7 @@ fn csv_rows(trajectory: &Trajectory) -> (Vec<String>, Vec<Vec<f64>>) {
 fn free_motion_invariants<S: Robot>(sys: &S, name: &str) -> (f64, f64) {
     // Leaning forward, pitching, rolling and turning: everything moves.
     let q = [0.0, 0.0, 0.4, 1.0, -0.7];
-    let x0 = sys.state_from_speeds(&q, &[1.2, 1.5, 2.0]).unwrap();
+    let x0 = sys.state_from_speeds(0.0, &q, &[1.2, 1.5, 2.0]).unwrap();
     let trajectory = Simulation::new(sys, x0)
         .end_time(10.0)
         .sample_interval(0.01)
@@ -411,11 +411,11 @@ fn free_motion_invariants<S: Robot>(sys: &S, name: &str) -> (f64, f64) {
     let (mut residual, mut drift) = (0.0f64, 0.0f64);
     for row in &rows {
         let x: [f64; 8] = std::array::from_fn(|i| row[state_columns[i]]);
-        let qd = sys.velocities(&x).unwrap();
-        for r in sys.constraint_residual(&S::coordinates_of(&x), &qd) {
+        let qd = sys.generalized_velocities(0.0, &x).unwrap();
+        for r in sys.constraint_residual(0.0, &S::coordinates_of(&x), &qd) {
             residual = residual.max(r.abs());
         }
-        assert_eq!(sys.energy(&x).unwrap(), row[energy_column]);
+        assert_eq!(sys.energy(0.0, &x).unwrap(), row[energy_column]);
         drift = drift.max((row[energy_column] - e0).abs() / e0.abs());
     }
     println!(

@@ -1401,7 +1401,7 @@ fn closed_form_inverse() {
         a: reference.a,
     };
     let q = [0.3, -0.1, 0.7];
-    assert!(model.inverse_defect(&q).unwrap() < 1e-15);
+    assert!(model.inverse_defect(0.0, &q).unwrap() < 1e-15);
     check_same_system(
         "#[velocities] (sleigh)",
         &model,

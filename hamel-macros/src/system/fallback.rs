@@ -9,6 +9,7 @@
 //! as they are known, and bodies that are `unreachable!()`: with our `compile_error!` the
 //! crate never builds, so they never run.
 
+use super::interface::{self, Bodies, Dims, Header};
 use super::model::{Names, Role, Roles, array_length, written_length};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -25,6 +26,8 @@ pub struct Sketch {
     speeds: Vec<String>,
     inputs: Vec<String>,
     constraint_fn: String,
+    /// The holonomic function's name and written length.
+    holonomic: Option<(String, usize)>,
 }
 
 impl Sketch {
@@ -34,9 +37,16 @@ impl Sketch {
         };
         let (coordinates, speeds) = (list(&names.coordinates), list(&names.speeds));
         let mut index_consts = Vec::new();
-        for list in [&coordinates, &speeds, &names.inputs] {
+        for (list, groups) in [&coordinates, &speeds, &names.inputs]
+            .into_iter()
+            .zip(&names.groups)
+        {
             for (i, ident) in list.iter().enumerate() {
                 index_consts.push((ident.unraw().to_string().to_uppercase(), i));
+            }
+            for group in groups {
+                let base = group.base.unraw().to_string().to_uppercase();
+                index_consts.push((base, group.start));
             }
         }
         let plain =
@@ -52,6 +62,10 @@ impl Sketch {
             || "constraints".into(),
             |c| c.f.sig.ident.unraw().to_string(),
         );
+        let holonomic = roles.get(Role::Holonomic).and_then(|h| {
+            let k = written_length(&h.f.sig.output)?;
+            Some((h.f.sig.ident.unraw().to_string(), k))
+        });
         Sketch {
             index_consts,
             dims,
@@ -59,6 +73,7 @@ impl Sketch {
             speeds,
             inputs: plain(&names.inputs),
             constraint_fn,
+            holonomic,
         }
     }
 
@@ -71,6 +86,7 @@ impl Sketch {
             speeds: Vec::new(),
             inputs: Vec::new(),
             constraint_fn: String::new(),
+            holonomic: None,
         }
     }
 }
@@ -86,16 +102,17 @@ fn dimensions(
     roles: &Roles<'_>,
 ) -> Option<(usize, usize, usize)> {
     let n = if coordinates.is_empty() {
-        roles.by_role.iter().find_map(|(role, rf)| {
-            let position = if *role == Role::Forces { 1 } else { 0 };
-            let ty = typed_arguments(rf.f).nth(position)?;
-            array_length(ty).filter(|&n| n > 0)
+        // The first array argument is `q` in every role (after `t`, where there is one).
+        roles.by_role.values().find_map(|rf| {
+            typed_arguments(rf.f).find_map(|ty| array_length(ty).filter(|&n| n > 0))
         })?
     } else {
         coordinates.len()
     };
     let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
+    let k = written(Role::Holonomic).unwrap_or(0);
     let p = written(Role::Constraints)
+        .map(|p| p + k)
         .filter(|&p| p < n)
         .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
         .or_else(|| {
@@ -179,15 +196,11 @@ fn inherent_items(
         .collect();
     let rhs_generic = match sketch.dims {
         Some((n, p, m)) if taken.insert("rhs_generic".into()) => {
-            let (state, m) = (lit(2 * n - p), lit(m));
+            let k = sketch.holonomic.as_ref().map_or(0, |(_, k)| *k).min(p);
+            let signature = interface::rhs_generic_signature(Dims { n, p, m, k });
             quote! {
-                pub fn rhs_generic<S: ::hamel::Scalar>(
-                    &self,
-                    _t: S,
-                    _x: &[S; #state],
-                    _u: &[S; #m],
-                    _dx: &mut [S; #state],
-                ) -> ::core::result::Result<(), ::hamel::Singularity> {
+                #[allow(unused_variables)]
+                #signature {
                     ::core::unreachable!("hamel: the model has errors, reported at build time")
                 }
             }
@@ -211,69 +224,24 @@ fn inherent_items(
 /// `impl HamelSystem` with the written dimensions and names, and unreachable methods.
 fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize)) -> TokenStream {
     let (n, p, m) = dims;
-    let (n_l, p_l, m_l, free, state) = (lit(n), lit(p), lit(m), lit(n - p), lit(2 * n - p));
-    let ty = &imp.self_ty;
-    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
-    let Sketch {
-        coordinates,
-        speeds,
-        inputs,
-        constraint_fn,
-        ..
-    } = sketch;
-    let constraints: Vec<String> = (0..p).map(|i| format!("{constraint_fn}[{i}]")).collect();
-    let state_names = coordinates.iter().chain(speeds);
-    let never = quote!(::core::unreachable!(
-        "hamel: the model has errors, reported at build time"
-    ));
-    let result = quote!(::core::result::Result);
-    let singularity = quote!(::hamel::Singularity);
-    quote! {
-        #[allow(clippy::all)]
-        impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
-            type Coordinates = [f64; #n_l];
-            type Speeds = [f64; #free];
-            type Constraints = [f64; #p_l];
-            type State = [f64; #state];
-            type Inputs = [f64; #m_l];
-            type MassMatrix = [[f64; #free]; #free];
-            type Gamma = [[[f64; #free]; #free]; #n_l];
-
-            const N: usize = #n_l;
-            const P: usize = #p_l;
-            const M: usize = #m_l;
-            const COORDINATES: &'static [&'static str] = &[#(#coordinates),*];
-            const SPEEDS: &'static [&'static str] = &[#(#speeds),*];
-            const CONSTRAINTS: &'static [&'static str] = &[#(#constraints),*];
-            const INPUTS: &'static [&'static str] = &[#(#inputs),*];
-            const STATE: &'static [&'static str] = &[#(#state_names),*];
-
-            fn rhs(&self, _t: f64, _x: &[f64; #state], _u: &[f64; #m_l], _dx: &mut [f64; #state]) -> #result<(), #singularity> {
-                #never
-            }
-            fn velocities(&self, _x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
-                #never
-            }
-            fn energy(&self, _x: &[f64; #state]) -> #result<f64, #singularity> {
-                #never
-            }
-            fn constraint_residual(&self, _q: &[f64; #n_l], _qd: &[f64; #n_l]) -> [f64; #p_l] {
-                #never
-            }
-            fn speeds(&self, _q: &[f64; #n_l], _qd: &[f64; #n_l]) -> [f64; #free] {
-                #never
-            }
-            fn mass_matrix(&self, _x: &[f64; #state]) -> #result<[[f64; #free]; #free], #singularity> {
-                #never
-            }
-            fn inverse_defect(&self, _q: &[f64; #n_l]) -> #result<f64, #singularity> {
-                #never
-            }
-            fn gamma(&self, _q: &[f64; #n_l]) -> #result<[[[f64; #free]; #free]; #n_l], #singularity> {
-                #never
-            }
-        }
+    let k = sketch.holonomic.as_ref().map_or(0, |(_, k)| *k).min(p);
+    let mut constraints: Vec<String> = (0..p - k)
+        .map(|i| format!("{}[{i}]", sketch.constraint_fn))
+        .collect();
+    if let Some((name, _)) = &sketch.holonomic {
+        constraints.extend((0..k).map(|i| format!("{name}[{i}]")));
     }
+    let header = Header {
+        imp,
+        dims: Dims { n, p, m, k },
+        coordinates: sketch.coordinates.clone(),
+        speeds: sketch.speeds.clone(),
+        inputs: sketch.inputs.clone(),
+        constraints,
+        dependent: Vec::new(),
+        conservative: false,
+    };
+    interface::trait_impl(&header, &Bodies::unreachable())
 }
 
 #[cfg(test)]

@@ -2,11 +2,12 @@
 //! (index constants, `rhs_generic`).
 
 use super::equations::Equations;
+use super::interface::{self, Bodies, Dims, Header, lit};
 use super::spec::Spec;
 use crate::engine::emit::{Code, Emitter, Scalar};
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::External;
-use proc_macro2::{Ident, Literal, Span, TokenStream};
+use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 use syn::ext::IdentExt;
 
@@ -17,18 +18,35 @@ use syn::ext::IdentExt;
 /// checks run in every right-hand side).
 const PIVOT_TOLERANCE: f64 = 1e-13;
 
-fn lit(i: usize) -> Literal {
-    Literal::usize_unsuffixed(i)
-}
-
-/// Where a method reads its inputs from.
+/// What a method reads: `x: &State` (coordinates then speeds) and `u`, or `q` alone, or `q`
+/// and `qd`. Every method has `t`.
 #[derive(Clone, Copy, PartialEq)]
 enum Source {
-    /// `x: &State` (coordinates then speeds).
     State,
-    /// `q: &Coordinates` only.
     Coordinates,
+    Velocities,
 }
+
+/// Which checks must pass before a method's results are used: the pivots of the LU of A
+/// (when B is computed from A), and those of the LDLᵀ of the mass matrix.
+#[derive(Clone, Copy)]
+struct Checks {
+    transformation: bool,
+    mass: bool,
+}
+
+const NONE: Checks = Checks {
+    transformation: false,
+    mass: false,
+};
+const TRANSFORMATION: Checks = Checks {
+    transformation: true,
+    mass: false,
+};
+const ALL: Checks = Checks {
+    transformation: true,
+    mass: true,
+};
 
 struct Context<'g> {
     graph: &'g Graph,
@@ -50,20 +68,27 @@ impl<'g> Context<'g> {
             let i = lit(i);
             e.bind(
                 node,
-                if source == Source::State {
-                    quote!(x[#i])
-                } else {
-                    quote!(q[#i])
+                match source {
+                    Source::State => quote!(x[#i]),
+                    Source::Coordinates | Source::Velocities => quote!(q[#i]),
                 },
             );
         }
-        for (k, &node) in inputs.w.iter().enumerate() {
-            let i = lit(self.n + k);
-            e.bind(node, quote!(x[#i]));
+        if source == Source::State {
+            for (k, &node) in inputs.w.iter().enumerate() {
+                let i = lit(self.n + k);
+                e.bind(node, quote!(x[#i]));
+            }
+            for (i, &node) in inputs.u.iter().enumerate() {
+                let i = lit(i);
+                e.bind(node, quote!(u[#i]));
+            }
         }
-        for (i, &node) in inputs.u.iter().enumerate() {
-            let i = lit(i);
-            e.bind(node, quote!(u[#i]));
+        if source == Source::Velocities {
+            for (i, &node) in inputs.v.iter().enumerate() {
+                let i = lit(i);
+                e.bind(node, quote!(qd[#i]));
+            }
         }
         e.bind(inputs.t, quote!(t));
         for ext in self.externals {
@@ -72,22 +97,34 @@ impl<'g> Context<'g> {
         e
     }
 
-    /// Code computing `roots`, then, when B comes from a run-time LU of A(q), the checks of
-    /// its pivots: a singular transformation returns an error before any result is used.
+    /// Code computing `roots`, then the checks asked for: a singular transformation or mass
+    /// matrix returns an error before any result is used.
     fn emit(
         &self,
         source: Source,
         scalar: Scalar,
         roots: &[NodeId],
+        checks: Checks,
     ) -> syn::Result<(Code, TokenStream)> {
         let generic = matches!(scalar, Scalar::Generic(_));
         let emitter = self.emitter(source, scalar);
-        let Some(t) = &self.eq.transformation else {
-            return Ok((emitter.emit(roots)?, TokenStream::new()));
-        };
         let mut all = roots.to_vec();
-        all.extend(t.pivots.iter().map(|(p, _)| *p));
-        all.extend(&t.entries);
+        let transformation = self
+            .eq
+            .transformation
+            .as_ref()
+            .filter(|_| checks.transformation);
+        if let Some(t) = transformation {
+            all.extend(t.pivots.iter().map(|(p, _)| *p));
+            all.extend(&t.entries);
+        }
+        let diagonal: Vec<NodeId> = (0..self.eq.mass.len())
+            .map(|k| self.eq.mass[k][k])
+            .collect();
+        if checks.mass {
+            all.extend(&self.eq.pivots);
+            all.extend(&diagonal);
+        }
         let code = emitter.emit(&all)?;
         let re = |id: NodeId| {
             let v = code.value(id);
@@ -97,29 +134,79 @@ impl<'g> Context<'g> {
                 quote!(f64::from(#v))
             }
         };
-        // The matrix's scale as a sum of magnitudes: a plain sum, where a NaN-aware `max`
-        // chain would cost more than the factorization it guards.
-        let scale = t.entries.iter().map(|&e| {
-            let v = re(e);
-            quote!(+ #v.abs())
-        });
-        let tolerance = (self.n as f64) * f64::EPSILON;
-        let checks = t.pivots.iter().map(|&(p, coordinate)| {
-            let v = re(p);
-            let c = lit(coordinate);
-            quote! {
-                let pivot = #v;
-                if !(pivot.abs() > #tolerance * scale_a) {
-                    return ::core::result::Result::Err(::hamel::Singularity::Transformation { coordinate: #c, value: pivot });
+        let mut tokens = TokenStream::new();
+        if let Some(t) = transformation {
+            // The matrix's scale as a sum of magnitudes: a plain sum, where a NaN-aware `max`
+            // chain would cost more than the factorization it guards.
+            let scale = t.entries.iter().map(|&e| {
+                let v = re(e);
+                quote!(+ #v.abs())
+            });
+            let tolerance = (self.n as f64) * f64::EPSILON;
+            let pivots = t.pivots.iter().map(|&(p, coordinate)| {
+                let v = re(p);
+                let c = lit(coordinate);
+                quote! {
+                    let pivot = #v;
+                    if !(pivot.abs() > #tolerance * scale_a) {
+                        return ::core::result::Result::Err(::hamel::Singularity::Transformation { coordinate: #c, value: pivot });
+                    }
                 }
+            });
+            tokens.extend(quote! {
+                let scale_a = 0.0f64 #(#scale)*;
+                #(#pivots)*
+            });
+        }
+        if checks.mass {
+            let tolerance = PIVOT_TOLERANCE;
+            for (j, (&d, &m)) in self.eq.pivots.iter().zip(&diagonal).enumerate() {
+                let (v, diag) = (re(d), re(m));
+                let j = lit(j);
+                tokens.extend(quote! {
+                    let pivot = #v;
+                    if !(pivot > #tolerance * #diag.abs()) {
+                        return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { speed: #j, value: pivot });
+                    }
+                });
             }
-        });
-        let checks = quote! {
-            let scale_a = 0.0f64 #(#scale)*;
-            #(#checks)*
-        };
-        Ok((code, checks))
+        }
+        Ok((code, tokens))
     }
+
+    /// An `f64` method body returning `Ok(value)` after the checks.
+    fn method(
+        &self,
+        source: Source,
+        roots: &[NodeId],
+        checks: Checks,
+        shape: &dyn Fn(&Code) -> TokenStream,
+    ) -> syn::Result<TokenStream> {
+        let (code, checks) = self.emit(source, Scalar::F64, roots, checks)?;
+        let stmts = &code.stmts;
+        let value = shape(&code);
+        Ok(quote! {
+            #stmts
+            #checks
+            ::core::result::Result::Ok(#value)
+        })
+    }
+
+    /// An `f64` method body returning an array of `nodes` (no checks: no solve involved).
+    fn plain(&self, source: Source, nodes: &[NodeId]) -> syn::Result<TokenStream> {
+        let (code, _) = self.emit(source, Scalar::F64, nodes, NONE)?;
+        let stmts = &code.stmts;
+        let value = vector(&code, nodes);
+        Ok(quote! {
+            #stmts
+            #value
+        })
+    }
+}
+
+fn vector(code: &Code, nodes: &[NodeId]) -> TokenStream {
+    let items = nodes.iter().map(|&id| code.value(id));
+    quote!([#(#items),*])
 }
 
 pub fn generate(
@@ -129,119 +216,104 @@ pub fn generate(
     externals: &[External],
     imp: &syn::ItemImpl,
 ) -> syn::Result<TokenStream> {
-    let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
-    let free = spec.dims.free();
-    let state = n + free;
+    let (n, p, m, k) = (spec.dims.n, spec.dims.p, spec.dims.m, spec.dims.k);
+    let dims = Dims { n, p, m, k };
     let cx = Context {
         graph,
         eq,
         externals,
         n,
     };
-    let ty = &imp.self_ty;
-    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
-    let (n_l, p_l, m_l, free_l, state_l) = (lit(n), lit(p), lit(m), lit(free), lit(state));
-
-    // Names.
     let plain =
         |ids: &[syn::Ident]| -> Vec<String> { ids.iter().map(|i| i.unraw().to_string()).collect() };
-    let coordinate_names = plain(&spec.coordinates);
-    let speed_names = plain(&spec.speeds);
-    let input_names = plain(&spec.inputs);
-    let state_names: Vec<&String> = coordinate_names.iter().chain(&speed_names).collect();
-    let constraint_fn = &spec.constraints.sig.ident;
-    let constraint_names: Vec<String> = (0..p)
-        .map(|i| format!("{}[{i}]", constraint_fn.unraw()))
-        .collect();
-
-    // rhs, generic over the scalar type.
-    let s = Ident::new("S", Span::call_site());
-    let mut roots: Vec<NodeId> = eq.qd.clone();
-    roots.extend(&eq.wdot);
-    roots.extend(&eq.pivots);
-    let diagonal: Vec<NodeId> = (0..free).map(|k| eq.mass[k][k]).collect();
-    roots.extend(&diagonal);
-    let (code, transformation_checks) =
-        cx.emit(Source::State, Scalar::Generic(s.clone()), &roots)?;
-    let stmts = &code.stmts;
-    let re = |id: NodeId| {
-        let v = code.value(id);
-        quote!(::hamel::Scalar::re(#v))
+    let row_names = |f: &syn::ImplItemFn, count: usize| -> Vec<String> {
+        (0..count)
+            .map(|i| format!("{}[{i}]", f.sig.ident.unraw()))
+            .collect()
     };
-    let tolerance = PIVOT_TOLERANCE;
-    let checks = eq.pivots.iter().zip(&diagonal).enumerate().map(|(j, (&d, &m))| {
-        let (v, diag) = (re(d), re(m));
-        let j = lit(j);
-        quote! {
-            let pivot = #v;
-            if !(pivot > #tolerance * #diag.abs()) {
-                return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { speed: #j, value: pivot });
-            }
+    let mut constraints = row_names(spec.constraints, spec.dims.nonholonomic());
+    if let Some(h) = &spec.holonomic {
+        constraints.extend(row_names(h.f, k));
+    }
+    let header = Header {
+        imp,
+        dims,
+        coordinates: plain(&spec.coordinates),
+        speeds: plain(&spec.speeds),
+        inputs: plain(&spec.inputs),
+        constraints,
+        dependent: spec
+            .holonomic
+            .as_ref()
+            .map_or_else(Vec::new, |h| h.dependent.clone()),
+        conservative: eq.conservative,
+    };
+    let bodies = bodies(&cx)?;
+    let rhs_generic = rhs_generic(&cx, dims)?;
+    let consts = index_consts(spec);
+    let system = interface::trait_impl(&header, &bodies);
+    let ty = &imp.self_ty;
+    let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    Ok(quote! {
+        #imp
+
+        impl #impl_generics #ty #where_clause {
+            #(#consts)*
+            #rhs_generic
         }
-    });
-    let writes = eq.qd.iter().chain(&eq.wdot).enumerate().map(|(i, &id)| {
+
+        #system
+    })
+}
+
+/// The right-hand side over any [`hamel::Scalar`].
+fn rhs_generic(cx: &Context<'_>, dims: Dims) -> syn::Result<TokenStream> {
+    let eq = cx.eq;
+    let s = Ident::new("S", Span::call_site());
+    let roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
+    let (code, checks) = cx.emit(Source::State, Scalar::Generic(s), &roots, ALL)?;
+    let stmts = &code.stmts;
+    let writes = roots.iter().enumerate().map(|(i, &id)| {
         let v = code.value(id);
         let i = lit(i);
         quote!(dx[#i] = #v;)
     });
-    let rhs_generic = quote! {
+    let signature = interface::rhs_generic_signature(dims);
+    Ok(quote! {
         /// The right-hand side ẋ = F(t, x, u) over any [`hamel::Scalar`]: with dual numbers
         /// it yields the Jacobian of F (linearization); with `f64` it is exactly
         /// [`hamel::HamelSystem::rhs`]. Generated by `#[hamel_system]`.
         #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
         #[inline]
-        pub fn rhs_generic<#s: ::hamel::Scalar>(
-            &self,
-            t: #s,
-            x: &[#s; #state_l],
-            u: &[#s; #m_l],
-            dx: &mut [#s; #state_l],
-        ) -> ::core::result::Result<(), ::hamel::Singularity> {
+        #signature {
             #stmts
-            #transformation_checks
-            #(#checks)*
+            #checks
             #(#writes)*
             ::core::result::Result::Ok(())
         }
-    };
+    })
+}
 
-    // The f64 inspection methods.
-    let method = |source: Source,
-                  roots: &[NodeId],
-                  shape: &dyn Fn(&Code) -> TokenStream|
-     -> syn::Result<TokenStream> {
-        let (code, checks) = cx.emit(source, Scalar::F64, roots)?;
-        let stmts = &code.stmts;
-        let value = shape(&code);
-        Ok(quote! {
-            #stmts
-            #checks
-            ::core::result::Result::Ok(#value)
-        })
-    };
-    let vector = |code: &Code, nodes: &[NodeId]| {
-        let items = nodes.iter().map(|&id| code.value(id));
-        quote!([#(#items),*])
-    };
-    let velocities_body = method(Source::State, &eq.qd, &|c| vector(c, &eq.qd))?;
-    let energy_body = method(Source::State, &[eq.energy], &|c| c.value(eq.energy))?;
+/// The body of every method of the trait.
+fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
+    let eq = cx.eq;
     let mass_flat: Vec<NodeId> = eq.mass.iter().flatten().copied().collect();
-    let mass_body = method(Source::State, &mass_flat, &|c| {
-        let rows = eq.mass.iter().map(|r| vector(c, r));
-        quote!([#(#rows),*])
-    })?;
     let gamma_flat: Vec<NodeId> = eq.gamma.iter().flatten().flatten().copied().collect();
-    let gamma_body = method(Source::Coordinates, &gamma_flat, &|c| {
-        let planes = eq.gamma.iter().map(|plane| {
-            let rows = plane.iter().map(|r| vector(c, r));
-            quote!([#(#rows),*])
-        });
-        quote!([#(#planes),*])
-    })?;
-
-    // max |A(q)·B(q) − I| for a user-given inverse; zero when B is computed from A.
-    let defect_body = match &eq.inverse_defect {
-        Some(defect) => method(Source::Coordinates, defect, &|c| {
+    let power = if eq.conservative {
+        quote!(::core::result::Result::Ok(0.0))
+    } else {
+        cx.method(Source::State, &[eq.power], ALL, &|c| c.value(eq.power))?
+    };
+    let (residual, jacobian) = match &eq.holonomic {
+        Some(h) => (
+            cx.plain(Source::Coordinates, &h.residual)?,
+            cx.plain(Source::Coordinates, &h.jacobian)?,
+        ),
+        None => (quote!([]), quote!([])),
+    };
+    // max |A·B − I| for a user-given inverse; zero when B is computed from A.
+    let inverse_defect = match &eq.inverse_defect {
+        Some(defect) => cx.method(Source::Coordinates, defect, NONE, &|c| {
             let terms = defect.iter().map(|&id| {
                 let v = c.value(id);
                 quote!(.max(f64::abs(#v)))
@@ -252,119 +324,72 @@ pub fn generate(
         // reported by the right-hand side at the time it is met).
         None => quote!(::core::result::Result::Ok(0.0)),
     };
-
-    // The user's own row functions answer constraint_residual and speeds.
-    let call = |f: &syn::ImplItemFn| {
-        let name = &f.sig.ident;
-        let args = f.sig.inputs.iter().filter_map(|a| match a {
-            syn::FnArg::Typed(pt) => Some(matches!(*pt.ty, syn::Type::Reference(_))),
-            syn::FnArg::Receiver(_) => None,
-        });
-        let passed = args
-            .zip([quote!(q), quote!(qd)])
-            .map(|(by_ref, name)| if by_ref { name } else { quote!(*#name) });
-        let receiver = if f.sig.receiver().is_some() {
-            quote!(self.)
-        } else {
-            quote!(Self::)
-        };
-        quote!(#receiver #name(#(#passed),*))
-    };
-    let constraint_call = call(spec.constraints);
-    let speeds_call = call(spec.quasi_velocities);
-
-    // Index constants: `Model::ALPHA` is the index of `alpha` in q.
-    let index_consts = |idents: &[syn::Ident], what: &str| -> Vec<TokenStream> {
-        // (`spec` has checked that every name upper-cases to an identifier.)
-        idents
-            .iter()
-            .enumerate()
-            .filter_map(|(i, id)| {
-                let upper = id.unraw().to_string().to_uppercase();
-                let mut name = syn::parse_str::<syn::Ident>(&upper).ok()?;
-                name.set_span(id.span());
-                let doc = format!("Index of `{id}` among the {what}.");
-                let i = lit(i);
-                Some(quote!(#[doc = #doc] pub const #name: usize = #i;))
-            })
-            .collect()
-    };
-    let coordinate_consts = index_consts(&spec.coordinates, "coordinates");
-    let speed_consts = index_consts(&spec.speeds, "speeds");
-    let input_consts = index_consts(&spec.inputs, "inputs");
-
-    let allow = quote!(#[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
-    Ok(quote! {
-        #imp
-
-        impl #impl_generics #ty #where_clause {
-            #(#coordinate_consts)*
-            #(#speed_consts)*
-            #(#input_consts)*
-            #rhs_generic
-        }
-
-        impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
-            type Coordinates = [f64; #n_l];
-            type Speeds = [f64; #free_l];
-            type Constraints = [f64; #p_l];
-            type State = [f64; #state_l];
-            type Inputs = [f64; #m_l];
-            type MassMatrix = [[f64; #free_l]; #free_l];
-            type Gamma = [[[f64; #free_l]; #free_l]; #n_l];
-
-            const N: usize = #n_l;
-            const P: usize = #p_l;
-            const M: usize = #m_l;
-            const COORDINATES: &'static [&'static str] = &[#(#coordinate_names),*];
-            const SPEEDS: &'static [&'static str] = &[#(#speed_names),*];
-            const CONSTRAINTS: &'static [&'static str] = &[#(#constraint_names),*];
-            const INPUTS: &'static [&'static str] = &[#(#input_names),*];
-            const STATE: &'static [&'static str] = &[#(#state_names),*];
-
-            #[inline]
-            fn rhs(
-                &self,
-                t: f64,
-                x: &[f64; #state_l],
-                u: &[f64; #m_l],
-                dx: &mut [f64; #state_l],
-            ) -> ::core::result::Result<(), ::hamel::Singularity> {
-                self.rhs_generic::<f64>(t, x, u, dx)
-            }
-
-            #allow
-            fn velocities(&self, x: &[f64; #state_l]) -> ::core::result::Result<[f64; #n_l], ::hamel::Singularity> {
-                #velocities_body
-            }
-
-            #allow
-            fn energy(&self, x: &[f64; #state_l]) -> ::core::result::Result<f64, ::hamel::Singularity> {
-                #energy_body
-            }
-
-            fn constraint_residual(&self, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #p_l] {
-                #constraint_call
-            }
-
-            fn speeds(&self, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #free_l] {
-                #speeds_call
-            }
-
-            #allow
-            fn mass_matrix(&self, x: &[f64; #state_l]) -> ::core::result::Result<[[f64; #free_l]; #free_l], ::hamel::Singularity> {
-                #mass_body
-            }
-
-            #allow
-            fn inverse_defect(&self, q: &[f64; #n_l]) -> ::core::result::Result<f64, ::hamel::Singularity> {
-                #defect_body
-            }
-
-            #allow
-            fn gamma(&self, q: &[f64; #n_l]) -> ::core::result::Result<[[[f64; #free_l]; #free_l]; #n_l], ::hamel::Singularity> {
-                #gamma_body
-            }
-        }
+    Ok(Bodies {
+        rhs: quote!(self.rhs_generic::<f64>(t, x, u, dx)),
+        generalized_velocities: cx.method(Source::State, &eq.qd, TRANSFORMATION, &|c| {
+            vector(c, &eq.qd)
+        })?,
+        energy: cx.method(Source::State, &[eq.energy], TRANSFORMATION, &|c| {
+            c.value(eq.energy)
+        })?,
+        power,
+        constraint_forces: cx.method(Source::State, &eq.multipliers, ALL, &|c| {
+            vector(c, &eq.multipliers)
+        })?,
+        constraint_residual: cx.plain(Source::Velocities, &eq.constraint_rows)?,
+        speeds: cx.plain(Source::Velocities, &eq.quasi_rows)?,
+        holonomic_residual: residual,
+        holonomic_jacobian: jacobian,
+        mass_matrix: cx.method(Source::State, &mass_flat, TRANSFORMATION, &|c| {
+            let rows = eq.mass.iter().map(|r| vector(c, r));
+            quote!([#(#rows),*])
+        })?,
+        gamma: cx.method(Source::Coordinates, &gamma_flat, TRANSFORMATION, &|c| {
+            let planes = eq.gamma.iter().map(|plane| {
+                let rows = plane.iter().map(|r| vector(c, r));
+                quote!([#(#rows),*])
+            });
+            quote!([#(#planes),*])
+        })?,
+        inverse_defect,
     })
+}
+
+/// Index constants: `Model::ALPHA` is the index of `alpha` in q; an indexed group `theta[3]`
+/// also gives `Model::THETA`, the index of its first member.
+fn index_consts(spec: &Spec<'_>) -> Vec<TokenStream> {
+    let lists = [
+        (&spec.coordinates, "coordinates"),
+        (&spec.speeds, "speeds"),
+        (&spec.inputs, "inputs"),
+    ];
+    let mut out = Vec::new();
+    for ((idents, what), groups) in lists.into_iter().zip(&spec.groups) {
+        // (`spec` has checked that every name upper-cases to an identifier.)
+        for (i, id) in idents.iter().enumerate() {
+            let upper = id.unraw().to_string().to_uppercase();
+            let Ok(mut name) = syn::parse_str::<syn::Ident>(&upper) else {
+                continue;
+            };
+            name.set_span(id.span());
+            let doc = format!("Index of `{id}` among the {what}.");
+            let i = lit(i);
+            out.push(quote!(#[doc = #doc] pub const #name: usize = #i;));
+        }
+        for group in groups {
+            let upper = group.base.unraw().to_string().to_uppercase();
+            let Ok(mut name) = syn::parse_str::<syn::Ident>(&upper) else {
+                continue;
+            };
+            name.set_span(group.base.span());
+            let doc = format!(
+                "Index among the {what} of `{base}0`, the first of the group `{base}[{}]`.",
+                group.len,
+                base = group.base
+            );
+            let i = lit(group.start);
+            out.push(quote!(#[doc = #doc] pub const #name: usize = #i;));
+        }
+    }
+    out
 }

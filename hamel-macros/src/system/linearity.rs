@@ -1,5 +1,5 @@
-//! Is a row linear and homogeneous in the velocities? Decided on the graph, structurally,
-//! so that the error can point at the subexpression that breaks linearity.
+//! Is a row affine in the velocities, A(q, t)·v + a(q, t)? Decided on the graph,
+//! structurally, so that the error can point at the subexpression that breaks it.
 
 use crate::engine::graph::{Graph, Node, NodeId};
 use std::collections::HashMap;
@@ -13,6 +13,8 @@ enum Class {
     Free,
     /// Σ c_j(q)·v_j: linear and homogeneous.
     Linear,
+    /// Σ c_j(q)·v_j + a(q): linear plus a part without velocities.
+    Affine,
     /// Anything else; carries the node where linearity broke and why.
     Broken(NodeId, Why),
 }
@@ -22,19 +24,39 @@ pub enum Why {
     Product,
     Quotient,
     Function,
-    Affine,
     Condition,
 }
 
 /// The verdict on one row.
 pub enum Verdict {
+    /// Σ c_j(q)·v_j.
     Linear,
+    /// Σ c_j(q)·v_j + a(q), with a part that is not known to be zero.
+    Affine,
     /// The row is the constant zero.
     Zero,
     /// The row does not depend on the velocities.
     Independent,
     /// The row is not linear: where, and why.
     Broken(NodeId, Why),
+}
+
+impl Class {
+    /// Whether the value varies with the velocities.
+    fn has_velocity(self) -> bool {
+        matches!(self, Class::Linear | Class::Affine)
+    }
+}
+
+/// The class of a sum (or of a select, whose branches are summands of a sort).
+fn sum(a: Class, b: Class) -> Class {
+    match (a, b) {
+        (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
+        (Class::Zero, x) | (x, Class::Zero) => x,
+        (Class::Free, Class::Free) => Class::Free,
+        (Class::Linear, Class::Linear) => Class::Linear,
+        _ => Class::Affine,
+    }
 }
 
 pub fn classify(g: &Graph, root: NodeId, velocities: &[NodeId]) -> Verdict {
@@ -49,48 +71,45 @@ pub fn classify(g: &Graph, root: NodeId, velocities: &[NodeId]) -> Verdict {
                 Node::Const(_) if g.is_zero(id) => Class::Zero,
                 Node::Const(_) | Node::Input(_) | Node::Bool(_) => Class::Free,
                 Node::Neg(a) => c(a),
-                Node::Add(a, b) | Node::Sub(a, b) => match (c(a), c(b)) {
-                    (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
-                    (Class::Zero, x) | (x, Class::Zero) => x,
-                    (Class::Free, Class::Free) => Class::Free,
-                    (Class::Linear, Class::Linear) => Class::Linear,
-                    _ => Class::Broken(id, Why::Affine),
-                },
+                Node::Add(a, b) | Node::Sub(a, b) => sum(c(a), c(b)),
                 Node::Mul(a, b) => match (c(a), c(b)) {
                     (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
                     (Class::Zero, _) | (_, Class::Zero) => Class::Zero,
-                    (Class::Linear, Class::Linear) => Class::Broken(id, Why::Product),
-                    (Class::Linear, _) | (_, Class::Linear) => Class::Linear,
+                    (x, y) if x.has_velocity() && y.has_velocity() => {
+                        Class::Broken(id, Why::Product)
+                    }
+                    (x, Class::Free) | (Class::Free, x) => x,
                     _ => Class::Free,
                 },
                 Node::Div(a, b) => match (c(a), c(b)) {
                     (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
-                    (_, Class::Linear) => Class::Broken(id, Why::Quotient),
+                    (_, y) if y.has_velocity() => Class::Broken(id, Why::Quotient),
                     (x, _) => x,
                 },
                 Node::Select(cond, a, b) => match (c(cond), c(a), c(b)) {
-                    (Class::Broken(..), ..) | (Class::Linear, ..) => {
-                        Class::Broken(id, Why::Condition)
-                    }
+                    (Class::Broken(..), ..) => Class::Broken(id, Why::Condition),
+                    (x, ..) if x.has_velocity() => Class::Broken(id, Why::Condition),
                     (_, b @ Class::Broken(..), _) | (_, _, b @ Class::Broken(..)) => b,
-                    (_, Class::Zero, x) | (_, x, Class::Zero) => x,
-                    (_, x, y) if x == y => x,
-                    _ => Class::Broken(id, Why::Affine),
+                    // Per configuration one branch is taken: the select of two affine
+                    // functions is affine (A and a are selects themselves).
+                    (_, x, y) => sum(x, y),
                 },
                 Node::Compare(_, a, b) | Node::And(a, b) | Node::Or(a, b) => match (c(a), c(b)) {
                     (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
-                    (Class::Linear, _) | (_, Class::Linear) => Class::Linear,
+                    (x, y) if x.has_velocity() || y.has_velocity() => Class::Linear,
                     _ => Class::Free,
                 },
                 Node::Not(a) => c(a),
                 Node::Unary(_, a) | Node::Powi(a, _) => match c(a) {
                     b @ Class::Broken(..) => b,
-                    Class::Linear => Class::Broken(id, Why::Function),
+                    x if x.has_velocity() => Class::Broken(id, Why::Function),
                     x => x,
                 },
                 Node::Binary(_, a, b) => match (c(a), c(b)) {
                     (b @ Class::Broken(..), _) | (_, b @ Class::Broken(..)) => b,
-                    (Class::Linear, _) | (_, Class::Linear) => Class::Broken(id, Why::Function),
+                    (x, y) if x.has_velocity() || y.has_velocity() => {
+                        Class::Broken(id, Why::Function)
+                    }
                     _ => Class::Free,
                 },
             }
@@ -99,6 +118,7 @@ pub fn classify(g: &Graph, root: NodeId, velocities: &[NodeId]) -> Verdict {
     }
     match class.get(&root).copied().unwrap_or(Class::Free) {
         Class::Linear => Verdict::Linear,
+        Class::Affine => Verdict::Affine,
         Class::Zero => Verdict::Zero,
         Class::Free => Verdict::Independent,
         Class::Broken(at, why) => Verdict::Broken(at, why),
@@ -124,9 +144,13 @@ mod tests {
         let e = g.add(lin, sv);
         assert!(matches!(classify(&g, e, &[v]), Verdict::Broken(at, Why::Function) if at == sv));
         let aff = g.add(lin, s);
+        assert!(matches!(classify(&g, aff, &[v]), Verdict::Affine));
+        let scaled = g.mul(aff, s);
+        assert!(matches!(classify(&g, scaled, &[v]), Verdict::Affine));
+        let squared = g.mul(aff, lin);
         assert!(matches!(
-            classify(&g, aff, &[v]),
-            Verdict::Broken(_, Why::Affine)
+            classify(&g, squared, &[v]),
+            Verdict::Broken(at, Why::Product) if at == squared
         ));
         assert!(matches!(classify(&g, s, &[v]), Verdict::Independent));
         let z = g.zero();

@@ -11,6 +11,7 @@ mod equations;
 mod fallback;
 mod generate;
 mod generic;
+mod interface;
 mod ldlt;
 mod linearity;
 mod model;

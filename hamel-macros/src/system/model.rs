@@ -24,10 +24,13 @@ pub enum Role {
     Velocities,
     /// f(t, q, q̇, u) (optional)
     Forces,
+    /// f(q) = 0 or f(t, q) = 0, holonomic constraints (optional); their time derivatives
+    /// join the constraint rows
+    Holonomic,
 }
 
 impl Role {
-    pub const ALL: [Role; 8] = [
+    pub const ALL: [Role; 9] = [
         Role::Lagrangian,
         Role::KineticEnergy,
         Role::PotentialEnergy,
@@ -36,6 +39,7 @@ impl Role {
         Role::QuasiVelocities,
         Role::Velocities,
         Role::Forces,
+        Role::Holonomic,
     ];
 
     pub fn attribute(self) -> &'static str {
@@ -48,7 +52,14 @@ impl Role {
             Role::QuasiVelocities => "quasi_velocities",
             Role::Velocities => "velocities",
             Role::Forces => "forces",
+            Role::Holonomic => "holonomic",
         }
+    }
+
+    /// Whether the role's function may take the time as a leading argument `t: f64` (the
+    /// forces always take it).
+    pub fn may_take_time(self) -> bool {
+        !matches!(self, Role::Forces)
     }
 
     /// The role an attribute marks: `#[kinetic_energy]`, or by the path of its macro in
@@ -63,7 +74,8 @@ impl Role {
         Role::ALL.into_iter().find(|r| ident == r.attribute())
     }
 
-    /// The signature the role's function must have, for messages.
+    /// The signature the role's function must have, for messages (all but `#[forces]` may
+    /// also take a leading `t: f64`).
     pub fn expected_signature(self) -> &'static str {
         match self {
             Role::Lagrangian | Role::KineticEnergy => {
@@ -77,13 +89,29 @@ impl Role {
             Role::Forces => {
                 "fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]"
             }
+            Role::Holonomic => "fn(&self, q: &[f64; N]) -> [f64; K]",
         }
     }
+}
+
+/// The most members an indexed group of names (`theta[3]`) may have.
+const MAX_GROUP: usize = 1024;
+
+/// An indexed group of names, `theta[3]` for `theta0, theta1, theta2`: its base name, the
+/// position of its first member in its list and its length. Its base name, upper-cased, is
+/// the index of the first member (`Self::THETA + i`, for loops over the group).
+#[derive(Clone)]
+pub struct Group {
+    pub base: syn::Ident,
+    pub start: usize,
+    pub len: usize,
 }
 
 /// Names given in `#[hamel_system(coordinates(..), speeds(..), inputs(..))]`.
 #[derive(Default)]
 pub struct Names {
+    /// The indexed groups of each list: coordinates, speeds, inputs.
+    pub groups: [Vec<Group>; 3],
     pub coordinates: Option<(Span, Vec<syn::Ident>)>,
     pub speeds: Option<(Span, Vec<syn::Ident>)>,
     pub inputs: Vec<syn::Ident>,
@@ -106,16 +134,23 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
     }
     let parser = syn::meta::parser(|meta| {
         let span = meta.path.span();
-        let (list, written) = parse_list(&meta, errors, &mut names.garbled)?;
+        let (list, groups, written) = parse_list(&meta, errors, &mut names.garbled)?;
         // An unknown key is read as the key it most likely meant, so that this one mistake
         // is not followed by "name the coordinates".
         let Some(key) = known_key(&meta.path, errors) else {
             return Ok(());
         };
         let slot = match key.as_str() {
-            "coordinates" => &mut names.coordinates,
-            "speeds" | "quasi_velocities" => &mut names.speeds,
+            "coordinates" => {
+                names.groups[0] = groups;
+                &mut names.coordinates
+            }
+            "speeds" | "quasi_velocities" => {
+                names.groups[1] = groups;
+                &mut names.speeds
+            }
             _ => {
+                names.groups[2] = groups;
                 names.inputs = list;
                 names.inputs_written = Some(written);
                 return Ok(());
@@ -139,9 +174,10 @@ fn parse_list(
     meta: &syn::meta::ParseNestedMeta<'_>,
     errors: &mut Vec<syn::Error>,
     garbled: &mut bool,
-) -> syn::Result<(Vec<syn::Ident>, TokenStream)> {
+) -> syn::Result<(Vec<syn::Ident>, Vec<Group>, TokenStream)> {
     let path = &meta.path;
     let mut list = Vec::new();
+    let mut groups: Vec<(syn::Ident, usize, usize)> = Vec::new();
     if meta.input.peek(syn::Token![=]) {
         let eq: syn::Token![=] = meta.input.parse()?;
         let value: syn::Expr = meta.input.parse()?;
@@ -170,7 +206,7 @@ fn parse_list(
             ),
         ));
         *garbled |= idents.is_none();
-        return Ok((idents.unwrap_or_default(), written));
+        return Ok((idents.unwrap_or_default(), Vec::new(), written));
     }
     let group = meta.input.fork().parse::<proc_macro2::Group>().ok();
     let written = quote::quote!(#path #group);
@@ -187,14 +223,47 @@ fn parse_list(
                 list.push(ident.clone());
                 Ok(())
             }
-            _ => Err(inner.error("expected a name (an identifier)")),
+            Some(ident) if inner.input.peek(syn::token::Bracket) => {
+                let content;
+                syn::bracketed!(content in inner.input);
+                let length: syn::LitInt = content.parse()?;
+                let len: usize = length.base10_parse()?;
+                if len == 0 {
+                    return Err(syn::Error::new_spanned(
+                        &length,
+                        format!(
+                            "the indexed group `{ident}[0]` names nothing: a group `{ident}[3]` \
+                             stands for `{ident}0, {ident}1, {ident}2`; give it at least one \
+                             member, or remove it"
+                        ),
+                    ));
+                }
+                if len > MAX_GROUP {
+                    return Err(syn::Error::new_spanned(
+                        &length,
+                        format!("an indexed group has at most {MAX_GROUP} members"),
+                    ));
+                }
+                groups.push((ident.clone(), list.len(), len));
+                list.extend(
+                    (0..len).map(|i| syn::Ident::new(&format!("{ident}{i}"), ident.span())),
+                );
+                Ok(())
+            }
+            _ => Err(inner.error(
+                "expected a name (an identifier) or an indexed group of names (`theta[3]`)",
+            )),
         })
     };
     if let Err(e) = result {
         errors.push(e);
         *garbled = true;
     }
-    Ok((list, written))
+    let groups = groups
+        .into_iter()
+        .map(|(base, start, len)| Group { base, start, len })
+        .collect();
+    Ok((list, groups, written))
 }
 
 /// The key as written, or the known key it most likely meant (with an error); `None` when
@@ -261,6 +330,9 @@ pub fn written_length(output: &syn::ReturnType) -> Option<usize> {
 pub struct RoleFn<'a> {
     pub f: &'a syn::ImplItemFn,
     pub attr: &'a syn::Attribute,
+    /// `#[holonomic(determines(theta))]`: the coordinates the holonomic constraints solve
+    /// for, as written (empty for the other roles).
+    pub determines: Vec<syn::Ident>,
 }
 
 /// The roles found in an impl block. Role attributes are removed from the emitted code.
@@ -284,12 +356,17 @@ impl<'a> Roles<'a> {
                 let Some(role) = Role::from_attribute(attr) else {
                     continue;
                 };
-                if !matches!(attr.meta, syn::Meta::Path(_)) {
-                    errors.push(syn::Error::new_spanned(
-                        attr,
-                        format!("`#[{}]` takes no arguments", role.attribute()),
-                    ));
-                }
+                let determines = if role == Role::Holonomic {
+                    holonomic_arguments(attr, errors)
+                } else {
+                    if !matches!(attr.meta, syn::Meta::Path(_)) {
+                        errors.push(syn::Error::new_spanned(
+                            attr,
+                            format!("`#[{}]` takes no arguments", role.attribute()),
+                        ));
+                    }
+                    Vec::new()
+                };
                 if let Some(other) = mine {
                     errors.push(syn::Error::new_spanned(
                         attr,
@@ -313,7 +390,14 @@ impl<'a> Roles<'a> {
                     ));
                     continue;
                 }
-                by_role.insert(role, RoleFn { f, attr });
+                by_role.insert(
+                    role,
+                    RoleFn {
+                        f,
+                        attr,
+                        determines,
+                    },
+                );
             }
         }
         Roles { by_role, unmarked }
@@ -322,6 +406,47 @@ impl<'a> Roles<'a> {
     pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {
         self.by_role.get(&role)
     }
+}
+
+/// The coordinates named in `#[holonomic(determines(theta, phi))]` (indexed names such as
+/// `theta[2]` refer to one member of a group).
+fn holonomic_arguments(attr: &syn::Attribute, errors: &mut Vec<syn::Error>) -> Vec<syn::Ident> {
+    let how = "`#[holonomic(determines(theta))]` names the coordinates the holonomic \
+               constraints determine, one per constraint";
+    if matches!(attr.meta, syn::Meta::Path(_)) {
+        errors.push(syn::Error::new_spanned(
+            attr,
+            format!("name the coordinates the constraints solve for: {how}"),
+        ));
+        return Vec::new();
+    }
+    let mut names = Vec::new();
+    let result = attr.parse_nested_meta(|meta| {
+        if !meta.path.is_ident("determines") {
+            return Err(meta.error(format!("unknown key: {how}")));
+        }
+        meta.parse_nested_meta(|inner| {
+            let ident = inner
+                .path
+                .get_ident()
+                .cloned()
+                .ok_or_else(|| inner.error("expected a coordinate's name"))?;
+            if inner.input.peek(syn::token::Bracket) {
+                let content;
+                syn::bracketed!(content in inner.input);
+                let index: syn::LitInt = content.parse()?;
+                let i: usize = index.base10_parse()?;
+                names.push(syn::Ident::new(&format!("{ident}{i}"), ident.span()));
+            } else {
+                names.push(ident);
+            }
+            Ok(())
+        })
+    });
+    if let Err(e) = result {
+        errors.push(e);
+    }
+    names
 }
 
 /// The impl block with the role attributes removed (they are ours, not rustc's). A role

@@ -1,5 +1,7 @@
-//! `#[hamel_system]` on the parameter struct: every field must be an `f64`; the struct gets
-//! an implementation of `hamel::Parameters` (names, doc comments, get and set by name).
+//! `#[hamel_system]` on the parameter struct: every field must be an `f64` or an array of
+//! them (`m: [f64; 3]`, per-body data, read as `self.m[i]`); the struct gets an
+//! implementation of `hamel::Parameters` (names, doc comments, get and set by name). An
+//! array's entries are named like an indexed group of coordinates: `m0`, `m1`, `m2`.
 
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -34,7 +36,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
             Vec::new()
         }
     };
-    let is_f64 = |field: &syn::Field| matches!(&field.ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"));
+    let is_f64 = |field: &syn::Field| kind(&field.ty).is_some();
     for field in &fields {
         if !is_f64(field) {
             let name = field
@@ -45,8 +47,9 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
             errors.push(syn::Error::new_spanned(
                 &field.ty,
                 format!(
-                    "parameter `{name}` has type `{}`, but parameters are `f64`: hamel computes in `f64` \
-                     (keep other data outside the parameter struct)",
+                    "parameter `{name}` has type `{}`, but parameters are `f64` or arrays of them \
+                     (`[f64; 3]`, with a literal length): hamel computes in `f64` (keep other data \
+                     outside the parameter struct)",
                     crate::engine::lower::render_type(&field.ty)
                 ),
             ));
@@ -65,9 +68,36 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
 
     let fields: Vec<&syn::Field> = fields.into_iter().filter(|f| is_f64(f)).collect();
     let ty = &item.ident;
-    let idents: Vec<&syn::Ident> = fields.iter().filter_map(|f| f.ident.as_ref()).collect();
-    let names: Vec<String> = idents.iter().map(ToString::to_string).collect();
-    let docs: Vec<String> = fields.iter().map(|f| doc_comment(&f.attrs)).collect();
+    // One entry per scalar: (its name, how it is read, its doc comment).
+    let mut entries: Vec<(String, TokenStream, String)> = Vec::new();
+    for field in &fields {
+        let Some(ident) = &field.ident else { continue };
+        let doc = doc_comment(&field.attrs);
+        match kind(&field.ty) {
+            Some(None) => entries.push((ident.to_string(), quote!(self.#ident), doc)),
+            Some(Some(len)) => {
+                for i in 0..len {
+                    let index = proc_macro2::Literal::usize_unsuffixed(i);
+                    let doc = match doc.as_str() {
+                        "" => String::new(),
+                        d => format!("{d} [{i}]"),
+                    };
+                    entries.push((format!("{ident}{i}"), quote!(self.#ident[#index]), doc));
+                }
+            }
+            None => {}
+        }
+    }
+    let error = match duplicates(&entries, &fields) {
+        Some(e) => {
+            let e = e.into_compile_error();
+            Some(quote!(#error #e))
+        }
+        None => error,
+    };
+    let names: Vec<&String> = entries.iter().map(|(n, _, _)| n).collect();
+    let reads: Vec<&TokenStream> = entries.iter().map(|(_, r, _)| r).collect();
+    let docs: Vec<&String> = entries.iter().map(|(_, _, d)| d).collect();
     quote! {
         #item
         #error
@@ -78,7 +108,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
 
             fn get(&self, name: &str) -> ::core::option::Option<f64> {
                 match name {
-                    #(#names => ::core::option::Option::Some(self.#idents),)*
+                    #(#names => ::core::option::Option::Some(#reads),)*
                     _ => ::core::option::Option::None,
                 }
             }
@@ -86,7 +116,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
             fn set(&mut self, name: &str, value: f64) -> ::core::result::Result<(), ::hamel::Error> {
                 match name {
                     #(#names => {
-                        self.#idents = value;
+                        #reads = value;
                         ::core::result::Result::Ok(())
                     })*
                     _ => ::core::result::Result::Err(::hamel::Error::UnknownParameter {
@@ -97,6 +127,48 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
             }
         }
     }
+}
+
+/// `Some(None)` for `f64`, `Some(Some(len))` for `[f64; len]` with a literal length.
+fn kind(ty: &syn::Type) -> Option<Option<usize>> {
+    match ty {
+        syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64") => Some(None),
+        syn::Type::Array(a) if kind(&a.elem) == Some(None) => match &a.len {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(i),
+                ..
+            }) => i.base10_parse().ok().map(Some),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// Two parameters with the same name: a field `m1` beside an array `m` whose entry 1 is
+/// named `m1` too.
+fn duplicates(
+    entries: &[(String, TokenStream, String)],
+    fields: &[&syn::Field],
+) -> Option<syn::Error> {
+    let mut seen = std::collections::HashSet::new();
+    let (name, _, _) = entries.iter().find(|(n, _, _)| !seen.insert(n.clone()))?;
+    let at = fields
+        .iter()
+        .filter_map(|f| f.ident.as_ref())
+        .find(|i| name.starts_with(&i.to_string()) && **i != name.as_str())
+        .or_else(|| {
+            fields
+                .iter()
+                .filter_map(|f| f.ident.as_ref())
+                .find(|i| **i == name.as_str())
+        })?;
+    Some(syn::Error::new_spanned(
+        at,
+        format!(
+            "two parameters are named `{name}`: an array's entries are named by its name and their \
+             index (`m: [f64; 3]` gives `m0`, `m1`, `m2`); rename one of them"
+        ),
+    ))
 }
 
 /// The text of `///` comments, joined into one line.

@@ -25,6 +25,7 @@ pub struct StructurallySingular {
     pub column: usize,
 }
 
+#[derive(Clone)]
 pub struct SparseLu {
     a: Vec<Vec<NodeId>>,
     /// Diagonal blocks in solving order: (rows, columns), rows matched to columns in order.

@@ -1,22 +1,24 @@
 //! The checked model: dimensions, names and role functions, after every check that can be
 //! made from the signatures alone. All mistakes are reported together, each at its span.
 
-use super::model::{Names, Role, RoleFn, Roles, names_of, written_length};
+use super::model::{Group, Names, Role, RoleFn, Roles, names_of, written_length};
 use super::reserved;
 use crate::engine::lower::{Arg, Lowerer, Shape};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, format_ident};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use syn::ext::IdentExt;
 
 #[derive(Clone, Copy)]
 pub struct Dims {
     /// Coordinates.
     pub n: usize,
-    /// Constraints.
+    /// Constraint rows, the holonomic constraints' included.
     pub p: usize,
     /// Inputs.
     pub m: usize,
+    /// Holonomic constraints (their velocity rows are the last k of the p).
+    pub k: usize,
 }
 
 impl Dims {
@@ -24,6 +26,18 @@ impl Dims {
     pub fn free(&self) -> usize {
         self.n - self.p
     }
+
+    /// The rows of the `#[constraints]` function.
+    pub fn nonholonomic(&self) -> usize {
+        self.p - self.k
+    }
+}
+
+/// The holonomic constraints f(t, q) = 0 and the coordinates they determine.
+pub struct Holonomic<'a> {
+    pub f: &'a syn::ImplItemFn,
+    /// For each constraint, the index of the coordinate it determines.
+    pub dependent: Vec<usize>,
 }
 
 /// Where the model's energy comes from.
@@ -44,11 +58,23 @@ pub struct Spec<'a> {
     pub coordinates: Vec<syn::Ident>,
     pub speeds: Vec<syn::Ident>,
     pub inputs: Vec<syn::Ident>,
+    /// The indexed groups of names (coordinates, speeds, inputs).
+    pub groups: [Vec<Group>; 3],
     pub energy: Energy<'a>,
     pub constraints: &'a syn::ImplItemFn,
     pub quasi_velocities: &'a syn::ImplItemFn,
     pub velocities: Option<&'a syn::ImplItemFn>,
     pub forces: Option<&'a syn::ImplItemFn>,
+    pub holonomic: Option<Holonomic<'a>>,
+    /// The role functions that take the time as a leading argument (by name).
+    timed: HashSet<String>,
+}
+
+impl Spec<'_> {
+    /// Whether `f` takes a leading `t: f64` (the forces always do).
+    pub fn takes_time(&self, f: &syn::ImplItemFn) -> bool {
+        self.timed.contains(&f.sig.ident.to_string())
+    }
 }
 
 /// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
@@ -98,10 +124,17 @@ pub fn check<'a>(
     if n == 0 {
         return None;
     }
+    let holonomic = roles.get(Role::Holonomic);
     // What each role's signature must be, for the messages about unsupported types in it.
     let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
+    let k_written = holonomic.map_or(Some(0), |h| written_length(&h.f.sig.output));
+    let p_total = p_written
+        .zip(k_written)
+        .map(|(p, k)| p + k)
+        .filter(|&p| p < n);
     for (role, rf) in &roles.by_role {
-        let (args, out) = expected(*role, n, m, p_written.filter(|&p| p < n));
+        let timed = takes_time(*role, rf.f, n, m, p_total);
+        let (args, out) = expected(*role, n, m, p_total, timed);
         let name = rf.f.sig.ident.to_string();
         lowerer
             .signature_hints
@@ -109,20 +142,26 @@ pub fn check<'a>(
         lowerer.expected_arguments.insert(name, args);
     }
 
-    let p = constraint_count(constraints, &coordinates, lowerer, &mut ok);
+    let k = holonomic_count(holonomic, lowerer, &mut ok);
+    let p = constraint_count(constraints, k, &coordinates, lowerer, &mut ok).map(|p| p + k);
 
     // Signatures of every role present. An optional role with a wrong signature is left out
     // of the model (its error stands), so that the rest of the model is still checked.
     let mut dropped = Vec::new();
+    let mut timed = HashSet::new();
     for (role, rf) in &roles.by_role {
+        let takes = takes_time(*role, rf.f, n, m, p);
         let fits = check_signature(
             *role,
             rf,
-            &expected(*role, n, m, p),
+            &expected(*role, n, m, p, takes),
             lowerer,
             (&coordinates, &names.inputs),
             p,
         );
+        if takes && *role != Role::Forces {
+            timed.insert(rf.f.sig.ident.to_string());
+        }
         if !fits {
             lowerer.mark_faulty(rf.f.sig.ident.to_string());
             match role {
@@ -131,19 +170,25 @@ pub fn check<'a>(
             }
         }
     }
+    let dependent = holonomic.and_then(|h| dependent_coordinates(h, k, &coordinates, lowerer));
+    if holonomic.is_some() && dependent.is_none() {
+        ok = false;
+    }
 
     let speeds = speed_names(names.speeds.clone(), n, p, lowerer);
     check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
+    check_group_names(&names.groups, &coordinates, &speeds, &names.inputs, lowerer);
     check_inputs_are_read(&names, roles, n, lowerer);
 
     if !ok {
         return None;
     }
     Some(Spec {
-        dims: Dims { n, p: p?, m },
+        dims: Dims { n, p: p?, m, k },
         coordinates,
         speeds,
         inputs: names.inputs,
+        groups: names.groups,
         energy: energy?,
         constraints: constraints?.f,
         quasi_velocities: quasi_velocities?.f,
@@ -155,12 +200,139 @@ pub fn check<'a>(
             .get(Role::Forces)
             .filter(|_| !dropped.contains(&Role::Forces))
             .map(|r| r.f),
+        holonomic: holonomic
+            .zip(dependent)
+            .map(|(h, dependent)| Holonomic { f: h.f, dependent }),
+        timed,
     })
 }
 
-/// p, from the constraints' result type: at least one, and fewer than the coordinates.
+/// Whether a role function takes the time first: one argument more than the role needs,
+/// and the role may take it (`fn(&self, t: f64, q: &[f64; N], qd: &[f64; N])`). A `t` of
+/// the wrong type or in the wrong place is then reported by the signature check.
+fn takes_time(role: Role, f: &syn::ImplItemFn, n: usize, m: usize, p: Option<usize>) -> bool {
+    if role == Role::Forces {
+        return true;
+    }
+    let typed: Vec<&syn::PatType> = f
+        .sig
+        .inputs
+        .iter()
+        .filter_map(|a| match a {
+            syn::FnArg::Typed(pt) => Some(pt),
+            syn::FnArg::Receiver(_) => None,
+        })
+        .collect();
+    // One argument too many, and one of them is the time: named `t`, or a scalar `f64`.
+    let is_time = |pt: &&syn::PatType| {
+        argument_name(&pt.pat).is_some_and(|name| name == "t")
+            || matches!(&*pt.ty, syn::Type::Path(ty) if ty.path.is_ident("f64"))
+    };
+    role.may_take_time()
+        && typed.len() == expected(role, n, m, p, false).0.len() + 1
+        && typed.iter().any(is_time)
+}
+
+/// k, from the holonomic function's result type: at least one constraint (0 without one).
+fn holonomic_count(
+    holonomic: Option<&RoleFn<'_>>,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> usize {
+    let Some(h) = holonomic else {
+        return 0;
+    };
+    let k = lowerer.signature(h.f).and_then(|sig| match sig.output {
+        Some(Shape::Array(k, inner)) if *inner == Shape::Real => Some(k),
+        _ => None,
+    });
+    match k {
+        Some(k) if k > 0 => k,
+        Some(_) => {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    h.f,
+                    "`#[holonomic]` returns no constraint: return `[f64; K]`, one entry per \
+                     holonomic constraint f(q) = 0, or remove the role",
+                ),
+            );
+            0
+        }
+        None => {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    h.f,
+                    "`#[holonomic]` must return an array `[f64; K]`, one entry per holonomic \
+                     constraint f(q) = 0",
+                ),
+            );
+            0
+        }
+    }
+}
+
+/// The coordinates named in `#[holonomic(determines(..))]`, as indices: one per constraint,
+/// each a coordinate, no two the same.
+fn dependent_coordinates(
+    h: &RoleFn<'_>,
+    k: usize,
+    coordinates: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+) -> Option<Vec<usize>> {
+    let known: Vec<String> = coordinates.iter().map(|c| c.unraw().to_string()).collect();
+    let mut indices = Vec::new();
+    let mut good = true;
+    for name in &h.determines {
+        let plain = name.unraw().to_string();
+        match known.iter().position(|c| *c == plain) {
+            Some(i) if indices.contains(&i) => {
+                lowerer.push_error(syn::Error::new(
+                    name.span(),
+                    format!("`{name}` is named twice: each holonomic constraint determines its own coordinate"),
+                ));
+                good = false;
+            }
+            Some(i) => indices.push(i),
+            None => {
+                let hint = crate::engine::lower::closest(&plain, &known)
+                    .map(|g| format!("; did you mean `{g}`?"))
+                    .unwrap_or_default();
+                lowerer.push_error(syn::Error::new(
+                    name.span(),
+                    format!(
+                        "`{name}` is not a coordinate{hint} (the coordinates are {})",
+                        names_of(coordinates)
+                    ),
+                ));
+                good = false;
+            }
+        }
+    }
+    if good && !h.determines.is_empty() && indices.len() != k && k > 0 {
+        lowerer.push_error(syn::Error::new_spanned(
+            h.attr,
+            format!(
+                "`{}` returns {} but `determines(..)` names {}: name one coordinate per \
+                 holonomic constraint, the one it is solved for",
+                h.f.sig.ident,
+                count(k, "constraint"),
+                count(indices.len(), "coordinate"),
+            ),
+        ));
+        good = false;
+    }
+    (good && !h.determines.is_empty()).then_some(indices)
+}
+
+/// The number of nonholonomic constraints, from the constraints' result type: at least one,
+/// and with the k holonomic ones fewer than the coordinates.
 fn constraint_count(
     constraints: Option<&RoleFn<'_>>,
+    k: usize,
     coordinates: &[syn::Ident],
     lowerer: &mut Lowerer<'_, '_>,
     ok: &mut bool,
@@ -187,15 +359,20 @@ fn constraint_count(
                     "`#[constraints]` returns no constraint: a model needs at least one",
                 ),
             );
-        } else if p >= n {
+        } else if p + k >= n {
+            let holonomic = if k > 0 {
+                format!(" and {}", count(k, "holonomic constraint"))
+            } else {
+                String::new()
+            };
             fail(
                 lowerer,
                 ok,
                 error_at_output(
                     c.f,
                     format!(
-                        "{} on {} leave no motion: there must be fewer constraints than \
-                         coordinates ({})",
+                        "{}{holonomic} on {} leave no motion: there must be fewer constraints \
+                         than coordinates ({})",
                         count(p, "constraint"),
                         count(n, "coordinate"),
                         names_of(coordinates)
@@ -204,7 +381,7 @@ fn constraint_count(
             );
         }
     }
-    p.filter(|&p| p > 0 && p < n)
+    p.filter(|&p| p > 0 && p + k < n)
 }
 
 /// Inputs are read by the forces only: without `#[forces]` they would be silently ignored.
@@ -218,7 +395,7 @@ fn check_inputs_are_read(
         && !names.inputs.is_empty()
         && roles.get(Role::Forces).is_none()
     {
-        let (args, out) = expected(Role::Forces, n, names.inputs.len(), None);
+        let (args, out) = expected(Role::Forces, n, names.inputs.len(), None, true);
         let (declared, them) = match names.inputs.as_slice() {
             [one] => (format!("the input `{one}` is declared"), "it"),
             all => (format!("the inputs {} are declared", names_of(all)), "them"),
@@ -336,29 +513,78 @@ fn check_names(
     }
 }
 
-/// What a role's function must take and return (`p`: the number of constraints, when known).
+/// The base name of an indexed group names a constant too (`Self::THETA`, its first index):
+/// it must clash with no other name's constant and not be reserved.
+fn check_group_names(
+    groups: &[Vec<Group>; 3],
+    coordinates: &[syn::Ident],
+    speeds: &[syn::Ident],
+    inputs: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+) {
+    let upper = |i: &syn::Ident| i.unraw().to_string().to_uppercase();
+    let mut taken: HashSet<String> = coordinates
+        .iter()
+        .chain(speeds)
+        .chain(inputs)
+        .map(upper)
+        .collect();
+    for group in groups.iter().flatten() {
+        let name = upper(&group.base);
+        if let Some(why) = reserved::clash(&group.base.unraw().to_string()) {
+            lowerer.push_error(syn::Error::new(
+                group.base.span(),
+                format!(
+                    "the group name `{}` is reserved: {why}; choose another name",
+                    group.base
+                ),
+            ));
+        } else if !taken.insert(name.clone()) {
+            lowerer.push_error(syn::Error::new(
+                group.base.span(),
+                format!(
+                    "the group `{base}[{len}]` names the constant `Self::{name}` (the index of \
+                     `{base}0`), which another name already has: choose distinct names",
+                    base = group.base,
+                    len = group.len
+                ),
+            ));
+        }
+    }
+}
+
+/// What a role's function must take and return (`p`: the number of constraint rows, the
+/// holonomic ones' included, when known; `timed`: the function takes the time first).
 fn expected(
     role: Role,
     n: usize,
     m: usize,
     p: Option<usize>,
+    timed: bool,
 ) -> (Vec<(&'static str, Shape)>, Option<Shape>) {
     let real_array = |len: usize| Shape::Array(len, Box::new(Shape::Real));
     let q = ("q", real_array(n));
     let qd = ("qd", real_array(n));
     let w = ("w", real_array(n));
-    match role {
+    let (mut args, out) = match role {
         Role::Lagrangian | Role::KineticEnergy => (vec![q, qd], Some(Shape::Real)),
         Role::PotentialEnergy => (vec![q], Some(Shape::Real)),
         Role::QuasiLagrangian => (vec![q, w], Some(Shape::Real)),
         Role::Constraints => (vec![q, qd], None),
         Role::QuasiVelocities => (vec![q, qd], p.map(|p| real_array(n - p))),
         Role::Velocities => (vec![q, w], Some(real_array(n))),
-        Role::Forces => (
-            vec![("t", Shape::Real), q, qd, ("u", real_array(m))],
-            Some(real_array(n)),
-        ),
+        Role::Holonomic => (vec![q], None),
+        Role::Forces => {
+            return (
+                vec![("t", Shape::Real), q, qd, ("u", real_array(m))],
+                Some(real_array(n)),
+            );
+        }
+    };
+    if timed {
+        args.insert(0, ("t", Shape::Real));
     }
+    (args, out)
 }
 
 /// "1 constraint", "2 constraints".

@@ -28,7 +28,7 @@ impl Sleigh {
 
 fn main() -> Result<(), hamel::Error> {
     let sleigh = Sleigh { m: 2.0, inertia: 0.5, a: 0.4 };
-    let x0 = sleigh.state_from_speeds(&[0.0, 0.0, 0.0], &[1.0, 2.0])?;
+    let x0 = sleigh.state_from_speeds(0.0, &[0.0, 0.0, 0.0], &[1.0, 2.0])?;
     let heading = x0[Sleigh::THETA];
     let run = Simulation::new(&sleigh, x0)
         .end_time(1.0)

@@ -119,26 +119,32 @@ where
         d.rhs = d.rhs.max(e);
 
         let potential = reference
-            .energy(&[x[0], x[1], x[2], 0.0, 0.0])
+            .energy(0.0, &[x[0], x[1], x[2], 0.0, 0.0])
             .expect("reference energy");
-        let eb = reference.energy(&x).expect("reference energy");
-        let ea = model.energy(&x).expect("model energy");
+        let eb = reference.energy(0.0, &x).expect("reference energy");
+        let ea = model.energy(0.0, &x).expect("model energy");
         let e = (ea - eb).abs() / ((eb - potential).abs() + potential.abs());
         if e.is_nan() || e > STATE_TOLERANCE {
             fail(&format!("energy {ea} vs {eb}"), e);
         }
         d.energy = d.energy.max(e);
 
-        let qa = model.velocities(&x).expect("model velocities");
-        let qb = reference.velocities(&x).expect("reference velocities");
+        let qa = model
+            .generalized_velocities(0.0, &x)
+            .expect("model velocities");
+        let qb = reference
+            .generalized_velocities(0.0, &x)
+            .expect("reference velocities");
         let e = relative(&qa, &qb);
         if e.is_nan() || e > STATE_TOLERANCE {
             fail(&format!("velocities {qa:?} vs {qb:?}"), e);
         }
         d.velocities = d.velocities.max(e);
 
-        let ma = model.mass_matrix(&x).expect("model mass matrix");
-        let mb = reference.mass_matrix(&x).expect("reference mass matrix");
+        let ma = model.mass_matrix(0.0, &x).expect("model mass matrix");
+        let mb = reference
+            .mass_matrix(0.0, &x)
+            .expect("reference mass matrix");
         let e = relative(ma.as_flattened(), mb.as_flattened());
         if e.is_nan() || e > STATE_TOLERANCE {
             fail(&format!("mass matrix {ma:?} vs {mb:?}"), e);
@@ -152,10 +158,13 @@ where
             rng.uniform(-2.0, 2.0),
             rng.uniform(-2.0, 2.0),
         ];
-        let (ca, sa) = (model.constraint_residual(&q, &qd), model.speeds(&q, &qd));
+        let (ca, sa) = (
+            model.constraint_residual(0.0, &q, &qd),
+            model.speeds(0.0, &q, &qd),
+        );
         let (cb, sb) = (
-            reference.constraint_residual(&q, &qd),
-            reference.speeds(&q, &qd),
+            reference.constraint_residual(0.0, &q, &qd),
+            reference.speeds(0.0, &q, &qd),
         );
         let (ra, rb) = ([&ca[..], &sa[..]].concat(), [&cb[..], &sb[..]].concat());
         let e = relative(&ra, &rb);
@@ -167,9 +176,11 @@ where
 
     // The same motion, sample by sample.
     let integrator = DormandPrince::new(1e-10, 1e-12);
-    let xa = model.state_from_speeds(&q0, &speeds0).expect("model x0");
+    let xa = model
+        .state_from_speeds(0.0, &q0, &speeds0)
+        .expect("model x0");
     let xb = reference
-        .state_from_speeds(&q0, &speeds0)
+        .state_from_speeds(0.0, &q0, &speeds0)
         .expect("reference x0");
     assert_eq!(xa, xb, "{name}: initial state");
     let run_a = Simulation::new(model, xa)

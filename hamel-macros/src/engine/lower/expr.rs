@@ -321,6 +321,11 @@ impl<'a> Lowerer<'a, '_> {
     }
 
     fn index(&mut self, env: &mut Env, i: &syn::ExprIndex) -> Value {
+        if let Expr::Field(f) = &*i.expr
+            && matches!(&*f.base, Expr::Path(p) if p.path.is_ident("self"))
+        {
+            return self.parameter_entry(env, f, i);
+        }
         let base = self.expr(env, &i.expr);
         let index = self.expr(env, &i.index);
         match (base, index) {
@@ -345,6 +350,30 @@ impl<'a> Lowerer<'a, '_> {
                 &i.expr,
                 format!("only arrays can be indexed, this is {}", other.describe()),
             ),
+        }
+    }
+
+    /// An entry of an array parameter, `self.m[i]` with `i` known at compile time: one
+    /// external value, read as `self.m[2]` with the user's spans, so that an index out of
+    /// the array's range is rustc's error at the user's code (the struct's length is not
+    /// known here).
+    fn parameter_entry(&mut self, env: &mut Env, f: &syn::ExprField, i: &syn::ExprIndex) -> Value {
+        let syn::Member::Named(member) = &f.member else {
+            return self.error(f, "parameters are named fields: `self.mass`, `self.m[i]`");
+        };
+        match self.expr(env, &i.index) {
+            Value::Poison => Value::Poison,
+            Value::Int(k) if k >= 0 => {
+                let mut index = proc_macro2::Literal::usize_unsuffixed(k as usize);
+                index.set_span(syn::spanned::Spanned::span(&i.index));
+                let base = &f.base;
+                let tokens = quote::quote!(#base.#member[#index]);
+                self.external(tokens, format!("self.{member}[{k}]"))
+            }
+            other => {
+                let message = self.index_message(env, &i.index, &other);
+                self.error(&i.index, message)
+            }
         }
     }
 

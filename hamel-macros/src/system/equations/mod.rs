@@ -1,0 +1,327 @@
+//! Hamel's equations, assembled on the graph from derivatives of the user's functions
+//! (`hamel::docs::design` has the mathematics; indices there are 1-based, here 0-based).
+//!
+//! With the rows ω = r(t, q, q̇) = A(q, t) q̇ + a(q, t) (constraints first), their inverse
+//! q̇ = B(q, t)(ω − a) and, for every column B_k of B,
+//!
+//! ```text
+//! Σ_{l>p} M_kl ω̇_l − rhs_k = λ_k (k < p),  0 (k ≥ p)
+//! ```
+//!
+//! evaluated at ω = (0, …, 0, w): the free rows are the equations of motion, the constrained
+//! ones give the constraint forces. One step per module, in the order `build` takes them:
+//!
+//! * `rows` — the rows: constraints, the holonomic constraints' time derivatives,
+//!   quasi-velocities; checked to be affine in q̇ with A regular; A and a read off.
+//! * `transformation` — q̇ = B(ω − a): the user's closed-form inverse (checked by
+//!   `inverse`), or an LU of A unrolled into the code.
+//! * `lagrangian` — L(t, q, q̇), or L̃(t, q, ω) where Hamel's route can take it, and the
+//!   energy.
+//! * `hamel` — Hamel's equations from L̃: given directly (the paper's eq. 12), or composed as
+//!   L(t, q, B(ω − a)) with a closed-form inverse.
+//! * `projected` — when B is only known numerically, Lagrange's equations projected on the
+//!   columns of B.
+//! * `gamma` — the coefficients γʲ_{l,k}, for inspection.
+//!
+//! Directions in second derivatives (q̇, B_k, p) are fresh symbols while differentiating and
+//! are substituted afterwards: they depend on q themselves and must not be differentiated.
+
+mod gamma;
+mod hamel;
+mod inverse;
+mod lagrangian;
+mod projected;
+mod rows;
+mod transformation;
+
+use super::ldlt;
+use super::spec::Spec;
+use crate::engine::graph::{Graph, NodeId};
+use crate::engine::lower::{Lowerer, Value};
+use std::collections::HashMap;
+use transformation::Transformation;
+
+/// Graph inputs of the generated methods.
+pub struct Inputs {
+    pub t: NodeId,
+    pub q: Vec<NodeId>,
+    /// The free quasi-velocities of the state.
+    pub w: Vec<NodeId>,
+    pub u: Vec<NodeId>,
+    /// Velocity symbols q̇ of the rows, for the methods that take velocities.
+    pub v: Vec<NodeId>,
+}
+
+/// Pivots of the run-time LU factorization of A(q) (when no inverse is given), with the
+/// entries of A that set their scale: a generated method that uses B checks them first.
+pub struct TransformationPivots {
+    /// Each pivot with the coordinate whose velocity it determines.
+    pub pivots: Vec<(NodeId, usize)>,
+    pub entries: Vec<NodeId>,
+}
+
+/// The holonomic constraints f(t, q) and their Jacobian ∂f/∂q (row-major, k × n).
+pub struct HolonomicNodes {
+    pub residual: Vec<NodeId>,
+    pub jacobian: Vec<NodeId>,
+}
+
+pub struct Equations {
+    pub inputs: Inputs,
+    /// Present when B is computed from A at run time.
+    pub transformation: Option<TransformationPivots>,
+    /// The constraint rows r_c(t, q, v) (holonomic ones last) and the quasi-velocity rows.
+    pub constraint_rows: Vec<NodeId>,
+    pub quasi_rows: Vec<NodeId>,
+    /// q̇ = B(ω − a) at ω = (0, w).
+    pub qd: Vec<NodeId>,
+    /// ω̇_{p+1…n}.
+    pub wdot: Vec<NodeId>,
+    /// Pivots of the LDLᵀ factorization of the mass matrix.
+    pub pivots: Vec<NodeId>,
+    pub mass: Vec<Vec<NodeId>>,
+    pub energy: NodeId,
+    /// dE/dt = f·q̇ − λᵀa_c − ∂L/∂t.
+    pub power: NodeId,
+    /// λ, one per constraint row.
+    pub multipliers: Vec<NodeId>,
+    /// γʲ_{l,k}, indexed [j][l − p][k − p].
+    pub gamma: Vec<Vec<Vec<NodeId>>>,
+    /// A·B − I and A·Q₀ + a when the user gave the inverse (checks that it is one).
+    pub inverse_defect: Option<Vec<NodeId>>,
+    pub holonomic: Option<HolonomicNodes>,
+    /// No forces, no affine part in the constraints, no explicit time in L: E is conserved.
+    pub conservative: bool,
+}
+
+pub(super) fn fresh(g: &mut Graph, name: &str, count: usize) -> Vec<NodeId> {
+    (0..count)
+        .map(|i| g.new_input(format!("{name}[{i}]")))
+        .collect()
+}
+
+pub(super) fn array(nodes: &[NodeId]) -> Value {
+    Value::Array(nodes.iter().map(|&n| Value::Real(n)).collect())
+}
+
+pub(super) fn dot(g: &mut Graph, a: &[NodeId], b: &[NodeId]) -> NodeId {
+    let terms: Vec<NodeId> = a.iter().zip(b).map(|(&x, &y)| g.mul(x, y)).collect();
+    g.sum(&terms)
+}
+
+/// Substitute one map into many roots.
+pub(super) fn subst(g: &mut Graph, roots: &[NodeId], map: &[(NodeId, NodeId)]) -> Vec<NodeId> {
+    let map: HashMap<NodeId, NodeId> = map.iter().copied().collect();
+    g.substitute(roots, &map)
+}
+
+pub(super) fn pairs(keys: &[NodeId], values: &[NodeId]) -> Vec<(NodeId, NodeId)> {
+    keys.iter().copied().zip(values.iter().copied()).collect()
+}
+
+/// Lower a role function and flatten its result (None after an error, already reported).
+/// `t` is passed first when the function takes the time.
+pub(super) fn lower<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    f: &'a syn::ImplItemFn,
+    t: NodeId,
+    args: Vec<Value>,
+) -> Option<Vec<NodeId>> {
+    let mut all = Vec::with_capacity(args.len() + 1);
+    if spec.takes_time(f) {
+        all.push(Value::Real(t));
+    }
+    all.extend(args);
+    let value = lowerer.call_role(f, all);
+    if value.is_poison() {
+        return None;
+    }
+    value.flatten()
+}
+
+/// The columns of a matrix given by rows.
+pub(super) fn columns(m: &[Vec<NodeId>]) -> Vec<Vec<NodeId>> {
+    let width = m.first().map_or(0, Vec::len);
+    (0..width)
+        .map(|k| m.iter().map(|row| row[k]).collect())
+        .collect()
+}
+
+/// What both assemblies give, for every column B_k of B (k = 0 … n − 1): the row k of the
+/// mass coupling to the free accelerations, Σ_l mass[k][l] ω̇_l, and the rest, rhs[k]; the
+/// energy; and ∂L/∂t along the motion.
+pub(super) struct Assembled {
+    pub mass: Vec<Vec<NodeId>>,
+    pub rhs: Vec<NodeId>,
+    pub energy: NodeId,
+    pub lagrangian_rate: NodeId,
+}
+
+/// The vectors both assemblies read.
+pub(super) struct Vectors<'v> {
+    pub t: NodeId,
+    pub q: &'v [NodeId],
+    pub w: &'v [NodeId],
+    /// The admissible velocity q̇ = B(ω − a).
+    pub qd: &'v [NodeId],
+    /// Every column of B.
+    pub b: &'v [Vec<NodeId>],
+    /// The rows r(t, q, v), in the velocity symbols `v`, and their parts without velocity.
+    pub rows: &'v [NodeId],
+    pub offset: &'v [NodeId],
+    pub v: &'v [NodeId],
+    pub forces: &'v [NodeId],
+}
+
+pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equations> {
+    let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
+    let free = spec.dims.free();
+    let g = &mut *lowerer.graph;
+    let t = g.new_input("t");
+    let q = fresh(g, "q", n);
+    let w = fresh(g, "w", free);
+    let u = fresh(g, "u", m);
+    let v = fresh(g, "v", n);
+    let omega = fresh(g, "omega", n);
+
+    let rows = rows::build(lowerer, spec, t, &q, &v)?;
+    let (transformation, inverse_defect) =
+        transformation::build(lowerer, spec, &rows, t, &q, &omega)?;
+    let g = &mut *lowerer.graph;
+    let zero = g.zero();
+    let (b, pivots) = transformation.columns(g, n);
+    // q̇ = Σ_{l≥p} B_l w_l + Q₀ with Q₀ = −B a: the drift that affine rows impose.
+    let drift: Vec<NodeId> = match &transformation {
+        Transformation::Closed { q0, .. } => q0.clone(),
+        Transformation::Numeric(_) if rows.offset.iter().all(|&a| g.is_zero(a)) => vec![zero; n],
+        Transformation::Numeric(lu) => {
+            let (solved, _) = lu.solve(g, &rows.offset);
+            solved.into_iter().map(|x| g.neg(x)).collect()
+        }
+    };
+    let qd: Vec<NodeId> = (0..n)
+        .map(|i| {
+            let row: Vec<NodeId> = b[p..].iter().map(|col| col[i]).collect();
+            let s = dot(g, &row, &w);
+            g.add(s, drift[i])
+        })
+        .collect();
+    let transformation_pivots = match &transformation {
+        Transformation::Numeric(_) => Some(TransformationPivots {
+            pivots,
+            entries: rows
+                .a
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|&e| !g.is_zero(e))
+                .collect(),
+        }),
+        Transformation::Closed { .. } => None,
+    };
+
+    // Generalized forces at the admissible velocity.
+    let forces = match spec.forces {
+        Some(f) => {
+            let args = vec![Value::Real(t), array(&q), array(&qd), array(&u)];
+            let value = lowerer.call_role(f, args);
+            if value.is_poison() {
+                return None;
+            }
+            value.flatten()?
+        }
+        None => vec![zero; n],
+    };
+    let vectors = Vectors {
+        t,
+        q: &q,
+        w: &w,
+        qd: &qd,
+        b: &b,
+        rows: &rows.all,
+        offset: &rows.offset,
+        v: &v,
+        forces: &forces,
+    };
+    let assembled = match lagrangian::quasi(lowerer, spec, &transformation, t, &q, &omega)? {
+        Some(lt) => hamel::assemble(lowerer.graph, lt, &omega, &vectors, p),
+        None => {
+            let l = lagrangian::lagrangian(lowerer, spec, t, &q, &v)?;
+            let Transformation::Numeric(lu) = &transformation else {
+                return None;
+            };
+            projected::assemble(lowerer.graph, l, lu, &vectors)
+        }
+    };
+    let energy = match lagrangian::split_energy(lowerer, spec, t, &q, &v, &qd)? {
+        Some(e) => e,
+        None => assembled.energy,
+    };
+
+    let g = &mut *lowerer.graph;
+    let mass_free: Vec<Vec<NodeId>> = assembled.mass[p..].to_vec();
+    let solution = ldlt::solve(g, &mass_free, &assembled.rhs[p..]);
+    let multipliers: Vec<NodeId> = (0..p)
+        .map(|k| {
+            let coupled = dot(g, &assembled.mass[k], &solution.x);
+            g.sub(coupled, assembled.rhs[k])
+        })
+        .collect();
+    let power = power(
+        g,
+        &forces,
+        &qd,
+        &multipliers,
+        &rows.offset[..p],
+        assembled.lagrangian_rate,
+    );
+    let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
+    let conservative =
+        spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
+    let gamma = gamma::gamma(g, &rows.all, &q, &v, &b[p..]);
+    let constraint_rows = rows.all[..p].to_vec();
+    let quasi_rows = rows.all[p..].to_vec();
+    Some(Equations {
+        inputs: Inputs { t, q, w, u, v },
+        transformation: transformation_pivots,
+        constraint_rows,
+        quasi_rows,
+        qd,
+        wdot: solution.x,
+        pivots: solution.pivots,
+        mass: mass_free,
+        energy,
+        power,
+        multipliers,
+        gamma,
+        inverse_defect,
+        holonomic: rows.holonomic,
+        conservative,
+    })
+}
+
+/// dE/dt = f·q̇ − λᵀa_c − ∂L/∂t: the power of the forces, of the constraint forces where the
+/// constraints carry an affine part (A_c q̇ = −a_c), and of an explicit time dependence.
+fn power(
+    g: &mut Graph,
+    forces: &[NodeId],
+    qd: &[NodeId],
+    multipliers: &[NodeId],
+    offsets: &[NodeId],
+    lagrangian_rate: NodeId,
+) -> NodeId {
+    let force_power = dot(g, forces, qd);
+    let constraint_power = dot(g, multipliers, offsets);
+    let p = g.sub(force_power, constraint_power);
+    g.sub(p, lagrangian_rate)
+}
+
+/// A number for a message, to four significant digits (`1.198`, `3.2e-9`).
+pub(super) fn significant(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) {
+        format!("{x:.3e}")
+    } else {
+        format!("{}", (x * 1e4).round() / 1e4)
+    }
+}

@@ -1,0 +1,192 @@
+//! `impl hamel::HamelSystem for Model`: the associated types, constants and method
+//! signatures, written once for the generated model (`generate`) and for the stand-in that
+//! a model with mistakes gets (`fallback`), which differ only in the method bodies.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+/// n, p, m, k: coordinates, constraint rows (holonomic ones included), inputs, holonomic
+/// constraints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dims {
+    pub n: usize,
+    pub p: usize,
+    pub m: usize,
+    pub k: usize,
+}
+
+/// Everything of the implementation but the method bodies.
+pub struct Header<'a> {
+    pub imp: &'a syn::ItemImpl,
+    pub dims: Dims,
+    pub coordinates: Vec<String>,
+    pub speeds: Vec<String>,
+    pub inputs: Vec<String>,
+    pub constraints: Vec<String>,
+    pub dependent: Vec<usize>,
+    pub conservative: bool,
+}
+
+/// The body of each method (a block's contents).
+pub struct Bodies {
+    pub rhs: TokenStream,
+    pub generalized_velocities: TokenStream,
+    pub energy: TokenStream,
+    pub power: TokenStream,
+    pub constraint_forces: TokenStream,
+    pub constraint_residual: TokenStream,
+    pub speeds: TokenStream,
+    pub holonomic_residual: TokenStream,
+    pub holonomic_jacobian: TokenStream,
+    pub mass_matrix: TokenStream,
+    pub gamma: TokenStream,
+    pub inverse_defect: TokenStream,
+}
+
+impl Bodies {
+    /// Every body `unreachable!()`: for a model whose errors keep the crate from building.
+    pub fn unreachable() -> Bodies {
+        let never = quote!(::core::unreachable!(
+            "hamel: the model has errors, reported at build time"
+        ));
+        Bodies {
+            rhs: never.clone(),
+            generalized_velocities: never.clone(),
+            energy: never.clone(),
+            power: never.clone(),
+            constraint_forces: never.clone(),
+            constraint_residual: never.clone(),
+            speeds: never.clone(),
+            holonomic_residual: never.clone(),
+            holonomic_jacobian: never.clone(),
+            mass_matrix: never.clone(),
+            gamma: never.clone(),
+            inverse_defect: never,
+        }
+    }
+}
+
+pub fn lit(i: usize) -> Literal {
+    Literal::usize_unsuffixed(i)
+}
+
+/// The signature of the inherent `rhs_generic` (its body follows).
+pub fn rhs_generic_signature(dims: Dims) -> TokenStream {
+    let (state, m) = (lit(2 * dims.n - dims.p), lit(dims.m));
+    quote! {
+        pub fn rhs_generic<S: ::hamel::Scalar>(
+            &self,
+            t: S,
+            x: &[S; #state],
+            u: &[S; #m],
+            dx: &mut [S; #state],
+        ) -> ::core::result::Result<(), ::hamel::Singularity>
+    }
+}
+
+pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
+    let Dims { n, p, m, k } = h.dims;
+    let (n_l, p_l, m_l, k_l) = (lit(n), lit(p), lit(m), lit(k));
+    let (free, state, extended, jacobian) =
+        (lit(n - p), lit(2 * n - p), lit(2 * n - p + 1), lit(k * n));
+    let ty = &h.imp.self_ty;
+    let (impl_generics, _, where_clause) = h.imp.generics.split_for_impl();
+    let (coordinates, speeds, inputs, constraints) =
+        (&h.coordinates, &h.speeds, &h.inputs, &h.constraints);
+    let state_names = coordinates.iter().chain(speeds);
+    let dependent = h.dependent.iter().map(|&i| lit(i));
+    let conservative = h.conservative;
+    let result = quote!(::core::result::Result);
+    let singularity = quote!(::hamel::Singularity);
+    let allow = quote!(#[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
+    let Bodies {
+        rhs,
+        generalized_velocities,
+        energy,
+        power,
+        constraint_forces,
+        constraint_residual,
+        speeds: speeds_body,
+        holonomic_residual,
+        holonomic_jacobian,
+        mass_matrix,
+        gamma,
+        inverse_defect,
+    } = b;
+    quote! {
+        #[allow(clippy::all)]
+        impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
+            type Coordinates = [f64; #n_l];
+            type Speeds = [f64; #free];
+            type Constraints = [f64; #p_l];
+            type State = [f64; #state];
+            type Inputs = [f64; #m_l];
+            type Holonomic = [f64; #k_l];
+            type HolonomicJacobian = [f64; #jacobian];
+            type Extended = [f64; #extended];
+            type MassMatrix = [[f64; #free]; #free];
+            type Gamma = [[[f64; #free]; #free]; #n_l];
+
+            const N: usize = #n_l;
+            const P: usize = #p_l;
+            const M: usize = #m_l;
+            const K: usize = #k_l;
+            const COORDINATES: &'static [&'static str] = &[#(#coordinates),*];
+            const SPEEDS: &'static [&'static str] = &[#(#speeds),*];
+            const CONSTRAINTS: &'static [&'static str] = &[#(#constraints),*];
+            const INPUTS: &'static [&'static str] = &[#(#inputs),*];
+            const STATE: &'static [&'static str] = &[#(#state_names),*];
+            const DEPENDENT: &'static [usize] = &[#(#dependent),*];
+            const CONSERVATIVE: bool = #conservative;
+
+            #[inline]
+            fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
+                #rhs
+            }
+            #allow
+            fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
+                #generalized_velocities
+            }
+            #allow
+            fn energy(&self, t: f64, x: &[f64; #state]) -> #result<f64, #singularity> {
+                #energy
+            }
+            #allow
+            fn power(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<f64, #singularity> {
+                #power
+            }
+            #allow
+            fn constraint_forces(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
+                #constraint_forces
+            }
+            #allow
+            fn constraint_residual(&self, t: f64, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #p_l] {
+                #constraint_residual
+            }
+            #allow
+            fn speeds(&self, t: f64, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #free] {
+                #speeds_body
+            }
+            #allow
+            fn holonomic_residual(&self, t: f64, q: &[f64; #n_l]) -> [f64; #k_l] {
+                #holonomic_residual
+            }
+            #allow
+            fn holonomic_jacobian(&self, t: f64, q: &[f64; #n_l]) -> [f64; #jacobian] {
+                #holonomic_jacobian
+            }
+            #allow
+            fn mass_matrix(&self, t: f64, x: &[f64; #state]) -> #result<[[f64; #free]; #free], #singularity> {
+                #mass_matrix
+            }
+            #allow
+            fn gamma(&self, t: f64, q: &[f64; #n_l]) -> #result<[[[f64; #free]; #free]; #n_l], #singularity> {
+                #gamma
+            }
+            #allow
+            fn inverse_defect(&self, t: f64, q: &[f64; #n_l]) -> #result<f64, #singularity> {
+                #inverse_defect
+            }
+        }
+    }
+}
