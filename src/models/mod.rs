@@ -1,10 +1,12 @@
 //! A catalogue of models: the paper's robot and the classic nonholonomic systems the test
 //! suite validates against. Each is an ordinary `#[hamel_system]` model; read its source.
 
+pub mod ball_on_turntable;
 pub mod chaplygin_sleigh;
 pub mod knife_edge;
 pub mod mobile_robot;
 
+pub use ball_on_turntable::BallOnTurntable;
 pub use chaplygin_sleigh::ChaplyginSleigh;
 pub use knife_edge::KnifeEdge;
 pub use mobile_robot::{MobileRobot, MobileRobotPaper};
