@@ -8,7 +8,8 @@ use crate::engine::emit::{Code, Emitter, Scalar};
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::External;
 use proc_macro2::{Ident, Span, TokenStream};
-use quote::quote;
+use quote::{quote, quote_spanned};
+use std::collections::BTreeMap;
 use syn::ext::IdentExt;
 
 /// Relative size below which a pivot of the mass matrix counts as zero. For a positive
@@ -209,13 +210,21 @@ fn vector(code: &Code, nodes: &[NodeId]) -> TokenStream {
     quote!([#(#items),*])
 }
 
+/// What the bodies read from outside: the parameters and constants (graph inputs), and the
+/// largest index read of each array parameter, with where it is written.
+pub struct Read<'r> {
+    pub externals: &'r [External],
+    pub arrays: &'r BTreeMap<String, (usize, Span)>,
+}
+
 pub fn generate(
     spec: &Spec<'_>,
     eq: &Equations,
     graph: &Graph,
-    externals: &[External],
+    read: &Read<'_>,
     imp: &syn::ItemImpl,
 ) -> syn::Result<TokenStream> {
+    let externals = read.externals;
     let (n, p, m, k) = (spec.dims.n, spec.dims.p, spec.dims.m, spec.dims.k);
     let dims = Dims { n, p, m, k };
     let cx = Context {
@@ -251,6 +260,7 @@ pub fn generate(
     let bodies = bodies(&cx)?;
     let rhs_generic = rhs_generic(&cx, dims)?;
     let consts = index_consts(spec);
+    let bounds = parameter_bounds(read.arrays);
     let system = interface::trait_impl(&header, &bodies);
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
@@ -260,6 +270,7 @@ pub fn generate(
         impl #impl_generics #ty #where_clause {
             #(#consts)*
             #rhs_generic
+            #bounds
         }
 
         #system
@@ -353,6 +364,29 @@ fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
         })?,
         inverse_defect,
     })
+}
+
+/// The entries of array parameters the bodies read must exist. The struct is not in view of
+/// this macro, so the check is left to rustc, in a form it makes in `cargo check` already (an
+/// out-of-range constant index is only a lint of code generation): an array pattern that
+/// needs as many entries, written at the largest index read, so that rustc's error
+/// ("pattern requires at least 3 elements but array has 2") points at it.
+fn parameter_bounds(arrays: &BTreeMap<String, (usize, Span)>) -> TokenStream {
+    if arrays.is_empty() {
+        return TokenStream::new();
+    }
+    let checks = arrays.iter().map(|(field, &(largest, span))| {
+        let field = Ident::new(field, span);
+        let wildcards = (0..=largest).map(|_| quote_spanned!(span=> _,));
+        quote_spanned!(span=> let [#(#wildcards)* ..] = self.#field;)
+    });
+    quote! {
+        #[doc(hidden)]
+        #[allow(dead_code, clippy::all)]
+        fn __hamel_parameter_bounds(&self) {
+            #(#checks)*
+        }
+    }
 }
 
 /// Index constants: `Model::ALPHA` is the index of `alpha` in q; an indexed group `theta[3]`

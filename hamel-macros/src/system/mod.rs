@@ -86,6 +86,7 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
         return fallback(imp, &faulty, &sketch, e);
     }
     let externals = lowerer.externals.items.clone();
+    let arrays = std::mem::take(&mut lowerer.parameter_arrays);
     drop(lowerer);
     let (Some(spec), Some(equations)) = (spec, equations) else {
         let error = syn::Error::new(
@@ -95,7 +96,11 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
         return fallback(imp, &HashSet::new(), &sketch, error);
     };
     let stripped = model::strip_role_attributes(imp);
-    generate::generate(&spec, &equations, &graph, &externals, &stripped)
+    let read = generate::Read {
+        externals: &externals,
+        arrays: &arrays,
+    };
+    generate::generate(&spec, &equations, &graph, &read, &stripped)
         .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
 }
 

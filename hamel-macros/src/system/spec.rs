@@ -138,7 +138,7 @@ pub fn check<'a>(
         let name = rf.f.sig.ident.to_string();
         lowerer
             .signature_hints
-            .insert(name.clone(), render(&args, out.as_ref()));
+            .insert(name.clone(), render(*role, &args, out.as_ref()));
         lowerer.expected_arguments.insert(name, args);
     }
 
@@ -175,7 +175,7 @@ pub fn check<'a>(
         ok = false;
     }
 
-    let speeds = speed_names(names.speeds.clone(), n, p, lowerer);
+    let speeds = speed_names(names.speeds.clone(), names.garbled, n, p, lowerer);
     check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
     check_group_names(&names.groups, &coordinates, &speeds, &names.inputs, lowerer);
     check_inputs_are_read(&names, roles, n, lowerer);
@@ -406,7 +406,7 @@ fn check_inputs_are_read(
                 "{declared}, but the model has no `#[forces]` to read {them}, so {them} would \
                  be ignored: add a `#[forces]` function `{}` that uses `u`, or remove \
                  `inputs(..)`",
-                render(&args, out.as_ref())
+                render(Role::Forces, &args, out.as_ref())
             ),
         ));
     }
@@ -416,12 +416,14 @@ fn check_inputs_are_read(
 /// reported, but does not stop the model from being checked.
 fn speed_names(
     written: Option<(proc_macro2::Span, Vec<syn::Ident>)>,
+    garbled: bool,
     n: usize,
     p: Option<usize>,
     lowerer: &mut Lowerer<'_, '_>,
 ) -> Vec<syn::Ident> {
     match (written, p) {
-        (Some((span, list)), Some(p)) if list.len() != n - p => {
+        // A list that could not be read is reported already, and its length means nothing.
+        (Some((span, list)), Some(p)) if list.len() != n - p && !garbled => {
             lowerer.push_error(syn::Error::new(
                 span,
                 format!(
@@ -785,13 +787,22 @@ fn check_signature(
     let Some(sig) = lowerer.signature(f) else {
         return false;
     };
-    let rendered = render(expected, output);
+    let rendered = render(role, expected, output);
     let mut ok = true;
     if sig.args.len() != expected.len() {
+        let why = match role {
+            Role::Holonomic => {
+                "; a holonomic constraint f(q) = 0 depends on the configuration (and, with a \
+                 leading `t: f64`, the time) only: the macro derives its velocity row"
+            }
+            Role::Forces => "",
+            _ => " (or with a leading `t: f64`)",
+        };
         lowerer.push_error(syn::Error::new_spanned(
             &f.sig.inputs,
             format!(
-                "`#[{}]` takes {} besides `&self`, this function takes {}: expected `{rendered}`",
+                "`#[{}]` takes {} besides `&self`, this function takes {}: expected \
+                 `{rendered}`{why}",
                 role.attribute(),
                 count(expected.len(), "argument"),
                 sig.args.len()
@@ -909,7 +920,7 @@ fn misplaced(
     ))
 }
 
-fn render(args: &[(&str, Shape)], output: Option<&Shape>) -> String {
+fn render(role: Role, args: &[(&str, Shape)], output: Option<&Shape>) -> String {
     let args: Vec<String> = args
         .iter()
         .map(|(n, s)| match s {
@@ -917,8 +928,13 @@ fn render(args: &[(&str, Shape)], output: Option<&Shape>) -> String {
             other => format!("{n}: &{}", other.describe().trim_matches('`')),
         })
         .collect();
+    let unknown = if role == Role::Holonomic {
+        "[f64; K]"
+    } else {
+        "[f64; P]"
+    };
     let out = output.map_or_else(
-        || "[f64; P]".to_string(),
+        || unknown.to_string(),
         |s| s.describe().trim_matches('`').to_string(),
     );
     format!("fn(&self, {}) -> {out}", args.join(", "))

@@ -364,8 +364,16 @@ impl<'a> Lowerer<'a, '_> {
         match self.expr(env, &i.index) {
             Value::Poison => Value::Poison,
             Value::Int(k) if k >= 0 => {
+                let span = syn::spanned::Spanned::span(&i.index);
+                let largest = self
+                    .parameter_arrays
+                    .entry(member.to_string())
+                    .or_insert((k as usize, span));
+                if k as usize > largest.0 {
+                    *largest = (k as usize, span);
+                }
                 let mut index = proc_macro2::Literal::usize_unsuffixed(k as usize);
-                index.set_span(syn::spanned::Spanned::span(&i.index));
+                index.set_span(span);
                 let base = &f.base;
                 let tokens = quote::quote!(#base.#member[#index]);
                 self.external(tokens, format!("self.{member}[{k}]"))

@@ -157,6 +157,10 @@ pub struct Lowerer<'a, 'g> {
     /// function name (the role functions of a model): a body checked on its own is checked
     /// on these, not on a mistaken signature.
     pub expected_arguments: HashMap<String, Vec<(&'static str, Shape)>>,
+    /// The entries of array parameters the bodies read: for each field, the largest index
+    /// and where it is written. The macro cannot see the struct, so the generated code
+    /// checks these against the arrays' lengths (a pattern rustc checks in `cargo check`).
+    pub parameter_arrays: std::collections::BTreeMap<String, (usize, proc_macro2::Span)>,
     current_signature: Option<String>,
 }
 
@@ -178,6 +182,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             mistakes: 0,
             signature_hints: HashMap::new(),
             expected_arguments: HashMap::new(),
+            parameter_arrays: std::collections::BTreeMap::new(),
             current_signature: None,
         }
     }

@@ -1,0 +1,31 @@
+// An array parameter is indexed within its length: `masses` has 2 entries.
+use hamel::prelude::*;
+
+#[hamel_system]
+pub struct Sleigh {
+    pub masses: [f64; 2],
+    pub inertia: f64,
+    pub a: f64,
+}
+
+#[hamel_system(coordinates(x, y, theta), speeds(v, omega))]
+impl Sleigh {
+    #[kinetic_energy]
+    fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        let mut m = 0.0;
+        for i in 0..3 {
+            m += self.masses[i];
+        }
+        0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.inertia * qd[2] * qd[2]
+    }
+    #[constraints]
+    fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [-qd[0] * q[2].sin() + qd[1] * q[2].cos() - self.a * qd[2]]
+    }
+    #[quasi_velocities]
+    fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+}
+
+fn main() {}
