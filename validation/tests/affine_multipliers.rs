@@ -6,9 +6,10 @@
 //! functions is called):
 //!
 //! * `hamel::models::BallOnTurntable`: the rows A(q, t) q̇ + a(q, t) carry the table's rate
-//!   Ω(t) = Ω₀ + εt; B by LU (the projected route). The reference takes the ball's angular
-//!   velocity from its rotation matrix (the axial vector of Ṙ Rᵀ), not from the model's
-//!   component formulas.
+//!   Ω(t) = Ω₀ + εt; B by LU (the projected route). Also `BallWithInverse`, the same roles
+//!   with a closed-form `#[velocities]` (Hamel's route). The reference takes the ball's
+//!   angular velocity from its rotation matrix (the axial vector of Ṙ Rᵀ), not from the
+//!   model's component formulas.
 //! * A steered sleigh on a turntable on a moving platform, written below with
 //!   `#[hamel_system]` twice: with a closed-form `#[velocities]` (Hamel's route, L̃ composed at
 //!   compile time) and without (B by LU, the projected route). Its blade is steered by a
@@ -182,6 +183,96 @@ impl Mechanism<5> for Ball<'_> {
 
     fn forces(&self, _t: f64, _q: &[f64; 5], _qd: &[f64; 5], _u: &[f64]) -> [f64; 5] {
         [0.0; 5]
+    }
+}
+
+/// The catalogue's ball with the inverse in closed form (Hamel's route, where the catalogue
+/// takes B by LU): the same roles, copied, and `#[velocities]`.
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct BallWithInverse {
+    /// mass of the ball (kg)
+    pub m: f64,
+    /// radius of the ball (m)
+    pub radius: f64,
+    /// moment of inertia of the ball about any axis through its centre (kg m²)
+    pub inertia: f64,
+    /// rate of the table at t = 0 (rad/s)
+    pub omega0: f64,
+    /// angular acceleration of the table (rad/s²)
+    pub epsilon: f64,
+}
+
+impl From<&BallOnTurntable> for BallWithInverse {
+    fn from(b: &BallOnTurntable) -> Self {
+        let BallOnTurntable {
+            m,
+            radius,
+            inertia,
+            omega0,
+            epsilon,
+        } = *b;
+        BallWithInverse {
+            m,
+            radius,
+            inertia,
+            omega0,
+            epsilon,
+        }
+    }
+}
+
+#[hamel_system(coordinates(x, y, phi, theta, psi), speeds(omega_x, omega_y, omega_z))]
+impl BallWithInverse {
+    fn angular_velocity(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+        let [_, _, phi, theta, _] = *q;
+        let [_, _, phid, thetad, psid] = *qd;
+        let (sp, cp) = phi.sin_cos();
+        let (st, ct) = theta.sin_cos();
+        [
+            thetad * cp + psid * st * sp,
+            thetad * sp - psid * st * cp,
+            phid + psid * ct,
+        ]
+    }
+
+    #[kinetic_energy]
+    fn kinetic_energy(&self, q: &[f64; 5], qd: &[f64; 5]) -> f64 {
+        let w = self.angular_velocity(q, qd);
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1])
+            + 0.5 * self.inertia * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    }
+
+    #[constraints]
+    fn rolling(&self, t: f64, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 2] {
+        let w = self.angular_velocity(q, qd);
+        let table = self.omega0 + self.epsilon * t;
+        [
+            qd[0] - self.radius * w[1] + table * q[1],
+            qd[1] + self.radius * w[0] - table * q[0],
+        ]
+    }
+
+    #[quasi_velocities]
+    fn spin(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+        self.angular_velocity(q, qd)
+    }
+
+    /// The Euler angles' rates from ω (θ̇ = ω_x cos φ + ω_y sin φ, ψ̇ sin θ = ω_x sin φ −
+    /// ω_y cos φ, φ̇ = ω_z − ψ̇ cos θ), the centre's velocity from the rolling rows.
+    #[velocities]
+    fn inverse(&self, t: f64, q: &[f64; 5], w: &[f64; 5]) -> [f64; 5] {
+        let (sp, cp) = q[2].sin_cos();
+        let (st, ct) = q[3].sin_cos();
+        let table = self.omega0 + self.epsilon * t;
+        let psid = (w[2] * sp - w[3] * cp) / st;
+        [
+            w[0] + self.radius * w[3] - table * q[1],
+            w[1] - self.radius * w[2] + table * q[0],
+            w[4] - psid * ct,
+            w[2] * cp + w[3] * sp,
+            psid,
+        ]
     }
 }
 
@@ -710,6 +801,9 @@ fn ball_on_turntable_equals_the_multiplier_equations() {
         };
         let name = format!("BallOnTurntable #{i} (LU)");
         worst_differences(&name, ball, &mechanism, || ball_sample(&mut rng));
+        let with_inverse = BallWithInverse::from(ball);
+        let name = format!("BallWithInverse #{i} (closed-form inverse)");
+        worst_differences(&name, &with_inverse, &mechanism, || ball_sample(&mut rng));
     }
 }
 
@@ -783,6 +877,11 @@ fn the_comparison_sees_every_explicit_time_term() {
         let mechanism = |clock| Ball { p: &ball, clock };
         let gap = frozen_gap(&ball, mechanism, Drive::Table, || ball_sample(&mut rng));
         gaps.push(("BallOnTurntable", Drive::Table, gap));
+        let with_inverse = BallWithInverse::from(&ball);
+        let gap = frozen_gap(&with_inverse, mechanism, Drive::Table, || {
+            ball_sample(&mut rng)
+        });
+        gaps.push(("BallWithInverse", Drive::Table, gap));
     }
     for sleigh in sleighs() {
         let by_lu = SteeredSleighByLu::from(&sleigh);
