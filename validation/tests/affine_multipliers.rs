@@ -901,3 +901,107 @@ fn the_comparison_sees_every_explicit_time_term() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The reference itself
+// ---------------------------------------------------------------------------------------
+
+/// The reference's ball obeys the closed form of the literature: its centre z = x + i y
+/// accelerates as z̈ = i k d/dt(Ω z) = i k (ε z + Ω ż), k = I/(I + mρ²) (Burns, Am. J. Phys.
+/// 49, 56 (1981); see `turntable.rs`) — a check of the multiplier formulation, time terms
+/// included, by a result derived without it.
+#[test]
+fn reference_ball_centre_follows_the_closed_form() {
+    let mut rng = XorShift::new(0xda3_0005);
+    let mut worst = 0.0f64;
+    for ball in balls() {
+        let mechanism = Ball {
+            p: &ball,
+            clock: Clock::default(),
+        };
+        let k = ball.inertia / (ball.inertia + ball.m * ball.radius * ball.radius);
+        for _ in 0..RANDOM_POINTS {
+            let s = ball_sample(&mut rng);
+            let r = reference(&mechanism, s.t, &s.q, &s.w, &s.u);
+            let rate = ball.omega0 + ball.epsilon * s.t;
+            let (z, zd) = ((s.q[0], s.q[1]), (r.qd[0], r.qd[1]));
+            // i k (ε z + Ω ż), term by term.
+            let inner = (
+                ball.epsilon * z.0 + rate * zd.0,
+                ball.epsilon * z.1 + rate * zd.1,
+            );
+            let expected = [-k * inner.1, k * inner.0];
+            let scale = k * (ball.epsilon.abs() * z.0.hypot(z.1) + rate.abs() * zd.0.hypot(zd.1));
+            let err = scaled_error(&[r.qdd[0], r.qdd[1]], &expected, scale);
+            assert!(
+                err <= TOLERANCE,
+                "centre acceleration off by {err:e} at {:?}",
+                s.q
+            );
+            worst = worst.max(err);
+        }
+    }
+    println!("reference ball vs z̈ = ik d/dt(Ωz): worst relative difference {worst:.1e}");
+}
+
+/// The reference's sleigh obeys Newton and Euler, written by hand in the platform's frame:
+/// m (r̈ + U̇) = −k (r + X) − c (ṙ + U) + λ (−sin β, cos β) and I θ̈ = u − d θ̇ − λ a cos δ,
+/// the reaction λ A_cᵀ of the skate's row. A check of the generic machinery (the hyper-dual
+/// derivatives of L, the sign of λ, the time terms of T and V) on the whole mechanism.
+#[test]
+fn reference_sleigh_obeys_newton_and_euler() {
+    let mut rng = XorShift::new(0xda3_0006);
+    let mut worst = 0.0f64;
+    for sleigh in sleighs() {
+        let mechanism = Sleigh {
+            p: &sleigh,
+            clock: Clock::default(),
+        };
+        for _ in 0..RANDOM_POINTS {
+            let s = sleigh_sample(&mut rng);
+            let r = reference(&mechanism, s.t, &s.q, &s.w, &s.u);
+            let err = newton_euler_residual(&sleigh, &s, &r);
+            assert!(
+                err <= TOLERANCE,
+                "Newton–Euler residual {err:e} at t = {}, q = {:?}",
+                s.t,
+                s.q
+            );
+            worst = worst.max(err);
+        }
+    }
+    println!("reference sleigh vs Newton–Euler: worst relative residual {worst:.1e}");
+}
+
+/// The largest residual of the sleigh's Newton–Euler equations with the reference's q̈ and λ,
+/// relative to the largest term in them.
+fn newton_euler_residual(p: &SteeredSleigh, s: &Sample<3>, r: &Reference<3>) -> f64 {
+    let t = s.t;
+    let (sway_sin, sway_cos) = (p.sway_rate * t).sin_cos();
+    let velocity = [p.drive * t, p.sway * sway_sin];
+    let acceleration = [p.drive, p.sway * p.sway_rate * sway_cos];
+    let displacement = [
+        0.5 * p.drive * t * t,
+        p.sway * (1.0 - sway_cos) / p.sway_rate,
+    ];
+    let delta = p.delta0 + p.delta1 * (p.nu * t).sin();
+    let (sb, cb) = (s.q[2] + delta).sin_cos();
+    let lambda = r.lambda[0];
+    let reaction = [-sb * lambda, cb * lambda, -p.a * delta.cos() * lambda];
+    let mut residual = 0.0f64;
+    let mut scale = 0.0f64;
+    for i in 0..2 {
+        let terms = [
+            p.m * (r.qdd[i] + acceleration[i]),
+            p.k * (s.q[i] + displacement[i]),
+            p.c * (r.qd[i] + velocity[i]),
+            -reaction[i],
+        ];
+        residual = residual.max(terms.iter().sum::<f64>().abs());
+        scale = terms.iter().fold(scale, |m, x| m.max(x.abs()));
+    }
+    let terms = [p.inertia * r.qdd[2], -s.u[0], p.d * r.qd[2], -reaction[2]];
+    residual = residual.max(terms.iter().sum::<f64>().abs());
+    scale = terms.iter().fold(scale, |m, x| m.max(x.abs()));
+    residual / scale
+}

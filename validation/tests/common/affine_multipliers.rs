@@ -60,6 +60,8 @@ pub trait Mechanism<const N: usize> {
 pub struct Reference<const N: usize> {
     /// q̇, the admissible velocity of the state.
     pub qd: SVector<f64, N>,
+    /// q̈.
+    pub qdd: SVector<f64, N>,
     /// ω̇ of every row: the constrained entries are rounding (the solve's own check), the
     /// others are ẇ.
     pub omega_dot: SVector<f64, N>,
@@ -332,6 +334,7 @@ pub fn reference<M: Mechanism<N>, const N: usize>(
     let term_size = a.abs() * qdd.abs() + rows_drift.abs();
     Reference {
         qd,
+        qdd,
         omega_dot,
         power: f.dot(&qd) - lambda.dot(&a_constrained) - l.rate,
         // The scales of the sums: their terms' magnitudes, which set what rounding leaves.
