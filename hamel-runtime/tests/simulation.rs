@@ -65,17 +65,24 @@ impl HamelSystem for Skate {
     type Constraints = [f64; 1];
     type State = [f64; 5];
     type Inputs = [f64; 2];
+    type Holonomic = [f64; 0];
+    type HolonomicJacobian = [f64; 0];
+    type Extended = [f64; 6];
     type MassMatrix = [[f64; 2]; 2];
     type Gamma = [[[f64; 2]; 2]; 3];
 
     const N: usize = 3;
     const P: usize = 1;
     const M: usize = 2;
+    const K: usize = 0;
     const COORDINATES: &'static [&'static str] = &["x", "y", "theta"];
     const SPEEDS: &'static [&'static str] = &["v", "omega"];
     const CONSTRAINTS: &'static [&'static str] = &["no_slip"];
     const INPUTS: &'static [&'static str] = &["force", "torque"];
     const STATE: &'static [&'static str] = &["x", "y", "theta", "v", "omega"];
+    const DEPENDENT: &'static [usize] = &[];
+    // The force and the torque do work.
+    const CONSERVATIVE: bool = false;
 
     fn rhs(
         &self,
@@ -90,30 +97,54 @@ impl HamelSystem for Skate {
         Ok(())
     }
 
-    fn velocities(&self, x: &[f64; 5]) -> Result<[f64; 3], Singularity> {
+    fn generalized_velocities(&self, _t: f64, x: &[f64; 5]) -> Result<[f64; 3], Singularity> {
         let [_, _, theta, v, omega] = *x;
         Ok([v * theta.cos(), v * theta.sin(), omega])
     }
 
-    fn energy(&self, x: &[f64; 5]) -> Result<f64, Singularity> {
+    fn energy(&self, _t: f64, x: &[f64; 5]) -> Result<f64, Singularity> {
         Ok(0.5 * self.mass * x[3] * x[3] + 0.5 * self.inertia * x[4] * x[4])
     }
 
-    fn constraint_residual(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+    /// f·q̇ with the generalized force (F cos θ, F sin θ, τ): F v + τ ω.
+    fn power(&self, _t: f64, x: &[f64; 5], u: &[f64; 2]) -> Result<f64, Singularity> {
+        Ok(u[0] * x[3] + u[1] * x[4])
+    }
+
+    /// m ẍ = F cos θ + λ sin θ with ẍ = v̇ cos θ − v ω sin θ and m v̇ = F: λ = −m v ω, the
+    /// centripetal force of the turn.
+    fn constraint_forces(
+        &self,
+        _t: f64,
+        x: &[f64; 5],
+        _u: &[f64; 2],
+    ) -> Result<[f64; 1], Singularity> {
+        Ok([-self.mass * x[3] * x[4]])
+    }
+
+    fn constraint_residual(&self, _t: f64, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
         [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
     }
 
-    fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+    fn speeds(&self, _t: f64, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
         [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
     }
 
-    fn mass_matrix(&self, _x: &[f64; 5]) -> Result<[[f64; 2]; 2], Singularity> {
+    fn holonomic_residual(&self, _t: f64, _q: &[f64; 3]) -> [f64; 0] {
+        []
+    }
+
+    fn holonomic_jacobian(&self, _t: f64, _q: &[f64; 3]) -> [f64; 0] {
+        []
+    }
+
+    fn mass_matrix(&self, _t: f64, _x: &[f64; 5]) -> Result<[[f64; 2]; 2], Singularity> {
         let [m, i] = self.pivots()?;
         Ok([[m, 0.0], [0.0, i]])
     }
 
     /// B = Aᵀ in closed form (A is a rotation in the plane, plus the identity for θ).
-    fn inverse_defect(&self, q: &[f64; 3]) -> Result<f64, Singularity> {
+    fn inverse_defect(&self, _t: f64, q: &[f64; 3]) -> Result<f64, Singularity> {
         let (s, c) = q[2].sin_cos();
         let a = [[s, -c, 0.0], [c, s, 0.0], [0.0, 0.0, 1.0]];
         let mut defect = 0.0f64;
@@ -129,7 +160,7 @@ impl HamelSystem for Skate {
 
     /// γʲ_{l,k} with A = (slip; forward; turn) rows (sin θ, −cos θ, 0), (cos θ, sin θ, 0),
     /// (0, 0, 1) and B = A⁻¹ = Aᵀ: only γ¹_{v,ω} = −1 = −γ¹_{ω,v} is nonzero.
-    fn gamma(&self, _q: &[f64; 3]) -> Result<[[[f64; 2]; 2]; 3], Singularity> {
+    fn gamma(&self, _t: f64, _q: &[f64; 3]) -> Result<[[[f64; 2]; 2]; 3], Singularity> {
         let mut g = [[[0.0; 2]; 2]; 3];
         g[0][0][1] = -1.0;
         g[0][1][0] = 1.0;
