@@ -2,6 +2,7 @@
 //! implements, integrators, and trajectories.
 
 mod assembly;
+mod builder;
 mod error;
 pub mod integrate;
 mod named;
@@ -13,6 +14,7 @@ mod trajectory;
 mod vector;
 
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
+pub use builder::StateBuilder;
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use integrate::{DormandPrince, Integrator, Observer, Ode, Rk4, Stats};
 pub use named::NamedValues;

@@ -2,6 +2,7 @@
 //! [`HamelSystem`] (generated from the model's impl block by `#[hamel_system]`).
 
 use crate::assembly;
+use crate::builder::StateBuilder;
 use crate::error::{Error, Singularity};
 use crate::named::NamedValues;
 use crate::vector::Vector;
@@ -273,6 +274,16 @@ pub trait HamelSystem: Parameters {
         assembly::check(self, t, q)?;
         check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
         Ok(join::<Self>(q, speeds))
+    }
+
+    /// A builder of a state by the names of its coordinates and speeds, which solves the
+    /// dependent coordinates with [`Self::assemble`]: `system.state_builder().set("x",
+    /// 1.2).set("v", 1.5).build()`.
+    fn state_builder(&self) -> StateBuilder<'_, Self>
+    where
+        Self: Sized,
+    {
+        StateBuilder::new(self)
     }
 
     /// The coordinates part of a state.

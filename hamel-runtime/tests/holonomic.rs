@@ -219,7 +219,9 @@ const Q_GUESS: [f64; 4] = [1.2, -0.5, 0.3, 0.1];
 
 /// The failure, time, residual and message of an assembly error, after checking that it names
 /// the crank's constraint and angle and the whole configuration.
-fn expect_assembly_error(result: Result<[f64; 4], Error>) -> (AssemblyFailure, f64, f64, String) {
+fn expect_assembly_error<T: std::fmt::Debug>(
+    result: Result<T, Error>,
+) -> (AssemblyFailure, f64, f64, String) {
     match result {
         Err(Error::Assembly {
             constraint,
@@ -382,4 +384,96 @@ fn states_from_an_inconsistent_configuration_are_errors() {
             other => panic!("expected a holonomic violation, got {other:?}"),
         }
     }
+}
+
+#[test]
+fn the_builder_sets_by_name_and_solves_the_crank_angle() {
+    let phi = 0.4f64.asin();
+    let x = CRANK
+        .state_builder()
+        .at_time(2.0)
+        .set("x", 1.2)
+        .set("y", -0.5)
+        .set("theta", 0.3)
+        .set("v", 1.5)
+        .set("omega", 0.7)
+        .build()
+        .unwrap();
+    assert_eq!(x[..3], [1.2, -0.5, 0.3]);
+    assert_eq!(x[4..], [1.5, 0.7]);
+    assert!((x[3] - phi).abs() <= 2.0 * f64::EPSILON, "{x:?}");
+
+    // A value set for the crank angle is Newton's start: it picks the branch.
+    let other = CRANK
+        .state_builder()
+        .coordinates(&[1.2, -0.5, 0.3, 2.5])
+        .speeds(&[1.5, 0.7])
+        .build()
+        .unwrap();
+    assert!((other[3] - (std::f64::consts::PI - phi)).abs() <= 4.0 * f64::EPSILON);
+
+    // Velocities instead of speeds: the speeds follow from them.
+    let (s, c) = 0.3f64.sin_cos();
+    let qd = [1.5 * c, 1.5 * s, 0.7, 1.5 * c / (3.0 * phi.cos())];
+    let from_velocities = CRANK
+        .state_builder()
+        .coordinates(&[1.2, -0.5, 0.3, 0.0])
+        .velocities(&qd)
+        .build()
+        .unwrap();
+    for (a, b) in from_velocities.iter().zip(&x) {
+        assert!((a - b).abs() <= 4.0 * f64::EPSILON, "{from_velocities:?}");
+    }
+    // ... and are checked against the constraints: these slide sideways.
+    match CRANK
+        .state_builder()
+        .coordinates(&Q_GUESS)
+        .velocities(&[1.5 * c, 1.5 * s + 0.1, 0.7, qd[3]])
+        .build()
+    {
+        Err(Error::ConstraintViolation { name, .. }) => assert_eq!(name, "no_slip"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_builder_reports_the_first_mistake() {
+    let result = CRANK
+        .state_builder()
+        .set("x", 1.2)
+        .set("speed", 1.5)
+        .set("heading", 0.3)
+        .build();
+    match result {
+        Err(e @ Error::UnknownStateName { .. }) => {
+            let message = e.to_string();
+            assert_eq!(
+                message,
+                "unknown name `speed`: a state is set by the names of its coordinates \
+                 (x, y, theta, phi) and speeds (v, omega)"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    match CRANK
+        .state_builder()
+        .set("omega", 0.7)
+        .velocities(&[0.0; 4])
+        .build()
+    {
+        Err(Error::AmbiguousState { speed }) => assert_eq!(speed, "omega"),
+        other => panic!("{other:?}"),
+    }
+    match CRANK.state_builder().at_time(f64::INFINITY).build() {
+        Err(Error::InvalidSetting { name, value, .. }) => {
+            assert_eq!((name, value), ("time", f64::INFINITY))
+        }
+        other => panic!("{other:?}"),
+    }
+    // Out of the crank's reach: the assembly error, not a state.
+    let (failure, ..) = expect_assembly_error(CRANK.state_builder().set("x", -3.5).build());
+    assert!(
+        !matches!(failure, AssemblyFailure::NonFinite),
+        "{failure:?}"
+    );
 }
