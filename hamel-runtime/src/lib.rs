@@ -7,9 +7,11 @@ mod error;
 pub mod integrate;
 mod named;
 mod opcount;
+mod recorder;
 mod scalar;
 mod simulation;
 mod system;
+mod system_ode;
 mod trajectory;
 mod vector;
 
