@@ -179,6 +179,20 @@ pub enum Error {
     #[error("step size underflow at t = {t}: the step shrank to {}; state: {state}", Num(*h))]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
+    /// An adaptive integration used up its steps (`DormandPrince::max_steps`) before the end.
+    #[error(
+        "the integration took {steps} steps and got only to t = {}, with steps of {}: the \
+         solution may have a singularity near there, or the tolerance be too tight for the span; loosen the tolerance, shorten the run or raise the limit with \
+         `with_max_steps`; state: {state}",
+        Num(*t), Num(*h)
+    )]
+    TooManySteps {
+        t: f64,
+        steps: usize,
+        h: f64,
+        state: NamedValues,
+    },
+
     #[error("the state became non-finite at t = {t}: {state}")]
     NonFiniteState { t: f64, state: NamedValues },
 

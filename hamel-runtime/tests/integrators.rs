@@ -400,6 +400,11 @@ fn invalid_settings_are_errors_naming_the_value() {
             bad,
         );
     }
+    expect_invalid(
+        &DormandPrince::new(1e-6, 1e-6).with_max_steps(0),
+        "max steps",
+        0.0,
+    );
     // Pure absolute control and an unlimited step are fine.
     let ok = DormandPrince::new(0.0, 1e-6).with_max_step(f64::INFINITY);
     assert!(
@@ -767,4 +772,41 @@ fn a_failing_projection_stops_the_integration() {
     check(&Rk4::new(0.1));
     check(&DormandPrince::new(1e-6, 1e-6));
     check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
+}
+
+/// y' = −10⁶ (y − cos t): stiff, so an explicit method's steps stay near its stability limit,
+/// 3·10⁻⁶, whatever the tolerance; 10 time units would take millions of steps.
+struct Stiff;
+
+impl Ode for Stiff {
+    type State = [f64; 1];
+
+    fn rhs(&mut self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), Error> {
+        dy[0] = -1e6 * (y[0] - t.cos());
+        Ok(())
+    }
+}
+
+#[test]
+fn an_integration_that_would_not_end_runs_out_of_steps() {
+    let method = DormandPrince::new(1e-6, 1e-6).with_max_steps(1000);
+    match method.integrate(&mut Stiff, 0.0, &[1.0], &[10.0], &mut |_, _| Ok(())) {
+        Err(e @ Error::TooManySteps { .. }) => {
+            let message = e.to_string();
+            println!("{message}");
+            let Error::TooManySteps { t, steps, h, state } = e else {
+                unreachable!()
+            };
+            assert_eq!(steps, 1000);
+            assert!(t > 0.0 && t < 0.01, "{t}");
+            assert!(h < 1e-5, "{h}");
+            assert!((state.get("x0").unwrap() - t.cos()).abs() < 1e-5);
+            assert!(message.contains("`with_max_steps`"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        DormandPrince::new(1e-6, 1e-6).max_steps,
+        DormandPrince::MAX_STEPS
+    );
 }

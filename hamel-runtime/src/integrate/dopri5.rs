@@ -28,6 +28,10 @@ pub struct DormandPrince {
     /// `Some(h)`: no error control; equal steps of at most h that end exactly on the final
     /// sample, every one accepted. For convergence studies and reproducible cost.
     pub fixed_step: Option<f64>,
+    /// The most steps (accepted and rejected) an adaptive integration may take (Hairer's
+    /// NMAX): near a singularity of the solution the steps can shrink to where they still
+    /// advance, but by so little that the run would not end. Default [`Self::MAX_STEPS`].
+    pub max_steps: usize,
 }
 
 impl DormandPrince {
@@ -39,7 +43,19 @@ impl DormandPrince {
             initial_step: None,
             max_step: f64::INFINITY,
             fixed_step: None,
+            max_steps: Self::MAX_STEPS,
         }
+    }
+
+    /// The default limit on the steps of one integration: far more than a run at any
+    /// tolerance over a span of its natural time scales takes (hundreds to thousands), and
+    /// seconds of computing for a small system.
+    pub const MAX_STEPS: usize = 1_000_000;
+
+    /// Limits an adaptive integration to `n` steps, rejected ones included.
+    pub fn with_max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
     }
 
     pub fn with_initial_step(mut self, h: f64) -> Self {
@@ -94,6 +110,9 @@ impl DormandPrince {
                 self.max_step,
                 "the largest step must be positive (or infinite)",
             );
+        }
+        if self.max_steps == 0 {
+            return invalid("max steps", 0.0, "the integration needs at least one step");
         }
         if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
             return invalid(
@@ -508,6 +527,14 @@ impl DormandPrince {
             f: mut k1,
         } = start;
         loop {
+            if stats.steps + stats.rejected >= self.max_steps {
+                return Err(Error::TooManySteps {
+                    t,
+                    steps: stats.steps + stats.rejected,
+                    h,
+                    state: ode.describe(&y),
+                });
+            }
             // Below this, t + h no longer differs from t by more than a few roundings: the
             // solution (or the tolerance) asks for more than f64 can give.
             if h < 16.0 * f64::EPSILON * t.abs() || h < 1e-300 {
