@@ -4,7 +4,9 @@
 //!
 //! Run with `--nocapture` to see the measured figures.
 
-use hamel_runtime::{AssemblyFailure, Error, HamelSystem, Parameters, Singularity};
+use hamel_runtime::{
+    AssemblyFailure, DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity,
+};
 
 /// A skate (see `tests/simulation.rs`) towing a massless crank of length ℓ whose angle φ is
 /// tied to the skate's x by the holonomic constraint f = ℓ sin φ − x = 0: φ = asin(x/ℓ) on the
@@ -476,4 +478,150 @@ fn the_builder_reports_the_first_mistake() {
         !matches!(failure, AssemblyFailure::NonFinite),
         "{failure:?}"
     );
+}
+
+/// The largest |f| = |ℓ sin φ − x| over a trajectory's samples in the rows `range`.
+fn residual_over(trajectory: &hamel_runtime::Trajectory, range: std::ops::Range<usize>) -> f64 {
+    let (x, phi) = (
+        trajectory.column("x").unwrap(),
+        trajectory.column("phi").unwrap(),
+    );
+    range
+        .map(|i| (3.0 * phi[i].sin() - x[i]).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The free crank skate from the state the builder assembles, for 200 s (32 turns of the
+/// circle), with or without projection.
+fn free_run<M: hamel_runtime::Integrator>(
+    method: &M,
+    dt: f64,
+    project: bool,
+) -> hamel_runtime::Trajectory {
+    let x0 = CRANK
+        .state_builder()
+        .coordinates(&Q_GUESS)
+        .speeds(&[1.5, 0.7])
+        .build()
+        .unwrap();
+    Simulation::new(&CRANK, x0)
+        .end_time(200.0)
+        .sample_interval(dt)
+        .project_holonomic(project)
+        .run_constant(method, [0.0, 0.0])
+        .unwrap()
+}
+
+/// Integrated, φ drifts off asin(x/ℓ): slowly, since the error partly cancels over each
+/// turn; projected after every step, it stays on it to rounding, at no cost for RK4.
+#[test]
+fn projection_keeps_the_crank_on_its_constraint() {
+    let rk4 = Rk4::new(0.2);
+    let (free, projected) = (free_run(&rk4, 1.0, false), free_run(&rk4, 1.0, true));
+    let n = free.len();
+    let (early, late) = (
+        residual_over(&free, 0..n / 10),
+        residual_over(&free, n - n / 10..n),
+    );
+    let (plain, kept) = (free.summary(), projected.summary());
+    println!(
+        "RK4, h = 0.2: |f| ≤ {early:.3e} in the first 20 s, {late:.3e} in the last; \
+         projected {:.3e}",
+        kept.max_holonomic_residual
+    );
+    assert!(
+        late > 4.0 * early,
+        "the residual grows: {early:e} → {late:e}"
+    );
+    assert!(plain.max_holonomic_residual < 1e-4, "{plain}");
+    assert_eq!(plain.max_holonomic_residual, residual_over(&free, 0..n));
+    assert!(kept.max_holonomic_residual <= 1e-13, "{kept}");
+    assert_eq!(kept.max_holonomic_residual, residual_over(&projected, 0..n));
+    assert_eq!((kept.steps, kept.evaluations), (1000, 4000));
+    // The skate's own motion is the same either way: φ does not act on it.
+    for name in ["x", "y", "theta", "v", "omega"] {
+        assert_eq!(free.column(name), projected.column(name), "{name}");
+    }
+    assert!(kept.to_string().contains("\nmax holonomic residual   "));
+}
+
+/// Dormand–Prince with samples every 0.05 s, most of them inside steps: the samples are
+/// projected as well as the steps, and each projected step but the last costs one
+/// evaluation for the derivative the next one starts from.
+#[test]
+fn projection_covers_interpolated_samples() {
+    let method = DormandPrince::new(1e-8, 1e-8);
+    let (free, projected) = (
+        free_run(&method, 0.05, false),
+        free_run(&method, 0.05, true),
+    );
+    let (plain, kept) = (free.summary(), projected.summary());
+    println!("DP5, tol 1e-8, free:\n{plain}\nprojected:\n{kept}");
+    assert!(plain.max_holonomic_residual > 1e-8, "{plain}");
+    assert!(kept.max_holonomic_residual <= 1e-13, "{kept}");
+    assert_eq!(
+        kept.max_holonomic_residual,
+        residual_over(&projected, 0..projected.len())
+    );
+    assert!(
+        kept.samples > 4 * kept.steps,
+        "most samples are interpolated: {kept}"
+    );
+    let plain_cost = 2 + 6 * (kept.steps + kept.rejected);
+    assert!(
+        kept.evaluations > plain_cost && kept.evaluations < plain_cost + kept.steps,
+        "{kept}"
+    );
+}
+
+/// Straight ahead at unit speed from x = 0, the skate reaches the crank's reach x = ℓ = 3 at
+/// t = 3, where φ̇ = ẋ/(ℓ cos φ) becomes infinite, and beyond it no φ exists. A projected run
+/// stops there with the assembly error, naming the time and the whole state; an unprojected
+/// adaptive one runs out of steps instead of crawling on forever.
+#[test]
+fn a_run_past_the_crank_reach_is_a_named_error() {
+    let x0 = CRANK.state_builder().speeds(&[1.0, 0.0]).build().unwrap();
+    let run = |project: bool, method: &dyn Fn(Simulation<'_, CrankSkate>) -> _| {
+        method(
+            Simulation::new(&CRANK, x0)
+                .end_time(3.5)
+                .sample_interval(0.5)
+                .project_holonomic(project),
+        )
+    };
+    let rk4 = |s: Simulation<'_, CrankSkate>| s.run_constant(&Rk4::new(0.1), [0.0, 0.0]);
+    match run(true, &rk4) {
+        Err(e @ Error::Assembly { .. }) => {
+            println!("{e}");
+            let Error::Assembly {
+                t, configuration, ..
+            } = &e
+            else {
+                unreachable!()
+            };
+            // The first step that ends beyond the reach.
+            assert!((t - 3.1).abs() < 1e-12, "{t}");
+            let names: Vec<&str> = configuration.0.iter().map(|(n, _)| n.as_str()).collect();
+            assert_eq!(names, ["x", "y", "theta", "phi", "v", "omega", "work"]);
+            assert!((configuration.get("x").unwrap() - 3.1).abs() < 1e-12);
+        }
+        other => panic!("{other:?}"),
+    }
+    let limited = |s: Simulation<'_, CrankSkate>| {
+        s.run_constant(
+            &DormandPrince::new(1e-8, 1e-8).with_max_steps(20_000),
+            [0.0, 0.0],
+        )
+    };
+    match run(false, &limited) {
+        Err(Error::TooManySteps { t, steps, h, .. }) => {
+            println!("unprojected: {steps} steps to t = {t}, the last {h:e}");
+            assert!((t - 3.0).abs() < 1e-6 && h < 1e-9, "{t} {h}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match run(true, &limited) {
+        Err(Error::Assembly { t, .. }) => assert!((t - 3.0).abs() < 1e-6, "{t}"),
+        other => panic!("{other:?}"),
+    }
 }
