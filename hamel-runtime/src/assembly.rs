@@ -106,8 +106,9 @@ pub(crate) fn check<S: HamelSystem + ?Sized>(
     let jacobian = system.holonomic_jacobian(t, q);
     for (row, r) in f.as_ref().iter().enumerate() {
         let tolerance = HOLONOMIC_TOLERANCE * scale::<S>(&jacobian, q, row);
-        // A NaN residual or tolerance fails too.
-        if r.is_nan() || tolerance.is_nan() || r.abs() > tolerance {
+        // A NaN residual fails too, and so does an infinite or NaN tolerance (a huge
+        // derivative times a huge coordinate), which would accept anything.
+        if r.is_nan() || !tolerance.is_finite() || r.abs() > tolerance {
             return Err(Error::HolonomicViolation {
                 constraint: constraint_name::<S>(row),
                 coordinate: dependent_name::<S>(row),
@@ -151,10 +152,15 @@ impl<S: HamelSystem + ?Sized> Point<S> {
         let mut scales = S::Holonomic::zeros();
         for (row, s) in scales.as_mut().iter_mut().enumerate() {
             let derivative = &jacobian.as_ref()[row * n..(row + 1) * n];
-            if !f.as_ref()[row].is_finite() || derivative.iter().any(|d| !d.is_finite()) {
+            // An infinite scale (a huge derivative times a huge coordinate) would accept any
+            // residual.
+            *s = scale::<S>(&jacobian, &q, row).max(f64::MIN_POSITIVE);
+            if !f.as_ref()[row].is_finite()
+                || derivative.iter().any(|d| !d.is_finite())
+                || !s.is_finite()
+            {
                 return Err(row);
             }
-            *s = scale::<S>(&jacobian, &q, row).max(f64::MIN_POSITIVE);
         }
         Ok(Point {
             q,

@@ -337,6 +337,17 @@ fn assemble_rejects_values_that_are_not_numbers() {
         }
         other => panic!("{other:?}"),
     }
+    // Finite, but ℓ·cos φ·φ overflows: the residual's scale is not a number to judge it by.
+    let huge = CrankSkate {
+        length: 1e308,
+        ..CRANK
+    };
+    let (failure, ..) = expect_assembly_error(huge.assemble(0.0, &[0.0, 0.0, 0.0, 10.0]));
+    assert_eq!(failure, AssemblyFailure::NonFinite);
+    match huge.state_from_speeds(0.0, &[0.0, 0.0, 0.0, 10.0], &[0.0, 0.0]) {
+        Err(Error::HolonomicViolation { tolerance, .. }) => assert!(tolerance.is_infinite()),
+        other => panic!("{other:?}"),
+    }
     match CRANK.assemble(0.0, &[1.2, f64::INFINITY, 0.3, 0.1]) {
         Err(Error::NonFiniteInitialValue { name, .. }) => assert_eq!(name, "y"),
         other => panic!("{other:?}"),
