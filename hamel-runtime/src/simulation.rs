@@ -24,8 +24,8 @@ pub struct Simulation<'s, S: HamelSystem> {
 const MAX_SAMPLES: f64 = 1e8;
 
 impl<'s, S: HamelSystem> Simulation<'s, S> {
-    /// A run of `system` from the state `x0` (see `HamelSystem::state_from_velocities` and
-    /// `state_from_speeds` to build one).
+    /// A run of `system` from the state `x0` (see [`HamelSystem::state_builder`],
+    /// `state_from_velocities` and `state_from_speeds` to build one).
     pub fn new(system: &'s S, x0: S::State) -> Self {
         Simulation {
             system,
