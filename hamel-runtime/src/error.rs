@@ -75,6 +75,51 @@ impl core::fmt::Display for Num {
     }
 }
 
+/// Why Newton's method found no configuration that satisfies a holonomic constraint (see
+/// [`Error::Assembly`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AssemblyFailure {
+    /// The constraint or its derivative is not a finite number at the configuration reached
+    /// (a coordinate outside the constraint's domain, or a parameter that makes it infinite).
+    NonFinite,
+    /// The derivative of the constraints with respect to the dependent coordinates is
+    /// singular: `pivot` is the vanishing pivot of its LU factorization, its row scaled to a
+    /// largest entry of 1. The coordinate does not enter the constraint here, so Newton's
+    /// method cannot move it.
+    Singular { pivot: f64 },
+    /// No step along Newton's direction, down to a 2⁻⁴⁰th of it, reduced the residual: the
+    /// iteration is stuck where |f| is smallest but not zero.
+    Stalled { iterations: usize },
+    /// The residual still exceeded the tolerance after this many iterations.
+    NoConvergence { iterations: usize },
+}
+
+impl core::fmt::Display for AssemblyFailure {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            AssemblyFailure::NonFinite => f.write_str("its value is not a finite number"),
+            AssemblyFailure::Singular { pivot } => write!(
+                f,
+                "it does not depend on the coordinate it determines here (its derivative with \
+                 respect to that coordinate is {} relative to the others)",
+                Num(*pivot)
+            ),
+            AssemblyFailure::Stalled { iterations } => write!(
+                f,
+                "Newton's method got stuck after {iterations} iterations where the residual is \
+                 smallest but not zero"
+            ),
+            AssemblyFailure::NoConvergence { iterations } => {
+                write!(
+                    f,
+                    "Newton's method did not converge in {iterations} iterations"
+                )
+            }
+        }
+    }
+}
+
+/// Everything that can go wrong when building states and running simulations.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
     #[error("parameter `{name}` is {value}: parameters must be finite numbers")]
@@ -134,6 +179,20 @@ pub enum Error {
     #[error("step size underflow at t = {t}: the step shrank to {}; state: {state}", Num(*h))]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
+    /// An adaptive integration used up its steps (`DormandPrince::max_steps`) before the end.
+    #[error(
+        "the integration took {steps} steps and got only to t = {}, with steps of {}: the \
+         solution may have a singularity near there, or the tolerance be too tight for the span; loosen the tolerance, shorten the run or raise the limit with \
+         `with_max_steps`; state: {state}",
+        Num(*t), Num(*h)
+    )]
+    TooManySteps {
+        t: f64,
+        steps: usize,
+        h: f64,
+        state: NamedValues,
+    },
+
     #[error("the state became non-finite at t = {t}: {state}")]
     NonFiniteState { t: f64, state: NamedValues },
 
@@ -146,4 +205,62 @@ pub enum Error {
 
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
+
+    /// Newton's method found no value of a dependent coordinate that satisfies its holonomic
+    /// constraint, starting from the values in `configuration` (the configuration given to
+    /// `assemble`, or the state after an integrator step when projecting).
+    #[error(
+        "cannot satisfy the holonomic constraint `{constraint}` at t = {}: {failure} (residual {}); \
+         start from a better value of `{coordinate}`, the coordinate it determines, or check the \
+         other coordinates, for which the constraint may have no solution; start: {configuration}",
+        Num(*t), Num(*residual)
+    )]
+    Assembly {
+        /// The constraint's name (one of the last `K` of `HamelSystem::CONSTRAINTS`).
+        constraint: String,
+        /// The dependent coordinate Newton's method solved for.
+        coordinate: String,
+        t: f64,
+        failure: AssemblyFailure,
+        /// The constraint's residual f(t, q) where the iteration stopped.
+        residual: f64,
+        configuration: NamedValues,
+    },
+
+    /// A configuration given to `state_from_velocities` or `state_from_speeds` does not
+    /// satisfy a holonomic constraint.
+    #[error(
+        "the configuration violates the holonomic constraint `{constraint}` at t = {}: its residual \
+         is {}, more than the tolerance {}; solve `{coordinate}`, the coordinate it determines, \
+         with `assemble`, or build the state with `state_builder`, which does; configuration: \
+         {configuration}",
+        Num(*t), Num(*residual), Num(*tolerance)
+    )]
+    HolonomicViolation {
+        constraint: String,
+        coordinate: String,
+        t: f64,
+        residual: f64,
+        tolerance: f64,
+        configuration: NamedValues,
+    },
+
+    /// A hand-written `HamelSystem` whose constants and types disagree (generated code cannot
+    /// produce this).
+    #[error(
+        "the model's implementation of `HamelSystem` is inconsistent: {what}; `#[hamel_system]` \
+         generates consistent ones, so fix the hand-written implementation"
+    )]
+    InconsistentModel { what: String },
+
+    /// A state builder was given a name that is neither a coordinate nor a speed.
+    #[error("unknown name `{name}`: a state is set by the names of its {known}")]
+    UnknownStateName { name: String, known: String },
+
+    /// A state builder was given both velocities and speeds.
+    #[error(
+        "both the velocities and the speed `{speed}` were given: the speeds follow from the \
+         velocities, so give either the velocities or the speeds"
+    )]
+    AmbiguousState { speed: String },
 }

@@ -2,10 +2,11 @@
 //! [`Integrator`], and records a [`Trajectory`] with energy and constraint monitors.
 
 use crate::error::Error;
-use crate::integrate::{Integrator, Ode};
-use crate::named::NamedValues;
+use crate::integrate::Integrator;
+use crate::recorder::Recorder;
 use crate::system::HamelSystem;
-use crate::trajectory::{Summary, Trajectory};
+use crate::system_ode::{BalanceOde, PlainOde, extend, project_coordinates, split};
+use crate::trajectory::Trajectory;
 
 /// A run of a system from an initial state: x0 at `t0`, recorded every `dt_out` until
 /// `t_end` (defaults: from 0 to 10, every 0.01).
@@ -15,6 +16,7 @@ pub struct Simulation<'s, S: HamelSystem> {
     t0: f64,
     t_end: f64,
     dt_out: f64,
+    project: bool,
 }
 
 /// More samples than this is a mistaken sample interval, not a simulation: refuse it before
@@ -22,8 +24,8 @@ pub struct Simulation<'s, S: HamelSystem> {
 const MAX_SAMPLES: f64 = 1e8;
 
 impl<'s, S: HamelSystem> Simulation<'s, S> {
-    /// A run of `system` from the state `x0` (see `HamelSystem::state_from_velocities` and
-    /// `state_from_speeds` to build one).
+    /// A run of `system` from the state `x0` (see [`HamelSystem::state_builder`],
+    /// `state_from_velocities` and `state_from_speeds` to build one).
     pub fn new(system: &'s S, x0: S::State) -> Self {
         Simulation {
             system,
@@ -31,14 +33,17 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             t0: 0.0,
             t_end: 10.0,
             dt_out: 0.01,
+            project: false,
         }
     }
 
+    /// The time of the initial state (default 0).
     pub fn start_time(mut self, t0: f64) -> Self {
         self.t0 = t0;
         self
     }
 
+    /// The time the run ends at, the last sample's (default 10).
     pub fn end_time(mut self, t_end: f64) -> Self {
         self.t_end = t_end;
         self
@@ -48,6 +53,19 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     /// last sample is exactly the end time).
     pub fn sample_interval(mut self, dt_out: f64) -> Self {
         self.dt_out = dt_out;
+        self
+    }
+
+    /// Whether to keep the holonomic constraints satisfied to rounding (default: off). When
+    /// on, the dependent coordinates of the initial state and of the state after every
+    /// accepted step are re-solved by Newton's method at that time (as
+    /// [`HamelSystem::assemble`] does), and so are those of every recorded sample; a
+    /// Dormand–Prince step then costs one evaluation more. Off, the constraints hold to the
+    /// integration's accuracy, which degrades slowly over long runs
+    /// ([`crate::Summary::max_holonomic_residual`] reports it). Nothing changes for a system
+    /// without holonomic constraints.
+    pub fn project_holonomic(mut self, on: bool) -> Self {
+        self.project = on;
         self
     }
 
@@ -95,12 +113,45 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     }
 
     /// Runs with the inputs given as a function of time and state (a feedback law or a
-    /// schedule), recording at every sample time.
+    /// schedule), recording at every sample time. A system that is not
+    /// [`HamelSystem::CONSERVATIVE`] is integrated with the work done on it, Ẇ =
+    /// [`HamelSystem::power`], outside the step-size control (so with the same steps), for
+    /// the energy balance of the [`crate::Summary`] and the column `energy_balance`.
     pub fn run<I: Integrator>(
         &self,
         integrator: &I,
         inputs: impl FnMut(f64, &S::State) -> S::Inputs,
     ) -> Result<Trajectory, Error> {
+        let x0 = self.initial_state()?;
+        let times = self.sample_times()?;
+        let mut recorder = Recorder::new(self.system);
+        let (system, project) = (self.system, self.project);
+        let stats = if S::CONSERVATIVE {
+            let mut ode = PlainOde {
+                system,
+                inputs,
+                project,
+            };
+            integrator.integrate(&mut ode, self.t0, &x0, &times, &mut |t, x| {
+                recorder.record(t, x, 0.0)
+            })?
+        } else {
+            let mut ode = BalanceOde {
+                system,
+                inputs,
+                project,
+            };
+            let v0 = extend::<S>(&x0)?;
+            integrator.integrate(&mut ode, self.t0, &v0, &times, &mut |t, v| {
+                let (x, work) = split::<S>(v);
+                recorder.record(t, &x, work)
+            })?
+        };
+        Ok(recorder.finish(stats))
+    }
+
+    /// The checked initial state, its dependent coordinates re-solved when projecting.
+    fn initial_state(&self) -> Result<S::State, Error> {
         self.system.validate()?;
         if let Some(i) = self.x0.as_ref().iter().position(|v| !v.is_finite()) {
             let name = S::STATE
@@ -114,29 +165,12 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         // A closed-form inverse B(q) that does not invert A(q) would make every step wrong.
         self.system
             .check_configuration(self.t0, &S::coordinates_of(&self.x0))?;
-        let times = self.sample_times()?;
-
-        let names = ["t"]
-            .iter()
-            .chain(S::STATE)
-            .chain(&["energy"])
-            .map(|n| (*n).to_string())
-            .collect();
-        let mut recorder = Recorder::<S>::new(self.system, Trajectory::new(names, empty_summary()));
-        let mut ode = SystemOde {
-            system: self.system,
-            inputs,
-        };
-        let stats = integrator.integrate(&mut ode, self.t0, &self.x0, &times, &mut |t, x| {
-            recorder.record(t, x)
-        })?;
-
-        let mut trajectory = recorder.trajectory;
-        let summary = trajectory.summary_mut();
-        summary.steps = stats.steps;
-        summary.rejected = stats.rejected;
-        summary.evaluations = stats.evaluations;
-        Ok(trajectory)
+        let mut x0 = self.x0;
+        if self.project {
+            let t0 = self.t0;
+            project_coordinates(self.system, t0, x0.as_mut(), || S::named_state(&self.x0))?;
+        }
+        Ok(x0)
     }
 
     /// Runs with constant inputs.
@@ -146,89 +180,5 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         u: S::Inputs,
     ) -> Result<Trajectory, Error> {
         self.run(integrator, move |_, _| u)
-    }
-}
-
-/// A system with its inputs as an ODE: the inputs are evaluated at every stage, and a
-/// singular matrix in the right-hand side becomes an error naming the time and state.
-struct SystemOde<'s, S, F> {
-    system: &'s S,
-    inputs: F,
-}
-
-impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for SystemOde<'_, S, F> {
-    type State = S::State;
-
-    fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
-        let u = (self.inputs)(t, x);
-        self.system
-            .rhs(t, x, &u, dx)
-            .map_err(|s| S::singular(s, t, x))
-    }
-
-    fn describe(&self, x: &S::State) -> NamedValues {
-        S::named_state(x)
-    }
-}
-
-fn empty_summary() -> Summary {
-    Summary {
-        steps: 0,
-        rejected: 0,
-        evaluations: 0,
-        samples: 0,
-        max_constraint_residual: 0.0,
-        initial_energy: f64::NAN,
-        max_energy_drift: 0.0,
-        relative_energy_drift: 0.0,
-    }
-}
-
-/// Records the samples and keeps the monitors' running maxima.
-struct Recorder<'s, S> {
-    system: &'s S,
-    trajectory: Trajectory,
-}
-
-impl<'s, S: HamelSystem> Recorder<'s, S> {
-    fn new(system: &'s S, trajectory: Trajectory) -> Self {
-        Recorder { system, trajectory }
-    }
-
-    fn record(&mut self, t: f64, x: &S::State) -> Result<(), Error> {
-        let at = |s: crate::Singularity| S::singular(s, t, x);
-        let energy = self.system.energy(t, x).map_err(at)?;
-        let q = S::coordinates_of(x);
-        let qd = self.system.generalized_velocities(t, x).map_err(at)?;
-        let residual = self.system.constraint_residual(t, &q, &qd);
-
-        let first = self.trajectory.is_empty();
-        self.trajectory.push(
-            core::iter::once(t)
-                .chain(x.as_ref().iter().copied())
-                .chain([energy]),
-        );
-        let summary = self.trajectory.summary_mut();
-        summary.samples += 1;
-        for r in residual.as_ref() {
-            summary.max_constraint_residual = nan_max(summary.max_constraint_residual, r.abs());
-        }
-        if first {
-            summary.initial_energy = energy;
-        }
-        let e0 = summary.initial_energy;
-        summary.max_energy_drift = nan_max(summary.max_energy_drift, (energy - e0).abs());
-        summary.relative_energy_drift = summary.max_energy_drift / e0.abs().max(f64::MIN_POSITIVE);
-        Ok(())
-    }
-}
-
-/// The larger of two numbers, NaN if either is: a monitor must not hide a NaN (`f64::max`
-/// would drop it).
-fn nan_max(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b)
     }
 }

@@ -1,6 +1,8 @@
 //! The traits a model implements: [`Parameters`] (generated from the parameter struct) and
 //! [`HamelSystem`] (generated from the model's impl block by `#[hamel_system]`).
 
+use crate::assembly;
+use crate::builder::StateBuilder;
 use crate::error::{Error, Singularity};
 use crate::named::NamedValues;
 use crate::vector::Vector;
@@ -202,8 +204,38 @@ pub trait HamelSystem: Parameters {
         Ok(())
     }
 
+    /// The configuration that satisfies the holonomic constraints f(t, q) = 0 at time `t`,
+    /// solved for the coordinates [`Self::DEPENDENT`] with the others held at their values in
+    /// `q`, by Newton's method starting from the dependent coordinates' values in `q` (so
+    /// their sign or branch picks the root). Converged when every |fᵢ| is at most
+    /// [`crate::ASSEMBLY_TOLERANCE`] times its scale Σⱼ |∂fᵢ/∂qⱼ|·max(|qⱼ|, 1); a `q` that
+    /// already satisfies them comes back unchanged, and so does every `q` when K = 0.
+    ///
+    /// Errors: a time, parameter or coordinate that is not finite names it;
+    /// [`Error::Assembly`] names the constraint, the coordinate to guess better, the time and
+    /// the configuration when the derivative block is singular, a value is not finite or
+    /// Newton's method does not converge (it halves steps that would not reduce the residual,
+    /// so a guess on the right branch converges).
+    fn assemble(&self, t: f64, q: &Self::Coordinates) -> Result<Self::Coordinates, Error> {
+        if Self::K == 0 {
+            return Ok(*q);
+        }
+        if !t.is_finite() {
+            return Err(Error::InvalidSetting {
+                name: "time",
+                value: t,
+                reason: "the time must be a finite number",
+            });
+        }
+        self.validate()?;
+        check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        assembly::newton(self, t, q)
+    }
+
     /// The state of a configuration and velocities at time `t`, after checking that the
-    /// parameters and values are finite and that the velocities satisfy the constraints.
+    /// parameters and values are finite, that the configuration satisfies the holonomic
+    /// constraints (to [`crate::HOLONOMIC_TOLERANCE`] of their scale, see
+    /// [`Self::assemble`]) and that the velocities satisfy the constraints.
     fn state_from_velocities(
         &self,
         t: f64,
@@ -211,6 +243,7 @@ pub trait HamelSystem: Parameters {
         qd: &Self::Coordinates,
     ) -> Result<Self::State, Error> {
         self.check_configuration(t, q)?;
+        assembly::check(self, t, q)?;
         check_finite(Self::COORDINATES, qd.as_ref(), "d/dt ")?;
         let residual = self.constraint_residual(t, q, qd);
         let scale = qd.as_ref().iter().fold(1.0f64, |m, v| m.max(v.abs()));
@@ -229,7 +262,8 @@ pub trait HamelSystem: Parameters {
     }
 
     /// The state of a configuration and the free quasi-velocities at time `t` (always
-    /// admissible).
+    /// admissible), after checking that the parameters and values are finite and that the
+    /// configuration satisfies the holonomic constraints (see [`Self::state_from_velocities`]).
     fn state_from_speeds(
         &self,
         t: f64,
@@ -237,8 +271,19 @@ pub trait HamelSystem: Parameters {
         speeds: &Self::Speeds,
     ) -> Result<Self::State, Error> {
         self.check_configuration(t, q)?;
+        assembly::check(self, t, q)?;
         check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
         Ok(join::<Self>(q, speeds))
+    }
+
+    /// A builder of a state by the names of its coordinates and speeds, which solves the
+    /// dependent coordinates with [`Self::assemble`]: `system.state_builder().set("x",
+    /// 1.2).set("v", 1.5).build()`.
+    fn state_builder(&self) -> StateBuilder<'_, Self>
+    where
+        Self: Sized,
+    {
+        StateBuilder::new(self)
     }
 
     /// The coordinates part of a state.

@@ -5,7 +5,7 @@ use core::fmt;
 use std::io::Write;
 use std::path::Path;
 
-use crate::error::Error;
+use crate::error::{Error, Num};
 
 /// What a run cost and how well it kept energy and constraints.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,6 +27,22 @@ pub struct Summary {
     pub max_energy_drift: f64,
     /// max |E − E₀| / max(|E₀|, f64::MIN_POSITIVE).
     pub relative_energy_drift: f64,
+    /// Whether the system is `CONSERVATIVE`: then no work is done on it, W ≡ 0, and the
+    /// energy balance is the energy drift.
+    pub conservative: bool,
+    /// K, the number of holonomic constraints.
+    pub holonomic_constraints: usize,
+    /// The largest |fᵢ(t, q)| over samples and holonomic constraints (0 when K = 0): the
+    /// integration's error in the constraints, or rounding when they are projected.
+    pub max_holonomic_residual: f64,
+    /// W at the last sample: the work done on the system since the first, ∫ power dt.
+    pub work: f64,
+    /// max |E − E₀ − W| over the samples: the energy balance, which holds exactly for the
+    /// true motion, so this is the integration's error in the energy.
+    pub max_energy_balance: f64,
+    /// max |E − E₀ − W| / max(|E₀|, max |E − E₀|, max |W|, f64::MIN_POSITIVE): relative to the
+    /// largest energy in the balance (E₀ alone may be 0, for a body at rest set moving).
+    pub relative_energy_balance: f64,
 }
 
 impl fmt::Display for Summary {
@@ -46,12 +62,34 @@ impl fmt::Display for Summary {
             f,
             "relative energy drift    {:.3e}",
             self.relative_energy_drift
-        )
+        )?;
+        if self.holonomic_constraints > 0 {
+            write!(
+                f,
+                "\nmax holonomic residual   {:.3e}",
+                self.max_holonomic_residual
+            )?;
+        }
+        if !self.conservative {
+            write!(f, "\nwork                     {}", Num(self.work))?;
+            write!(
+                f,
+                "\nmax energy balance       {:.3e}",
+                self.max_energy_balance
+            )?;
+            write!(
+                f,
+                "\nrelative energy balance  {:.3e}",
+                self.relative_energy_balance
+            )?;
+        }
+        Ok(())
     }
 }
 
 /// Samples of named quantities, stored by column: `t` first, then whatever the producer
-/// recorded (for a [`crate::Simulation`]: the state, then the energy).
+/// recorded (for a [`crate::Simulation`]: the state, then the energy, then, for a system
+/// that is not conservative, the energy balance E − E₀ − W).
 #[derive(Clone, PartialEq)]
 pub struct Trajectory {
     names: Vec<String>,
@@ -187,6 +225,12 @@ mod tests {
             initial_energy: 2.5,
             max_energy_drift: 3e-12,
             relative_energy_drift: 1.2e-12,
+            conservative: true,
+            holonomic_constraints: 0,
+            max_holonomic_residual: 0.0,
+            work: 0.0,
+            max_energy_balance: 3e-12,
+            relative_energy_balance: 1.2e-12,
         }
     }
 
@@ -275,5 +319,42 @@ mod tests {
         assert_eq!(text.lines().count(), 8);
         assert!(text.starts_with("steps                    12\n"));
         assert!(text.contains("relative energy drift    1.200e-12"));
+        assert!(!text.contains("balance") && !text.contains("holonomic"));
+    }
+
+    #[test]
+    fn summary_display_adds_the_figures_that_mean_something() {
+        let holonomic = Summary {
+            holonomic_constraints: 2,
+            max_holonomic_residual: 4.5e-14,
+            ..summary()
+        };
+        let text = holonomic.to_string();
+        assert_eq!(text.lines().count(), 9);
+        assert!(
+            text.ends_with("\nmax holonomic residual   4.500e-14"),
+            "{text}"
+        );
+
+        let forced = Summary {
+            conservative: false,
+            work: -1.2345678,
+            max_energy_balance: 2e-13,
+            relative_energy_balance: 8e-14,
+            ..holonomic
+        };
+        let text = forced.to_string();
+        assert_eq!(text.lines().count(), 12);
+        assert!(
+            text.starts_with(&summary().to_string()),
+            "existing lines unchanged"
+        );
+        assert!(
+            text.ends_with(
+                "max holonomic residual   4.500e-14\nwork                     -1.235\n\
+                 max energy balance       2.000e-13\nrelative energy balance  8.000e-14"
+            ),
+            "{text}"
+        );
     }
 }

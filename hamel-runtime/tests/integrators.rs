@@ -400,6 +400,11 @@ fn invalid_settings_are_errors_naming_the_value() {
             bad,
         );
     }
+    expect_invalid(
+        &DormandPrince::new(1e-6, 1e-6).with_max_steps(0),
+        "max steps",
+        0.0,
+    );
     // Pure absolute control and an unlimited step are fine.
     let ok = DormandPrince::new(0.0, 1e-6).with_max_step(f64::INFINITY);
     assert!(
@@ -617,4 +622,191 @@ fn a_non_finite_state_is_an_error_not_a_result() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// The oscillator with a third component ẏ₂ = 50 cos(50t) carried along, inside the step-size
+/// control or outside it.
+struct Monitored {
+    controlled: usize,
+}
+
+impl Ode for Monitored {
+    type State = [f64; 3];
+
+    fn rhs(&mut self, t: f64, y: &[f64; 3], dy: &mut [f64; 3]) -> Result<(), Error> {
+        *dy = [y[1], -y[0], 50.0 * (50.0 * t).cos()];
+        Ok(())
+    }
+
+    fn controlled_components(&self) -> usize {
+        self.controlled
+    }
+}
+
+#[test]
+fn components_outside_the_error_control_leave_the_steps_alone() {
+    let samples = [1.0, 2.5, 10.0];
+    let dp = DormandPrince::new(1e-8, 1e-8);
+    let (plain, plain_stats) = solve(&dp, &mut Oscillator, 0.0, [1.0, 0.0], &samples).unwrap();
+    let mut carried = Monitored { controlled: 2 };
+    let (states, stats) = solve(&dp, &mut carried, 0.0, [1.0, 0.0, 0.0], &samples).unwrap();
+    println!("oscillator {plain_stats:?}; with a fast component outside the control {stats:?}");
+    assert_eq!(stats, plain_stats);
+    for (a, b) in plain.iter().zip(&states) {
+        assert_eq!(a[..], b[..2], "the same steps give the same numbers");
+    }
+    // Inside the control, the fast component sets the steps.
+    let mut controlled = Monitored { controlled: 3 };
+    let (_, more) = solve(&dp, &mut controlled, 0.0, [1.0, 0.0, 0.0], &samples).unwrap();
+    println!("... inside the control {more:?}");
+    assert!(more.steps > 2 * stats.steps, "{more:?}");
+}
+
+/// Uniform motion on the unit circle, ẏ = (−y₁, y₀), optionally projected back onto |y| = 1
+/// (where the exact solution stays and the integrator's does not, quite); the projection
+/// fails from `t_fail` on.
+struct Circle {
+    project: bool,
+    moved: usize,
+    t_fail: f64,
+}
+
+impl Circle {
+    fn new(project: bool) -> Self {
+        Circle {
+            project,
+            moved: 0,
+            t_fail: f64::INFINITY,
+        }
+    }
+}
+
+impl Ode for Circle {
+    type State = [f64; 2];
+
+    fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), Error> {
+        *dy = [-y[1], y[0]];
+        Ok(())
+    }
+
+    fn project(&mut self, t: f64, y: &mut [f64; 2]) -> Result<bool, Error> {
+        if t >= self.t_fail {
+            return Err(Error::InvalidSetting {
+                name: "projection",
+                value: t,
+                reason: "marker",
+            });
+        }
+        let r = y[0].hypot(y[1]);
+        if !self.project || r == 1.0 {
+            return Ok(false);
+        }
+        *y = [y[0] / r, y[1] / r];
+        self.moved += 1;
+        Ok(true)
+    }
+}
+
+/// The largest ||y| − 1| over the states.
+fn off_circle(states: &[[f64; 2]]) -> f64 {
+    states
+        .iter()
+        .map(|y| (y[0].hypot(y[1]) - 1.0).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn projected_steps_and_samples_stay_on_the_manifold() {
+    let samples: Vec<f64> = (1..=100).map(|i| 0.5 * i as f64).collect();
+    let dp = DormandPrince::new(1e-6, 1e-6);
+    let (free, free_stats) =
+        solve(&dp, &mut Circle::new(false), 0.0, [1.0, 0.0], &samples).unwrap();
+    let mut projected = Circle::new(true);
+    let (on, stats) = solve(&dp, &mut projected, 0.0, [1.0, 0.0], &samples).unwrap();
+    let (drift, kept) = (off_circle(&free), off_circle(&on));
+    println!(
+        "DP5 on the circle: ||y| − 1| ≤ {drift:.3e} free ({free_stats:?}), {kept:.3e} projected ({stats:?})"
+    );
+    assert!(drift > 1e-8 && drift < 1e-4, "{drift:e}");
+    assert!(kept <= 2.0 * f64::EPSILON, "{kept:e}");
+
+    // Only the end: every projection is after a step, and each but the last step's costs
+    // one evaluation of the derivative the next step starts from.
+    let mut end_only = Circle::new(true);
+    let (_, stats) = solve(&dp, &mut end_only, 0.0, [1.0, 0.0], &[50.0]).unwrap();
+    assert!(
+        end_only.moved > stats.steps / 2,
+        "{} of {stats:?}",
+        end_only.moved
+    );
+    assert_eq!(
+        stats.evaluations,
+        2 + 6 * (stats.steps + stats.rejected) + end_only.moved - 1
+    );
+
+    // RK4 carries no derivative over: projections cost nothing.
+    let rk4 = Rk4::new(0.05);
+    let (free, _) = solve(&rk4, &mut Circle::new(false), 0.0, [1.0, 0.0], &samples).unwrap();
+    let (on, stats) = solve(&rk4, &mut Circle::new(true), 0.0, [1.0, 0.0], &samples).unwrap();
+    assert!(off_circle(&free) > 1e-8, "{:e}", off_circle(&free));
+    assert!(off_circle(&on) <= 2.0 * f64::EPSILON);
+    assert_eq!(stats.evaluations, 4 * stats.steps);
+}
+
+#[test]
+fn a_failing_projection_stops_the_integration() {
+    fn check<I: Integrator>(method: &I) {
+        let mut ode = Circle {
+            t_fail: 1.0,
+            ..Circle::new(true)
+        };
+        match method.integrate(&mut ode, 0.0, &[1.0, 0.0], &[0.5, 2.0], &mut |_, _| Ok(())) {
+            Err(Error::InvalidSetting {
+                name: "projection",
+                value,
+                ..
+            }) => assert!((1.0..2.0).contains(&value), "{value}"),
+            other => panic!("{other:?}"),
+        }
+    }
+    check(&Rk4::new(0.1));
+    check(&DormandPrince::new(1e-6, 1e-6));
+    check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
+}
+
+/// y' = −10⁶ (y − cos t): stiff, so an explicit method's steps stay near its stability limit,
+/// 3·10⁻⁶, whatever the tolerance; 10 time units would take millions of steps.
+struct Stiff;
+
+impl Ode for Stiff {
+    type State = [f64; 1];
+
+    fn rhs(&mut self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), Error> {
+        dy[0] = -1e6 * (y[0] - t.cos());
+        Ok(())
+    }
+}
+
+#[test]
+fn an_integration_that_would_not_end_runs_out_of_steps() {
+    let method = DormandPrince::new(1e-6, 1e-6).with_max_steps(1000);
+    match method.integrate(&mut Stiff, 0.0, &[1.0], &[10.0], &mut |_, _| Ok(())) {
+        Err(e @ Error::TooManySteps { .. }) => {
+            let message = e.to_string();
+            println!("{message}");
+            let Error::TooManySteps { t, steps, h, state } = e else {
+                unreachable!()
+            };
+            assert_eq!(steps, 1000);
+            assert!(t > 0.0 && t < 0.01, "{t}");
+            assert!(h < 1e-5, "{h}");
+            assert!((state.get("x0").unwrap() - t.cos()).abs() < 1e-5);
+            assert!(message.contains("`with_max_steps`"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        DormandPrince::new(1e-6, 1e-6).max_steps,
+        DormandPrince::MAX_STEPS
+    );
 }

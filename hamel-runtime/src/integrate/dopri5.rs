@@ -28,6 +28,10 @@ pub struct DormandPrince {
     /// `Some(h)`: no error control; equal steps of at most h that end exactly on the final
     /// sample, every one accepted. For convergence studies and reproducible cost.
     pub fixed_step: Option<f64>,
+    /// The most steps (accepted and rejected) an adaptive integration may take (Hairer's
+    /// NMAX): near a singularity of the solution the steps can shrink to where they still
+    /// advance, but by so little that the run would not end. Default [`Self::MAX_STEPS`].
+    pub max_steps: usize,
 }
 
 impl DormandPrince {
@@ -39,7 +43,19 @@ impl DormandPrince {
             initial_step: None,
             max_step: f64::INFINITY,
             fixed_step: None,
+            max_steps: Self::MAX_STEPS,
         }
+    }
+
+    /// The default limit on the steps of one integration: far more than a run at any
+    /// tolerance over a span of its natural time scales takes (hundreds to thousands), and
+    /// seconds of computing for a small system.
+    pub const MAX_STEPS: usize = 1_000_000;
+
+    /// Limits an adaptive integration to `n` steps, rejected ones included.
+    pub fn with_max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
     }
 
     pub fn with_initial_step(mut self, h: f64) -> Self {
@@ -94,6 +110,9 @@ impl DormandPrince {
                 self.max_step,
                 "the largest step must be positive (or infinite)",
             );
+        }
+        if self.max_steps == 0 {
+            return invalid("max steps", 0.0, "the integration needs at least one step");
         }
         if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
             return invalid(
@@ -219,10 +238,12 @@ fn attempt<O: Ode>(
     })
 }
 
-/// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|).
-/// NaN if the step produced a non-finite value (and then the step is rejected).
-fn error_norm<V: Vector>(y: &V, step: &Step<V>, rtol: f64, atol: f64) -> f64 {
-    if V::LEN == 0 {
+/// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|),
+/// over the first `len` components (`Ode::controlled_components`). NaN if the step produced a
+/// non-finite value there (and then the step is rejected).
+fn error_norm<V: Vector>(y: &V, step: &Step<V>, rtol: f64, atol: f64, len: usize) -> f64 {
+    let len = len.min(V::LEN);
+    if len == 0 {
         return 0.0;
     }
     let [k1, _, k3, k4, k5, k6, k7] = &step.k;
@@ -231,14 +252,14 @@ fn error_norm<V: Vector>(y: &V, step: &Step<V>, rtol: f64, atol: f64) -> f64 {
         step.h,
         &[(E1, k1), (E3, k3), (E4, k4), (E5, k5), (E6, k6), (E7, k7)],
     );
-    let sum: f64 = (0..V::LEN)
+    let sum: f64 = (0..len)
         .map(|i| {
             let (y0, y1) = (y.as_ref()[i], step.y1.as_ref()[i]);
             let sc = atol + rtol * y0.abs().max(y1.abs());
             (e.as_ref()[i] / sc).powi(2)
         })
         .sum();
-    (sum / V::LEN as f64).sqrt()
+    (sum / len as f64).sqrt()
 }
 
 /// The continuous extension of an accepted step from (t, y): a polynomial of degree 4 in
@@ -330,6 +351,7 @@ impl Controller {
 /// Hairer's initial step (HINIT, order 5): a step whose explicit-Euler increment is 1% of the
 /// solution's scale, then refined with a finite-difference estimate of the second derivative
 /// so that the local error of the first step is near the tolerance. Costs one evaluation.
+/// Like the error norm, it looks only at the components the step-size control covers.
 fn initial_step<O: Ode>(
     ode: &mut O,
     t: f64,
@@ -340,7 +362,7 @@ fn initial_step<O: Ode>(
     stats: &mut Stats,
 ) -> Result<f64, Error> {
     let scale = |i: usize| method.atol + method.rtol * y.as_ref()[i].abs();
-    let n = O::State::LEN;
+    let n = ode.controlled_components().min(O::State::LEN);
     let dnf: f64 = (0..n).map(|i| (f0.as_ref()[i] / scale(i)).powi(2)).sum();
     let dny: f64 = (0..n).map(|i| (y.as_ref()[i] / scale(i)).powi(2)).sum();
     let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
@@ -386,15 +408,23 @@ impl<V: Vector> Samples<'_, '_, V> {
         self.times.last().copied().unwrap_or(f64::NAN)
     }
 
-    /// Observes the samples in the accepted step from (t, y) to (t1, step.y1): at t1 the
-    /// step's own result, inside the step the continuous extension (formed only if needed).
-    fn observe_step(&mut self, t: f64, y: &V, t1: f64, step: &Step<V>) -> Result<(), Error> {
+    /// Observes the samples in the accepted step from (t, y) to t1: at t1 the step's result
+    /// as projected, `y1`; inside the step the continuous extension (formed only if needed)
+    /// of the step as computed, projected.
+    fn observe_step<O: Ode<State = V>>(
+        &mut self,
+        ode: &mut O,
+        (t, y): (f64, &V),
+        (t1, y1): (f64, &V),
+        step: &Step<V>,
+    ) -> Result<(), Error> {
         let mut dense = None;
         while let Some(&s) = self.times.get(self.next).filter(|s| **s <= t1) {
             if s == t1 {
-                (self.observe)(s, &step.y1)?;
+                (self.observe)(s, y1)?;
             } else {
-                let value = dense.get_or_insert_with(|| Dense::new(t, y, step)).at(s);
+                let mut value = dense.get_or_insert_with(|| Dense::new(t, y, step)).at(s);
+                ode.project(s, &mut value)?;
                 (self.observe)(s, &value)?;
             }
             self.next += 1;
@@ -444,6 +474,31 @@ impl Integrator for DormandPrince {
     }
 }
 
+/// Completes an accepted step from (t, y) to t1: checks its result, projects it
+/// (`Ode::project`), observes the samples it covers, and returns the state the next step
+/// starts from with its derivative: the step's last stage (FSAL), or, if the projection moved
+/// the state, a new evaluation there, counted (none after the `last` step).
+fn complete<O: Ode>(
+    ode: &mut O,
+    (t, y): (f64, &O::State),
+    (t1, last): (f64, bool),
+    step: &Step<O::State>,
+    samples: &mut Samples<'_, '_, O::State>,
+    stats: &mut Stats,
+) -> Result<(O::State, O::State), Error> {
+    check_state(ode, t1, &step.y1)?;
+    stats.steps += 1;
+    let mut y1 = step.y1;
+    let moved = ode.project(t1, &mut y1)?;
+    samples.observe_step(ode, (t, y), (t1, &y1), step)?;
+    let mut f1 = step.k[6];
+    if moved && !last {
+        ode.rhs(t1, &y1, &mut f1)?;
+        stats.evaluations += 1;
+    }
+    Ok((y1, f1))
+}
+
 /// Where the steps start: the initial point and the derivative there.
 struct Start<V> {
     t: f64,
@@ -472,6 +527,14 @@ impl DormandPrince {
             f: mut k1,
         } = start;
         loop {
+            if stats.steps + stats.rejected >= self.max_steps {
+                return Err(Error::TooManySteps {
+                    t,
+                    steps: stats.steps + stats.rejected,
+                    h,
+                    state: ode.describe(&y),
+                });
+            }
             // Below this, t + h no longer differs from t by more than a few roundings: the
             // solution (or the tolerance) asks for more than f64 can give.
             if h < 16.0 * f64::EPSILON * t.abs() || h < 1e-300 {
@@ -487,14 +550,13 @@ impl DormandPrince {
                 h = t_end - t;
             }
             let step = attempt(ode, t, &y, &k1, h, stats)?;
-            let err = error_norm(&y, &step, self.rtol, self.atol);
+            let len = ode.controlled_components();
+            let err = error_norm(&y, &step, self.rtol, self.atol, len);
             if err <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
-                check_state(ode, t1, &step.y1)?;
-                stats.steps += 1;
-                samples.observe_step(t, &y, t1, &step)?;
+                let (y1, f1) = complete(ode, (t, &y), (t1, last), &step, samples, stats)?;
                 let h_new = controller.accepted(h, err, hmax);
-                (t, y, k1) = (t1, step.y1, step.k[6]);
+                (t, y, k1) = (t1, y1, f1);
                 if last {
                     return Ok(());
                 }
@@ -530,10 +592,7 @@ impl DormandPrince {
                 t_end
             };
             let step = attempt(ode, t, &y, &k1, h, stats)?;
-            check_state(ode, t1, &step.y1)?;
-            stats.steps += 1;
-            samples.observe_step(t, &y, t1, &step)?;
-            (y, k1) = (step.y1, step.k[6]);
+            (y, k1) = complete(ode, (t, &y), (t1, i + 1 == n), &step, samples, stats)?;
         }
         Ok(())
     }

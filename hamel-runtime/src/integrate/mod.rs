@@ -22,6 +22,24 @@ pub trait Ode {
     /// Writes f(t, x) into `dx`. An error stops the integration and is returned unchanged.
     fn rhs(&mut self, t: f64, x: &Self::State, dx: &mut Self::State) -> Result<(), Error>;
 
+    /// How many leading components of the state an adaptive method's error estimate covers
+    /// (default: all). The others are integrated along but never shorten a step: quantities
+    /// monitored alongside the solution, such as the work done on a mechanical system, leave
+    /// the steps exactly those of the solution alone.
+    fn controlled_components(&self) -> usize {
+        Self::State::LEN
+    }
+
+    /// Moves a state computed by the integrator back onto a manifold the exact solution
+    /// stays on (for a mechanical system: re-solves the holonomic constraints), and says
+    /// whether it changed anything. Integrators call it with the end time and result of
+    /// every accepted step, before continuing from it, and with every sample they
+    /// interpolate; the initial state is the caller's. An error stops the integration and is
+    /// returned unchanged. The default changes nothing.
+    fn project(&mut self, _t: f64, _x: &mut Self::State) -> Result<bool, Error> {
+        Ok(false)
+    }
+
     /// The state with its component names, for error messages. The default names the
     /// components `x0`, `x1`, …; a mechanical system names them after its coordinates.
     fn describe(&self, x: &Self::State) -> NamedValues {

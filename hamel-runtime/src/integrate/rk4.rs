@@ -56,6 +56,9 @@ impl Integrator for Rk4 {
                         sample
                     };
                     check_state(ode, t_end, &x)?;
+                    // No derivative is carried from step to step, so a projected state
+                    // costs no evaluation.
+                    ode.project(t_end, &mut x)?;
                 }
                 t = sample;
             }

@@ -1,0 +1,163 @@
+//! A [`HamelSystem`] with its inputs as an [`Ode`]: the plain state for a conservative
+//! system, the state extended by the work done on it otherwise; with the holonomic
+//! constraints re-solved after every step when asked.
+
+use crate::assembly;
+use crate::error::Error;
+use crate::integrate::Ode;
+use crate::named::NamedValues;
+use crate::system::HamelSystem;
+use crate::vector::Vector;
+
+/// The name of the work in the extended state's messages.
+const WORK: &str = "work";
+
+/// The reduced ODE ẋ = F(t, x, u(t, x)): the inputs are evaluated at every stage, and a
+/// singular matrix in the right-hand side becomes an error naming the time and state.
+pub(crate) struct PlainOde<'s, S, F> {
+    pub system: &'s S,
+    pub inputs: F,
+    /// Whether to re-solve the dependent coordinates after every step.
+    pub project: bool,
+}
+
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_, S, F> {
+    type State = S::State;
+
+    fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
+        let u = (self.inputs)(t, x);
+        self.system
+            .rhs(t, x, &u, dx)
+            .map_err(|s| S::singular(s, t, x))
+    }
+
+    fn project(&mut self, t: f64, x: &mut S::State) -> Result<bool, Error> {
+        if !self.project {
+            return Ok(false);
+        }
+        // A copy, so that the error can name the state the step produced (formed only then).
+        let before = *x;
+        project_coordinates(self.system, t, x.as_mut(), || S::named_state(&before))
+    }
+
+    fn describe(&self, x: &S::State) -> NamedValues {
+        S::named_state(x)
+    }
+}
+
+/// The reduced ODE extended by the work W done on the system, Ẇ = power(t, x, u), for the
+/// energy balance E(t) − E(t₀) = W(t). W is left out of the step-size control, so the steps
+/// are exactly those of the plain state.
+pub(crate) struct BalanceOde<'s, S, F> {
+    pub system: &'s S,
+    pub inputs: F,
+    /// Whether to re-solve the dependent coordinates after every step.
+    pub project: bool,
+}
+
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'_, S, F> {
+    type State = S::Extended;
+
+    fn rhs(&mut self, t: f64, v: &S::Extended, dv: &mut S::Extended) -> Result<(), Error> {
+        let (x, _) = split::<S>(v);
+        let u = (self.inputs)(t, &x);
+        let mut dx = S::State::zeros();
+        let at = |s| S::singular(s, t, &x);
+        self.system.rhs(t, &x, &u, &mut dx).map_err(at)?;
+        let power = self.system.power(t, &x, &u).map_err(at)?;
+        let n = S::State::LEN;
+        dv.as_mut()[..n].copy_from_slice(dx.as_ref());
+        dv.as_mut()[n] = power;
+        Ok(())
+    }
+
+    fn controlled_components(&self) -> usize {
+        S::State::LEN
+    }
+
+    fn project(&mut self, t: f64, v: &mut S::Extended) -> Result<bool, Error> {
+        if !self.project {
+            return Ok(false);
+        }
+        let before = *v;
+        project_coordinates(self.system, t, v.as_mut(), || {
+            describe_extended::<S>(&before)
+        })
+    }
+
+    fn describe(&self, v: &S::Extended) -> NamedValues {
+        describe_extended::<S>(v)
+    }
+}
+
+/// The extended state (x, 0) of a state x, or the error for a model whose `Extended` is not
+/// one longer than its `State`.
+pub(crate) fn extend<S: HamelSystem>(x: &S::State) -> Result<S::Extended, Error> {
+    let n = S::State::LEN;
+    if S::Extended::LEN != n + 1 {
+        return Err(Error::InconsistentModel {
+            what: format!(
+                "`Extended` has {} components, but the state has {n} and the work adds one",
+                S::Extended::LEN
+            ),
+        });
+    }
+    let mut v = S::Extended::zeros();
+    v.as_mut()[..n].copy_from_slice(x.as_ref());
+    Ok(v)
+}
+
+/// The state and the work of an extended state (checked by [`extend`] to be one longer).
+pub(crate) fn split<S: HamelSystem>(v: &S::Extended) -> (S::State, f64) {
+    let n = S::State::LEN;
+    let mut x = S::State::zeros();
+    x.as_mut().copy_from_slice(&v.as_ref()[..n]);
+    (x, v.as_ref()[n])
+}
+
+fn describe_extended<S: HamelSystem>(v: &S::Extended) -> NamedValues {
+    let (x, work) = split::<S>(v);
+    let mut named = S::named_state(&x);
+    named.0.push((WORK.to_string(), work));
+    named
+}
+
+/// Re-solves the dependent coordinates in the leading n components of `state` at time t;
+/// whether that changed them. An assembly error names the whole state (`named`, formed only
+/// then) instead of the coordinates alone.
+pub(crate) fn project_coordinates<S: HamelSystem>(
+    system: &S,
+    t: f64,
+    state: &mut [f64],
+    named: impl FnOnce() -> NamedValues,
+) -> Result<bool, Error> {
+    if S::K == 0 {
+        return Ok(false);
+    }
+    let n = S::Coordinates::LEN;
+    let mut q = S::Coordinates::zeros();
+    q.as_mut().copy_from_slice(&state[..n]);
+    let solved = assembly::newton(system, t, &q).map_err(|e| match e {
+        Error::Assembly {
+            constraint,
+            coordinate,
+            t,
+            failure,
+            residual,
+            configuration: _,
+        } => Error::Assembly {
+            constraint,
+            coordinate,
+            t,
+            failure,
+            residual,
+            configuration: named(),
+        },
+        other => other,
+    })?;
+    if solved == q {
+        return Ok(false);
+    }
+    state[..n].copy_from_slice(solved.as_ref());
+    Ok(true)
+}
