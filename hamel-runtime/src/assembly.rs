@@ -42,7 +42,8 @@ const ARMIJO: f64 = 1e-4;
 const SINGULAR_PIVOT: f64 = 16.0 * f64::EPSILON;
 
 /// Solves f(t, q) = 0 for the coordinates `S::DEPENDENT`, the others held, starting from
-/// `start`. Returns `start` itself, bit for bit, when it already satisfies the constraints.
+/// `start`. Returns `start` itself, bit for bit, when it satisfies the constraints exactly; one
+/// within the tolerance gets one more (full) Newton step, which only polishes it.
 /// The caller checks the parameters, t and `start` for finiteness.
 pub(crate) fn newton<S: HamelSystem + ?Sized>(
     system: &S,
@@ -62,7 +63,7 @@ pub(crate) fn newton<S: HamelSystem + ?Sized>(
     for iteration in 0..MAX_ITERATIONS {
         let (worst, merit) = point.worst();
         if merit <= ASSEMBLY_TOLERANCE {
-            return Ok(point.q);
+            return Ok(point.polished(system, t));
         }
         let residual = point.f.as_ref()[worst];
         let step = point.newton_step().map_err(|(pivot, row, column)| {
@@ -83,7 +84,7 @@ pub(crate) fn newton<S: HamelSystem + ?Sized>(
     }
     let (worst, merit) = point.worst();
     if merit <= ASSEMBLY_TOLERANCE {
-        return Ok(point.q);
+        return Ok(point.polished(system, t));
     }
     let failure = AssemblyFailure::NoConvergence {
         iterations: MAX_ITERATIONS,
@@ -229,6 +230,30 @@ impl<S: HamelSystem + ?Sized> Point<S> {
         match step.iter().position(|s| !s.is_finite()) {
             None => Ok(step),
             Some(column) => Err(singular(column)),
+        }
+    }
+
+    /// The point after one more full Newton step, if that does not make the residual worse.
+    /// Within the tolerance Newton's method is in its quadratic range, so one step leaves
+    /// only rounding: a run projected after every step keeps f at that level rather than
+    /// letting it grow up to the tolerance, which no single step's drift would reach. An
+    /// exact root is left as it is, bit for bit.
+    fn polished(self, system: &S, t: f64) -> S::Coordinates {
+        let (_, merit) = self.worst();
+        if merit == 0.0 {
+            return self.q;
+        }
+        let Ok(step) = self.newton_step() else {
+            return self.q;
+        };
+        let mut q = self.q;
+        for (column, &d) in S::DEPENDENT.iter().enumerate() {
+            q.as_mut()[d] += step[column];
+        }
+        let f = system.holonomic_residual(t, &q);
+        match self.merit_of(&f) {
+            (_, trial) if trial <= merit => q,
+            _ => self.q,
         }
     }
 

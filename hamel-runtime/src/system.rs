@@ -208,8 +208,9 @@ pub trait HamelSystem: Parameters {
     /// solved for the coordinates [`Self::DEPENDENT`] with the others held at their values in
     /// `q`, by Newton's method starting from the dependent coordinates' values in `q` (so
     /// their sign or branch picks the root). Converged when every |fᵢ| is at most
-    /// [`crate::ASSEMBLY_TOLERANCE`] times its scale Σⱼ |∂fᵢ/∂qⱼ|·max(|qⱼ|, 1); a `q` that
-    /// already satisfies them comes back unchanged, and so does every `q` when K = 0.
+    /// [`crate::ASSEMBLY_TOLERANCE`] times its scale Σⱼ |∂fᵢ/∂qⱼ|·max(|qⱼ|, 1), after which one
+    /// more Newton step polishes the root to rounding; a `q` that satisfies them exactly comes
+    /// back unchanged, and so does every `q` when K = 0.
     ///
     /// Errors: a time, parameter or coordinate that is not finite names it;
     /// [`Error::Assembly`] names the constraint, the coordinate to guess better, the time and

@@ -88,6 +88,12 @@ fn points(x: f64, y: f64, theta: f64) -> [f64; 4] {
 }
 
 fn runs() -> (Trajectory, Trajectory) {
+    runs_with(false)
+}
+
+/// The minimal and the redundant sleigh over 10 s; the redundant one projected onto the
+/// holonomic constraint after every step when `project` is set.
+fn runs_with(project: bool) -> (Trajectory, Trajectory) {
     let (x, y, theta, v, omega) = (0.2, -0.1, 0.3, 1.0, 0.5);
     let integrator = DormandPrince::new(1e-12, 1e-12);
     let minimal = Simulation::new(
@@ -106,6 +112,7 @@ fn runs() -> (Trajectory, Trajectory) {
             .state_from_speeds(0.0, &points(x, y, theta), &[v, omega])
             .unwrap(),
     )
+    .project_holonomic(project)
     .end_time(10.0)
     .sample_interval(0.1)
     .run_constant(&integrator, [])
@@ -153,4 +160,57 @@ fn the_holonomic_constraint_holds_without_projection() {
     }
     println!("holonomic residual without projection: {worst:e}");
     assert!(worst <= 1e-10, "{worst:e}");
+}
+
+#[test]
+fn projection_keeps_the_holonomic_constraint_to_rounding() {
+    let (minimal, redundant) = runs_with(true);
+    let worst = redundant.summary().max_holonomic_residual;
+    println!("holonomic residual with projection: {worst:e}");
+    assert!(worst <= 1e-13, "{worst:e}");
+    // Projecting moves x₂ by the integration error only: the motion is the same.
+    let (v, v_ref) = (redundant.column("v").unwrap(), minimal.column("v").unwrap());
+    let worst_v = v
+        .iter()
+        .zip(v_ref)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst_v <= 1e-10, "{worst_v:e}");
+}
+
+#[test]
+fn the_dependent_coordinate_is_solved_from_the_others() {
+    // x₂ is left at a rough guess; the builder solves the constraint for it by Newton.
+    let exact = points(0.2, -0.1, 0.3);
+    let x = REDUNDANT
+        .state_builder()
+        .set("x1", exact[0])
+        .set("y1", exact[1])
+        .set("x2", exact[2] + 0.3)
+        .set("y2", exact[3])
+        .set("v", 1.0)
+        .set("omega", 0.5)
+        .build()
+        .unwrap();
+    assert!(
+        (x[2] - exact[2]).abs() < 1e-14,
+        "x2 = {} vs {}",
+        x[2],
+        exact[2]
+    );
+    assert!(REDUNDANT.holonomic_residual(0.0, &[x[0], x[1], x[2], x[3]])[0].abs() < 1e-14);
+}
+
+#[test]
+fn a_configuration_the_constraint_cannot_reach_is_an_error_naming_it() {
+    // y₂ − y₁ = 2 > l = 1.5: no x₂ puts the points at distance l.
+    let q = [0.0, 0.0, 1.0, 2.0];
+    let e = REDUNDANT.assemble(0.5, &q).unwrap_err();
+    let message = e.to_string();
+    println!("{message}");
+    assert!(message.contains("rigid[0]"), "{message}");
+    assert!(message.contains("x2"), "{message}");
+    assert!(message.contains("0.5"), "{message}");
+    // And a state built on it is refused, never a NaN trajectory.
+    assert!(REDUNDANT.state_from_speeds(0.0, &q, &[1.0, 0.5]).is_err());
 }
