@@ -21,11 +21,12 @@
 //! projected on the admissible directions instead. The reduced mass matrix is factored by an
 //! unrolled LDLᵀ; its pivots, and the LU's, are checked before any result is used.
 //!
-//! The constraint role `#[constraints]` takes `(&self, q, qd)` and must be linear and
-//! homogeneous in `qd`; affine, time-dependent constraints A(q)q̇ + a(q, t) = 0 (a ball on a
-//! turntable) will take a leading `t: f64` argument, with the affine part read off the same
-//! function, so models written now keep compiling ([`docs::model`] says what is supported
-//! today).
+//! The constraint rows may be affine in the velocities and depend on the time,
+//! A(q, t) q̇ + a(q, t) = 0 (a ball on a turntable, a wheel on a moving belt): the macro reads
+//! A and a off the same function and adds the terms they bring to Hamel's equations.
+//! Holonomic constraints f(t, q) = 0 are written as such and differentiated by the macro;
+//! the runtime keeps them by Newton's method. [`docs::design`] derives the equations,
+//! [`docs::model`] says how to write each form.
 //!
 //! # The differentiation engine
 //!
@@ -56,7 +57,7 @@ pub use hamel_macros::{differentiate, hamel_system};
 // The role attributes: `#[hamel_system]` reads them, so these run only when one is misplaced,
 // to say where it belongs.
 pub use hamel_macros::{
-    constraints, forces, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
+    constraints, forces, holonomic, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
     quasi_velocities, velocities,
 };
 pub use hamel_runtime::*;

@@ -5,6 +5,6 @@ pub use crate::{
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
-    constraints, forces, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
+    constraints, forces, holonomic, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
     quasi_velocities, velocities,
 };

@@ -27,11 +27,15 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 ///
 /// * the energy, in one of three forms: `#[lagrangian]` L(q, q̇), or `#[kinetic_energy]`
 ///   T(q, q̇) with an optional `#[potential_energy]` V(q), or `#[quasi_lagrangian]` L̃(q, ω);
-/// * `#[constraints]` and `#[quasi_velocities]` (required): the rows of ω = A(q) q̇, linear and
-///   homogeneous in q̇, the constrained ones and those that complete them;
-/// * `#[velocities]` (optional): the inverse q̇ = B(q) ω over all n quasi-velocities, the
-///   constrained ones first; computed by LU of A(q) when absent;
+/// * `#[constraints]` and `#[quasi_velocities]` (required): the rows of ω = A(q) q̇ + a(q),
+///   affine in q̇, the constrained ones and those that complete them;
+/// * `#[holonomic(determines(..))]` (optional): constraints f(q) = 0 on the configuration,
+///   which the macro differentiates into constraint rows;
+/// * `#[velocities]` (optional): the inverse q̇ = B(q)(ω − a) over all n quasi-velocities,
+///   the constrained ones first; computed by LU of A(q) when absent;
 /// * `#[forces]` (optional): the generalized forces f(t, q, q̇, u).
+///
+/// Every role but `#[forces]` may take the time as a leading argument `t: f64`.
 ///
 /// The macro implements `hamel::HamelSystem` for the model — the reduced ODE of dimension
 /// 2n − p in the state x = (q, free quasi-velocities) — and adds an index constant per name
@@ -78,7 +82,7 @@ pub fn quasi_lagrangian(_attr: TokenStream, item: TokenStream) -> TokenStream {
     stray_role::expand("quasi_lagrangian", item.into()).into()
 }
 
-/// Marks the constraint rows ω¹…ωᵖ(q, q̇), linear in q̇ and zero on every motion, in the model's impl block with `#[hamel_system]`, which reads
+/// Marks the constraint rows ω¹…ωᵖ(q, q̇), affine in q̇ and zero on every motion, in the model's impl block with `#[hamel_system]`, which reads
 /// and removes the attribute: `fn(&self, q: &[f64; N], qd: &[f64; N]) -> [f64; P]`. Anywhere else it is an error that says where it
 /// belongs.
 #[proc_macro_attribute]
@@ -120,4 +124,13 @@ fn guarded(expand: impl FnOnce() -> proc_macro2::TokenStream) -> proc_macro2::To
         )
         .into_compile_error(),
     }
+}
+
+/// Marks the holonomic constraints f(q) = 0 (`#[holonomic(determines(theta))]`, naming the
+/// coordinate each one is solved for), in the model's impl block with `#[hamel_system]`,
+/// which reads and removes the attribute: `fn(&self, q: &[f64; N]) -> [f64; K]`. Anywhere else
+/// it is an error that says where it belongs.
+#[proc_macro_attribute]
+pub fn holonomic(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("holonomic", item.into()).into()
 }
