@@ -42,10 +42,10 @@ pub fn build<'a>(
         t,
         vec![array(q), array(v)],
     );
-    let holonomic = match &spec.holonomic {
-        Some(h) => Some(lower(lowerer, spec, h.f, t, vec![array(q)])),
-        None => None,
-    };
+    let holonomic = spec
+        .holonomic
+        .as_ref()
+        .map(|h| lower(lowerer, spec, h.f, t, vec![array(q)]));
     // Check whichever rows lowered, so that a mistake in one function does not hide one in
     // the other; B and the equations are only built from rows that are all affine.
     let mut affine = true;
