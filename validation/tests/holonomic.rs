@@ -62,10 +62,7 @@ impl TwoPointSleigh {
     #[quasi_velocities]
     fn speeds(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 2] {
         let [vx, vy, omega] = self.motion(q, qd);
-        [
-            (vx * (q[2] - q[0]) + vy * (q[3] - q[1])) / self.l,
-            omega,
-        ]
+        [(vx * (q[2] - q[0]) + vy * (q[3] - q[1])) / self.l, omega]
     }
 }
 
@@ -130,10 +127,7 @@ fn redundant_coordinates_give_the_motion_of_minimal_ones() {
     for i in 0..minimal.len() {
         let theta = (y2[i] - y1[i]).atan2(x2[i] - x1[i]);
         let s = REDUNDANT.a / REDUNDANT.l;
-        let centre = (
-            x1[i] + s * (x2[i] - x1[i]),
-            y1[i] + s * (y2[i] - y1[i]),
-        );
+        let centre = (x1[i] + s * (x2[i] - x1[i]), y1[i] + s * (y2[i] - y1[i]));
         let pairs = [
             (centre.0, column(&minimal, "x")[i]),
             (centre.1, column(&minimal, "y")[i]),

@@ -202,7 +202,10 @@ fn fresnel_series_matches_the_tables_and_quadrature() {
         (2.0, 0.488_253_406_075_340_8, 0.343_415_678_363_698_2),
     ] {
         let (fc, fs) = fresnel(u);
-        assert!((fc - c).abs() < 1e-14 && (fs - s).abs() < 1e-14, "u = {u}: {fc}, {fs}");
+        assert!(
+            (fc - c).abs() < 1e-14 && (fs - s).abs() < 1e-14,
+            "u = {u}: {fc}, {fs}"
+        );
     }
     let case = Case {
         k: 2.0 / 7.0,
@@ -213,7 +216,10 @@ fn fresnel_series_matches_the_tables_and_quadrature() {
     };
     for t in [1.0, 4.5, 10.0] {
         let (a, b) = (case.integral(t), integral_by_quadrature(&case, t));
-        assert!((a.0 - b.0).abs() < 1e-13 && (a.1 - b.1).abs() < 1e-13, "t = {t}");
+        assert!(
+            (a.0 - b.0).abs() < 1e-13 && (a.1 - b.1).abs() < 1e-13,
+            "t = {t}"
+        );
     }
 }
 
@@ -225,7 +231,10 @@ fn constant_rate_the_centre_circles_at_two_sevenths_of_the_table_rate() {
     assert!(worst <= 1e-9, "centre off the closed form by {worst:e}");
     // The circle: about the fixed point of ż = ikΩ₀z + c, i c/(kΩ₀), at a constant distance.
     let centre = case.c().mul(C(0.0, 1.0 / (case.k * case.omega0)));
-    let (x, y) = (trajectory.column("x").unwrap(), trajectory.column("y").unwrap());
+    let (x, y) = (
+        trajectory.column("x").unwrap(),
+        trajectory.column("y").unwrap(),
+    );
     let radius = (x[0] - centre.0).hypot(y[0] - centre.1);
     for (xi, yi) in x.iter().zip(y) {
         assert!(((xi - centre.0).hypot(yi - centre.1) - radius).abs() < 1e-9);
@@ -249,7 +258,9 @@ fn the_table_drives_the_ball_the_constraint_forces_do_the_work() {
     // the power of the constraint forces, dE/dt = −λᵀa.
     let model = ball(0.1);
     let q = [0.5, 0.2, 0.3, 1.2, 0.1];
-    let x = model.state_from_speeds(0.0, &q, &[0.02, 0.03, 0.05]).unwrap();
+    let x = model
+        .state_from_speeds(0.0, &q, &[0.02, 0.03, 0.05])
+        .unwrap();
     let p = model.power(2.0, &x, &[]).unwrap();
     let e = |t: f64, x: &[f64; 8]| model.energy(t, x).unwrap();
     // Central difference of E along the motion.
@@ -260,6 +271,9 @@ fn the_table_drives_the_ball_the_constraint_forces_do_the_work() {
     let behind: [f64; 8] = std::array::from_fn(|i| x[i] - h * dx[i]);
     let rate = (e(2.0 + h, &ahead) - e(2.0 - h, &behind)) / (2.0 * h);
     assert!(p.abs() > 1e-3, "the table does work: {p}");
-    assert!((rate - p).abs() < 1e-8 * p.abs().max(1.0), "dE/dt {rate} vs power {p}");
+    assert!(
+        (rate - p).abs() < 1e-8 * p.abs().max(1.0),
+        "dE/dt {rate} vs power {p}"
+    );
     assert!(!BallOnTurntable::CONSERVATIVE);
 }
