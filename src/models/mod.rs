@@ -1,12 +1,16 @@
 //! A catalogue of models: the paper's robot and the classic nonholonomic systems the test
 //! suite validates against. Each is an ordinary `#[hamel_system]` model; read its source.
+//! The N-trailer is written once for every N, as a `macro_rules!` ([`crate::n_trailer!`])
+//! that the catalogue instantiates for a few N.
 
 pub mod ball_on_turntable;
 pub mod chaplygin_sleigh;
 pub mod knife_edge;
 pub mod mobile_robot;
+pub mod n_trailer;
 
 pub use ball_on_turntable::BallOnTurntable;
 pub use chaplygin_sleigh::ChaplyginSleigh;
 pub use knife_edge::KnifeEdge;
 pub use mobile_robot::{MobileRobot, MobileRobotPaper};
+pub use n_trailer::{NTrailer1, NTrailer2, NTrailer8, NTrailer24};

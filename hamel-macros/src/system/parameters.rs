@@ -133,7 +133,10 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
 fn kind(ty: &syn::Type) -> Option<Option<usize>> {
     match ty {
         syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64") => Some(None),
-        syn::Type::Array(a) if kind(&a.elem) == Some(None) => match &a.len {
+        // A type or length substituted by `macro_rules!` (`[f64; $len]` with `$len:literal`)
+        // arrives wrapped in an invisible group: look through it.
+        syn::Type::Group(g) => kind(&g.elem),
+        syn::Type::Array(a) if kind(&a.elem) == Some(None) => match ungrouped(&a.len) {
             syn::Expr::Lit(syn::ExprLit {
                 lit: syn::Lit::Int(i),
                 ..
@@ -141,6 +144,14 @@ fn kind(ty: &syn::Type) -> Option<Option<usize>> {
             _ => None,
         },
         _ => None,
+    }
+}
+
+/// An expression without the invisible groups `macro_rules!` wraps its fragments in.
+fn ungrouped(e: &syn::Expr) -> &syn::Expr {
+    match e {
+        syn::Expr::Group(g) => ungrouped(&g.expr),
+        other => other,
     }
 }
 
@@ -188,4 +199,22 @@ fn doc_comment(attrs: &[syn::Attribute]) -> String {
         })
         .collect();
     lines.join(" ").trim().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::expand;
+    use proc_macro2::{Delimiter, Group};
+    use quote::quote;
+
+    #[test]
+    fn array_lengths_substituted_by_macro_rules_are_read() {
+        // `[f64; $len]` with `$len:literal` in a `macro_rules!`: the length reaches the
+        // attribute wrapped in an invisible group.
+        let len = Group::new(Delimiter::None, quote!(3));
+        let item: syn::ItemStruct = syn::parse2(quote!(struct P { m: [f64; #len] })).unwrap();
+        let out = expand(quote!(), &item).to_string();
+        assert!(!out.contains("compile_error"), "{out}");
+        assert!(out.contains("\"m0\"") && out.contains("\"m2\""), "{out}");
+    }
 }
