@@ -9,7 +9,7 @@
 //! The model is `hamel::models::MobileRobot` (src/models/mobile_robot.rs): kinetic and
 //! potential energy of the body and the wheels, two rolling constraints, three
 //! quasi-velocities, the motor torques. It prints a summary and writes one CSV row per
-//! sample: `t,x,y,alpha,phi1,phi2,w3,w4,w5,energy`.
+//! sample: `t,x,y,alpha,phi1,phi2,w3,w4,w5,energy,energy_balance`.
 
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, HamelSystem, Parameters, Simulation};
