@@ -87,6 +87,10 @@ pub trait HamelSystem: Parameters {
     type MassMatrix: Copy + core::fmt::Debug;
     /// `[[[f64; n − p]; n − p]; n]`: γʲ_{l,k} for j = 1…n and l, k = p+1…n.
     type Gamma: Copy + core::fmt::Debug;
+    /// `[f64; (2n − p)²]`: ∂F/∂x of the right-hand side, row by row.
+    type StateJacobian: Vector;
+    /// `[f64; (2n − p)·m]`: ∂F/∂u, row by row.
+    type InputJacobian: Vector;
 
     /// n, the number of generalized coordinates.
     const N: usize;
@@ -181,6 +185,16 @@ pub trait HamelSystem: Parameters {
     /// closed form: how far the given inverse is from being one (zero when B is computed
     /// from A).
     fn inverse_defect(&self, t: f64, q: &Self::Coordinates) -> Result<f64, Singularity>;
+
+    /// The Jacobians ∂F/∂x and ∂F/∂u of the right-hand side at (t, x, u), row-major: dual
+    /// numbers run through the generated right-hand side (`rhs_generic`), so they are exact
+    /// to rounding, through the unrolled factorizations and their pivot choices.
+    fn jacobian(
+        &self,
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+    ) -> Result<(Self::StateJacobian, Self::InputJacobian), Singularity>;
 
     /// Check the parameters, and that a closed-form inverse B really inverts A at (t, q).
     fn check_configuration(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {

@@ -363,6 +363,11 @@ fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
             quote!([#(#planes),*])
         })?,
         inverse_defect,
+        // Dual numbers through the generic right-hand side; the runtime picks the dual type
+        // and runs as many passes as the directions need.
+        jacobian: quote! {
+            ::hamel::jacobian_by_duals(t, x, u, |t, x, u, dx| self.rhs_generic(t, x, u, dx))
+        },
     })
 }
 

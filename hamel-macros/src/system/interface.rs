@@ -41,6 +41,7 @@ pub struct Bodies {
     pub mass_matrix: TokenStream,
     pub gamma: TokenStream,
     pub inverse_defect: TokenStream,
+    pub jacobian: TokenStream,
 }
 
 impl Bodies {
@@ -61,7 +62,8 @@ impl Bodies {
             holonomic_jacobian: never.clone(),
             mass_matrix: never.clone(),
             gamma: never.clone(),
-            inverse_defect: never,
+            inverse_defect: never.clone(),
+            jacobian: never,
         }
     }
 }
@@ -87,8 +89,9 @@ pub fn rhs_generic_signature(dims: Dims) -> TokenStream {
 pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
     let Dims { n, p, m, k } = h.dims;
     let (n_l, p_l, m_l, k_l) = (lit(n), lit(p), lit(m), lit(k));
-    let (free, state, extended, jacobian) =
-        (lit(n - p), lit(2 * n - p), lit(2 * n - p + 1), lit(k * n));
+    let s = 2 * n - p;
+    let (free, state, extended, jacobian) = (lit(n - p), lit(s), lit(s + 1), lit(k * n));
+    let (state_jacobian, input_jacobian) = (lit(s * s), lit(s * m));
     let ty = &h.imp.self_ty;
     let (impl_generics, _, where_clause) = h.imp.generics.split_for_impl();
     let (coordinates, speeds, inputs, constraints) =
@@ -112,6 +115,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         mass_matrix,
         gamma,
         inverse_defect,
+        jacobian: jacobian_body,
     } = b;
     quote! {
         #[allow(clippy::all)]
@@ -126,6 +130,8 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             type Extended = [f64; #extended];
             type MassMatrix = [[f64; #free]; #free];
             type Gamma = [[[f64; #free]; #free]; #n_l];
+            type StateJacobian = [f64; #state_jacobian];
+            type InputJacobian = [f64; #input_jacobian];
 
             const N: usize = #n_l;
             const P: usize = #p_l;
@@ -186,6 +192,10 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #allow
             fn inverse_defect(&self, t: f64, q: &[f64; #n_l]) -> #result<f64, #singularity> {
                 #inverse_defect
+            }
+            #allow
+            fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
+                #jacobian_body
             }
         }
     }
