@@ -1,23 +1,21 @@
-//! The Jacobian of a generated right-hand side by dual numbers (num-dual's `DualSVec64`)
-//! run through its generic form `rhs_generic`: forward-mode derivatives, exact to rounding,
+//! The Jacobian of a generated right-hand side by dual numbers (num-dual's `Dual64`) run
+//! through its generic form `rhs_generic`: forward-mode derivatives, exact to rounding,
 //! through everything the generated code does, its unrolled factorizations and their pivot
 //! choices included (a comparison of dual numbers compares their values, so the branch the
 //! `f64` code takes is the branch the dual code takes).
 //!
-//! The directions are the state's and the inputs' unit vectors, `LANES` of them per pass:
-//! one instantiation of the right-hand side for one dual type, however large the system.
+//! One pass per direction — per state or input component the right-hand side depends on at
+//! all; the generated code lists those, so that a cyclic coordinate (a position on the plane,
+//! a wheel's angle) costs nothing: its column is exactly zero. The scalar dual number keeps
+//! the instantiated code small: num-dual's vector duals (`DualSVec64`) would take fewer
+//! passes, but their instantiation through a large right-hand side took minutes to compile.
 
 use crate::error::Singularity;
 use crate::scalar::Scalar;
-use nalgebra::{Const, U1};
-use num_dual::{Derivative, DualNum, DualSVec64};
-
-/// Directions per pass. Wider passes amortize the value part of every operation over more
-/// directions but make each operation, and the instantiated code, larger.
-pub const LANES: usize = 4;
+use num_dual::{Dual64, DualNum};
 
 /// The dual number the Jacobian passes compute in.
-pub type JacobianDual = DualSVec64<LANES>;
+pub type JacobianDual = Dual64;
 
 macro_rules! forward {
     ($($name:ident),*) => {
@@ -30,10 +28,10 @@ macro_rules! forward {
     };
 }
 
-impl<const N: usize> Scalar for DualSVec64<N> {
+impl Scalar for Dual64 {
     #[inline(always)]
     fn from_f64(value: f64) -> Self {
-        DualSVec64::from_re(value)
+        Dual64::from_re(value)
     }
 
     #[inline(always)]
@@ -45,14 +43,16 @@ impl<const N: usize> Scalar for DualSVec64<N> {
         sin, cos, tan, asin, acos, atan, sinh, cosh, tanh, exp, ln, log10, sqrt, cbrt
     );
 
+    /// |x| with the derivative of the branch taken, as the engine differentiates `abs`.
     #[inline(always)]
     fn abs(self) -> Self {
-        abs_taken_branch(self)
+        if self.re < 0.0 { -self } else { self }
     }
 
+    /// A step function: derivative zero.
     #[inline(always)]
     fn signum(self) -> Self {
-        DualSVec64::from_re(self.re.signum())
+        Dual64::from_re(self.re.signum())
     }
 
     #[inline(always)]
@@ -78,19 +78,15 @@ impl<const N: usize> Scalar for DualSVec64<N> {
     }
 }
 
-/// |x| with the derivative of the branch taken (−x for x < 0), as `f64::abs` is
-/// differentiated by the engine.
-#[inline(always)]
-fn abs_taken_branch<const N: usize>(x: DualSVec64<N>) -> DualSVec64<N> {
-    if x.re < 0.0 { -x } else { x }
-}
-
 /// ∂F/∂x (row-major, S × S) and ∂F/∂u (row-major, S × M) of `rhs` at (t, x, u). `SS` and
-/// `SM` are S·S and S·M (the generated code's array lengths).
+/// `SM` are S·S and S·M (the generated code's array lengths); `directions` lists the
+/// columns to compute (state components 0…S−1, then inputs S…S+M−1), the others being
+/// zero.
 pub fn jacobian_by_duals<const S: usize, const M: usize, const SS: usize, const SM: usize>(
     t: f64,
     x: &[f64; S],
     u: &[f64; M],
+    directions: &[usize],
     mut rhs: impl FnMut(
         JacobianDual,
         &[JacobianDual; S],
@@ -100,14 +96,14 @@ pub fn jacobian_by_duals<const S: usize, const M: usize, const SS: usize, const 
 ) -> Result<([f64; SS], [f64; SM]), Singularity> {
     let mut state = [0.0; SS];
     let mut input = [0.0; SM];
-    let directions = S + M;
     let t = JacobianDual::from_re(t);
-    for start in (0..directions).step_by(LANES) {
+    for &column in directions {
         let seed = |value: f64, direction: usize| {
             let d = JacobianDual::from_re(value);
-            match direction.checked_sub(start) {
-                Some(lane) if lane < LANES => d.derivative(lane),
-                _ => d,
+            if direction == column {
+                d.derivative()
+            } else {
+                d
             }
         };
         let xd: [JacobianDual; S] = core::array::from_fn(|i| seed(x[i], i));
@@ -115,19 +111,13 @@ pub fn jacobian_by_duals<const S: usize, const M: usize, const SS: usize, const 
         let mut dx = [JacobianDual::from_re(0.0); S];
         rhs(t, &xd, &ud, &mut dx)?;
         for (row, value) in dx.iter().enumerate() {
-            let lanes = Derivative::unwrap_generic(value.eps, Const::<LANES>, U1);
-            for (lane, d) in lanes.iter().enumerate() {
-                let column = start + lane;
-                let slot = if column < S {
-                    state.get_mut(row * S + column)
-                } else if column < directions {
-                    input.get_mut(row * M + column - S)
-                } else {
-                    None
-                };
-                if let Some(slot) = slot {
-                    *slot = *d;
-                }
+            let slot = if column < S {
+                state.get_mut(row * S + column)
+            } else {
+                input.get_mut(row * M + column - S)
+            };
+            if let Some(slot) = slot {
+                *slot = value.eps;
             }
         }
     }

@@ -20,7 +20,7 @@ pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use integrate::{DormandPrince, Integrator, Observer, Ode, Rk4, Stats};
-pub use jacobian::{JacobianDual, LANES, jacobian_by_duals};
+pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use scalar::Scalar;

@@ -8,9 +8,11 @@ pub mod chaplygin_sleigh;
 pub mod knife_edge;
 pub mod mobile_robot;
 pub mod n_trailer;
+pub mod whipple_bicycle;
 
 pub use ball_on_turntable::BallOnTurntable;
 pub use chaplygin_sleigh::ChaplyginSleigh;
 pub use knife_edge::KnifeEdge;
 pub use mobile_robot::{MobileRobot, MobileRobotPaper};
 pub use n_trailer::{NTrailer1, NTrailer2, NTrailer8, NTrailer24};
+pub use whipple_bicycle::WhippleBicycle;

@@ -363,11 +363,7 @@ fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
             quote!([#(#planes),*])
         })?,
         inverse_defect,
-        // Dual numbers through the generic right-hand side; the runtime picks the dual type
-        // and runs as many passes as the directions need.
-        jacobian: quote! {
-            ::hamel::jacobian_by_duals(t, x, u, |t, x, u, dx| self.rhs_generic(t, x, u, dx))
-        },
+        jacobian: dual_jacobian(cx),
     })
 }
 
@@ -391,6 +387,30 @@ fn parameter_bounds(arrays: &BTreeMap<String, (usize, Span)>) -> TokenStream {
         fn __hamel_parameter_bounds(&self) {
             #(#checks)*
         }
+    }
+}
+
+/// Dual numbers through the generic right-hand side, one pass per state or input component
+/// that the right-hand side depends on at all (the others' columns are exactly zero: found
+/// on the graph, the inputs the results are computed from).
+fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
+    let eq = cx.eq;
+    let mut roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
+    if let Some(t) = &eq.transformation {
+        roots.extend(t.pivots.iter().map(|(p, _)| *p));
+    }
+    let live: std::collections::HashSet<NodeId> = cx.graph.live_set(&roots).into_iter().collect();
+    let inputs = &eq.inputs;
+    let directions = inputs
+        .q
+        .iter()
+        .chain(&inputs.w)
+        .chain(&inputs.u)
+        .enumerate()
+        .filter(|(_, node)| live.contains(node))
+        .map(|(i, _)| lit(i));
+    quote! {
+        ::hamel::jacobian_by_duals(t, x, u, &[#(#directions),*], |t, x, u, dx| self.rhs_generic(t, x, u, dx))
     }
 }
 
