@@ -263,4 +263,30 @@ pub enum Error {
          velocities, so give either the velocities or the speeds"
     )]
     AmbiguousState { speed: String },
+
+    /// A root finder was given an interval whose ends do not bracket a sign change.
+    #[error("{}", Error::bracket_message(what, *a, *b, *fa, *fb))]
+    RootNotBracketed {
+        what: &'static str,
+        a: f64,
+        b: f64,
+        fa: f64,
+        fb: f64,
+    },
+
+    /// The function whose root is sought is not finite inside its bracket.
+    #[error("{what} is not finite at {}, inside the interval where its sign change is sought", Num(*at))]
+    NonFiniteRootFunction { what: &'static str, at: f64 },
+
+    /// The root finder did not converge (a function that is not continuous in its bracket).
+    #[error(
+        "cannot locate where {what} changes sign: near {} it is still {}; the function may jump \
+         there rather than pass through zero",
+        Num(*near), Num(*residual)
+    )]
+    RootNotFound {
+        what: &'static str,
+        near: f64,
+        residual: f64,
+    },
 }

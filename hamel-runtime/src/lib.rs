@@ -9,6 +9,7 @@ mod jacobian;
 mod named;
 mod opcount;
 mod recorder;
+pub mod roots;
 mod scalar;
 mod simulation;
 mod system;
