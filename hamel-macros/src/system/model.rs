@@ -179,34 +179,8 @@ fn parse_list(
     let mut list = Vec::new();
     let mut groups: Vec<(syn::Ident, usize, usize)> = Vec::new();
     if meta.input.peek(syn::Token![=]) {
-        let eq: syn::Token![=] = meta.input.parse()?;
-        let value: syn::Expr = meta.input.parse()?;
-        let written = quote::quote!(#path #eq #value);
-        let idents = match &value {
-            syn::Expr::Array(a) => a
-                .elems
-                .iter()
-                .map(|e| match e {
-                    syn::Expr::Path(p) => p.path.get_ident().cloned(),
-                    _ => None,
-                })
-                .collect::<Option<Vec<_>>>(),
-            _ => None,
-        };
-        let shown = match &idents {
-            Some(l) if !l.is_empty() => names_of(l),
-            _ => "x, y, theta".to_string(),
-        };
-        errors.push(syn::Error::new_spanned(
-            &written,
-            format!(
-                "write `{}({shown})`: `#[hamel_system]` takes the names in parentheses, not \
-                 after `=`",
-                path.to_token_stream()
-            ),
-        ));
-        *garbled |= idents.is_none();
-        return Ok((idents.unwrap_or_default(), Vec::new(), written));
+        let (list, written) = parse_name_value(meta, errors, garbled)?;
+        return Ok((list, Vec::new(), written));
     }
     let group = meta.input.fork().parse::<proc_macro2::Group>().ok();
     let written = quote::quote!(#path #group);
@@ -264,6 +238,43 @@ fn parse_list(
         .map(|(base, start, len)| Group { base, start, len })
         .collect();
     Ok((list, groups, written))
+}
+
+/// `coordinates = [x, y, theta]`, read with an error that says how to write it.
+fn parse_name_value(
+    meta: &syn::meta::ParseNestedMeta<'_>,
+    errors: &mut Vec<syn::Error>,
+    garbled: &mut bool,
+) -> syn::Result<(Vec<syn::Ident>, TokenStream)> {
+    let path = &meta.path;
+    let eq: syn::Token![=] = meta.input.parse()?;
+    let value: syn::Expr = meta.input.parse()?;
+    let written = quote::quote!(#path #eq #value);
+    let idents = match &value {
+        syn::Expr::Array(a) => a
+            .elems
+            .iter()
+            .map(|e| match e {
+                syn::Expr::Path(p) => p.path.get_ident().cloned(),
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>(),
+        _ => None,
+    };
+    let shown = match &idents {
+        Some(l) if !l.is_empty() => names_of(l),
+        _ => "x, y, theta".to_string(),
+    };
+    errors.push(syn::Error::new_spanned(
+        &written,
+        format!(
+            "write `{}({shown})`: `#[hamel_system]` takes the names in parentheses, not \
+             after `=`",
+            path.to_token_stream()
+        ),
+    ));
+    *garbled |= idents.is_none();
+    Ok((idents.unwrap_or_default(), written))
 }
 
 /// The key as written, or the known key it most likely meant (with an error); `None` when

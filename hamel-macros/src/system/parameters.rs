@@ -11,50 +11,7 @@ use syn::{Fields, ItemStruct};
 /// implementation then covers the `f64` fields, so that the model's impl block does not
 /// add an error of its own about a missing `Parameters`).
 pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
-    let mut errors = Vec::new();
-    if !attr.is_empty() {
-        errors.push(syn::Error::new_spanned(
-            &attr,
-            "on the parameter struct `#[hamel_system]` takes no arguments: the names of coordinates, \
-             speeds and inputs go on the impl block, `#[hamel_system(coordinates(..), inputs(..))]`",
-        ));
-    }
-    if !item.generics.params.is_empty() {
-        errors.push(syn::Error::new_spanned(
-            &item.generics,
-            "a parameter struct cannot be generic: its fields are the model's `f64` parameters",
-        ));
-    }
-    let fields: Vec<&syn::Field> = match &item.fields {
-        Fields::Named(named) => named.named.iter().collect(),
-        Fields::Unit => Vec::new(),
-        Fields::Unnamed(unnamed) => {
-            errors.push(syn::Error::new_spanned(
-                unnamed,
-                "parameters need names: use a struct with named `f64` fields, `struct Model { mass: f64 }`",
-            ));
-            Vec::new()
-        }
-    };
-    let is_f64 = |field: &syn::Field| kind(&field.ty).is_some();
-    for field in &fields {
-        if !is_f64(field) {
-            let name = field
-                .ident
-                .as_ref()
-                .map(ToString::to_string)
-                .unwrap_or_default();
-            errors.push(syn::Error::new_spanned(
-                &field.ty,
-                format!(
-                    "parameter `{name}` has type `{}`, but parameters are `f64` or arrays of them \
-                     (`[f64; 3]`, with a literal length): hamel computes in `f64` (keep other data \
-                     outside the parameter struct)",
-                    crate::engine::lower::render_type(&field.ty)
-                ),
-            ));
-        }
-    }
+    let (fields, errors) = fields_and_errors(&attr, item);
     let mut errors = errors.into_iter();
     let error = errors.next().map(|mut first| {
         for e in errors {
@@ -65,29 +22,10 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     if error.is_some() && !item.generics.params.is_empty() {
         return quote!(#item #error);
     }
-
+    let is_f64 = |field: &syn::Field| kind(&field.ty).is_some();
     let fields: Vec<&syn::Field> = fields.into_iter().filter(|f| is_f64(f)).collect();
     let ty = &item.ident;
-    // One entry per scalar: (its name, how it is read, its doc comment).
-    let mut entries: Vec<(String, TokenStream, String)> = Vec::new();
-    for field in &fields {
-        let Some(ident) = &field.ident else { continue };
-        let doc = doc_comment(&field.attrs);
-        match kind(&field.ty) {
-            Some(None) => entries.push((ident.to_string(), quote!(self.#ident), doc)),
-            Some(Some(len)) => {
-                for i in 0..len {
-                    let index = proc_macro2::Literal::usize_unsuffixed(i);
-                    let doc = match doc.as_str() {
-                        "" => String::new(),
-                        d => format!("{d} [{i}]"),
-                    };
-                    entries.push((format!("{ident}{i}"), quote!(self.#ident[#index]), doc));
-                }
-            }
-            None => {}
-        }
-    }
+    let entries = entries(&fields);
     let error = match duplicates(&entries, &fields) {
         Some(e) => {
             let e = e.into_compile_error();
@@ -129,6 +67,55 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     }
 }
 
+/// The struct's fields, and every mistake in the attribute, the struct or a field's type.
+fn fields_and_errors<'s>(
+    attr: &TokenStream,
+    item: &'s ItemStruct,
+) -> (Vec<&'s syn::Field>, Vec<syn::Error>) {
+    let mut errors = Vec::new();
+    if !attr.is_empty() {
+        errors.push(syn::Error::new_spanned(
+            attr,
+            "on the parameter struct `#[hamel_system]` takes no arguments: the names of coordinates, \
+             speeds and inputs go on the impl block, `#[hamel_system(coordinates(..), inputs(..))]`",
+        ));
+    }
+    if !item.generics.params.is_empty() {
+        errors.push(syn::Error::new_spanned(
+            &item.generics,
+            "a parameter struct cannot be generic: its fields are the model's `f64` parameters",
+        ));
+    }
+    let fields: Vec<&syn::Field> = match &item.fields {
+        Fields::Named(named) => named.named.iter().collect(),
+        Fields::Unit => Vec::new(),
+        Fields::Unnamed(unnamed) => {
+            errors.push(syn::Error::new_spanned(
+                unnamed,
+                "parameters need names: use a struct with named `f64` fields, `struct Model { mass: f64 }`",
+            ));
+            Vec::new()
+        }
+    };
+    for field in fields.iter().filter(|f| kind(&f.ty).is_none()) {
+        let name = field
+            .ident
+            .as_ref()
+            .map(ToString::to_string)
+            .unwrap_or_default();
+        errors.push(syn::Error::new_spanned(
+            &field.ty,
+            format!(
+                "parameter `{name}` has type `{}`, but parameters are `f64` or arrays of them \
+                 (`[f64; 3]`, with a literal length): hamel computes in `f64` (keep other data \
+                 outside the parameter struct)",
+                crate::engine::lower::render_type(&field.ty)
+            ),
+        ));
+    }
+    (fields, errors)
+}
+
 /// `Some(None)` for `f64`, `Some(Some(len))` for `[f64; len]` with a literal length.
 fn kind(ty: &syn::Type) -> Option<Option<usize>> {
     match ty {
@@ -153,6 +140,31 @@ fn ungrouped(e: &syn::Expr) -> &syn::Expr {
         syn::Expr::Group(g) => ungrouped(&g.expr),
         other => other,
     }
+}
+
+/// One entry per scalar parameter: its name, how it is read, its doc comment (an array's
+/// entries each get the array's comment with their index).
+fn entries(fields: &[&syn::Field]) -> Vec<(String, TokenStream, String)> {
+    let mut entries = Vec::new();
+    for field in fields {
+        let Some(ident) = &field.ident else { continue };
+        let doc = doc_comment(&field.attrs);
+        match kind(&field.ty) {
+            Some(None) => entries.push((ident.to_string(), quote!(self.#ident), doc)),
+            Some(Some(len)) => {
+                for i in 0..len {
+                    let index = proc_macro2::Literal::usize_unsuffixed(i);
+                    let doc = match doc.as_str() {
+                        "" => String::new(),
+                        d => format!("{d} [{i}]"),
+                    };
+                    entries.push((format!("{ident}{i}"), quote!(self.#ident[#index]), doc));
+                }
+            }
+            None => {}
+        }
+    }
+    entries
 }
 
 /// Two parameters with the same name: a field `m1` beside an array `m` whose entry 1 is

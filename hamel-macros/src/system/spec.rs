@@ -125,51 +125,17 @@ pub fn check<'a>(
         return None;
     }
     let holonomic = roles.get(Role::Holonomic);
-    // What each role's signature must be, for the messages about unsupported types in it.
-    let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
-    let k_written = holonomic.map_or(Some(0), |h| written_length(&h.f.sig.output));
-    let p_total = p_written
-        .zip(k_written)
-        .map(|(p, k)| p + k)
-        .filter(|&p| p < n);
-    for (role, rf) in &roles.by_role {
-        let timed = takes_time(*role, rf.f, n, m, p_total);
-        let (args, out) = expected(*role, n, m, p_total, timed);
-        let name = rf.f.sig.ident.to_string();
-        lowerer
-            .signature_hints
-            .insert(name.clone(), render(*role, &args, out.as_ref()));
-        lowerer.expected_arguments.insert(name, args);
-    }
-
+    record_expected_signatures(roles, constraints, holonomic, n, m, lowerer);
     let k = holonomic_count(holonomic, lowerer, &mut ok);
     let p = constraint_count(constraints, k, &coordinates, lowerer, &mut ok).map(|p| p + k);
-
-    // Signatures of every role present. An optional role with a wrong signature is left out
-    // of the model (its error stands), so that the rest of the model is still checked.
-    let mut dropped = Vec::new();
-    let mut timed = HashSet::new();
-    for (role, rf) in &roles.by_role {
-        let takes = takes_time(*role, rf.f, n, m, p);
-        let fits = check_signature(
-            *role,
-            rf,
-            &expected(*role, n, m, p, takes),
-            lowerer,
-            (&coordinates, &names.inputs),
-            p,
-        );
-        if takes && *role != Role::Forces {
-            timed.insert(rf.f.sig.ident.to_string());
-        }
-        if !fits {
-            lowerer.mark_faulty(rf.f.sig.ident.to_string());
-            match role {
-                Role::Velocities | Role::Forces => dropped.push(*role),
-                _ => ok = false,
-            }
-        }
-    }
+    let (timed, dropped) = check_signatures(
+        roles,
+        (n, m, p),
+        &coordinates,
+        &names.inputs,
+        lowerer,
+        &mut ok,
+    );
     let dependent = holonomic.and_then(|h| dependent_coordinates(h, k, &coordinates, lowerer));
     if holonomic.is_some() && dependent.is_none() {
         ok = false;
@@ -205,6 +171,71 @@ pub fn check<'a>(
             .map(|(h, dependent)| Holonomic { f: h.f, dependent }),
         timed,
     })
+}
+
+/// What each role's signature must be, for the messages about unsupported types in it (from
+/// the lengths as written, before they are checked).
+fn record_expected_signatures(
+    roles: &Roles<'_>,
+    constraints: Option<&RoleFn<'_>>,
+    holonomic: Option<&RoleFn<'_>>,
+    n: usize,
+    m: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+) {
+    let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
+    let k_written = holonomic.map_or(Some(0), |h| written_length(&h.f.sig.output));
+    let p_total = p_written
+        .zip(k_written)
+        .map(|(p, k)| p + k)
+        .filter(|&p| p < n);
+    for (role, rf) in &roles.by_role {
+        let timed = takes_time(*role, rf.f, n, m, p_total);
+        let (args, out) = expected(*role, n, m, p_total, timed);
+        let name = rf.f.sig.ident.to_string();
+        lowerer
+            .signature_hints
+            .insert(name.clone(), render(*role, &args, out.as_ref()));
+        lowerer.expected_arguments.insert(name, args);
+    }
+}
+
+/// The signature of every role present: the functions that take the time, and the optional
+/// roles left out of the model because their signature is wrong (their error stands, and
+/// the rest of the model is still checked). A required role with a wrong signature clears
+/// `ok`.
+fn check_signatures(
+    roles: &Roles<'_>,
+    (n, m, p): (usize, usize, Option<usize>),
+    coordinates: &[syn::Ident],
+    inputs: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> (HashSet<String>, Vec<Role>) {
+    let mut dropped = Vec::new();
+    let mut timed = HashSet::new();
+    for (role, rf) in &roles.by_role {
+        let takes = takes_time(*role, rf.f, n, m, p);
+        let fits = check_signature(
+            *role,
+            rf,
+            &expected(*role, n, m, p, takes),
+            lowerer,
+            (coordinates, inputs),
+            p,
+        );
+        if takes && *role != Role::Forces {
+            timed.insert(rf.f.sig.ident.to_string());
+        }
+        if !fits {
+            lowerer.mark_faulty(rf.f.sig.ident.to_string());
+            match role {
+                Role::Velocities | Role::Forces => dropped.push(*role),
+                _ => *ok = false,
+            }
+        }
+    }
+    (timed, dropped)
 }
 
 /// Whether a role function takes the time first: one argument more than the role needs,

@@ -7,7 +7,7 @@
 
 use super::dot;
 use super::rows::{Rows, row_source};
-use crate::engine::graph::NodeId;
+use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::Lowerer;
 use crate::system::generic;
 use crate::system::spec::Spec;
@@ -26,39 +26,79 @@ pub fn check(
     b: &[Vec<NodeId>],
     q0: &[NodeId],
 ) -> Option<Vec<NodeId>> {
-    let n = b.len();
-    let g = &mut *lowerer.graph;
-    let mut defect = Vec::with_capacity(n * (n + 1));
-    for (r, b_row) in b.iter().enumerate() {
-        for j in 0..n {
-            let column: Vec<NodeId> = rows.a.iter().map(|a_row| a_row[j]).collect();
-            let product = dot(g, b_row, &column);
-            let identity = if r == j { g.one() } else { g.zero() };
-            defect.push(g.sub(product, identity));
-        }
+    let (defect, reported) = defects(lowerer.graph, rows, b, q0);
+    let Some(wrong) = wrong_rows(lowerer.graph, &defect, b.len()) else {
+        return Some(reported);
+    };
+    for (r, worst, linear) in wrong {
+        let name = &spec.coordinates[r];
+        let how = if linear {
+            format!(
+                "B(q)·A(q) differs from the identity by {} in this row",
+                super::significant(worst)
+            )
+        } else {
+            format!(
+                "at w = 0 it gives {} where the rows' parts without velocities require −B·a",
+                super::significant(worst)
+            )
+        };
+        lowerer.push_error(syn::Error::new_spanned(
+            row_source(f, r),
+            format!(
+                "`#[velocities]` is not the inverse of the constraints and quasi-velocities: \
+                 the velocity of `{name}` it gives is wrong (at a generic configuration {how}); \
+                 q̇ = B·(w − a) must solve w = A·q̇ + a for every w, including the constrained \
+                 entries"
+            ),
+        ));
     }
+    None
+}
+
+/// B·A − I row by row then Q₀ + B·a (row r belongs to coordinate r: what a diagnosis needs),
+/// and what the generated `inverse_defect` reports: A·B − I (equivalent for a square matrix,
+/// and what its documentation states), then the same offset part.
+fn defects(
+    g: &mut Graph,
+    rows: &Rows,
+    b: &[Vec<NodeId>],
+    q0: &[NodeId],
+) -> (Vec<NodeId>, Vec<NodeId>) {
+    let n = b.len();
+    let product = |g: &mut Graph, left: &[Vec<NodeId>], right: &[Vec<NodeId>]| {
+        let mut out = Vec::with_capacity(n * n);
+        for (i, row) in left.iter().enumerate() {
+            for k in 0..n {
+                let column: Vec<NodeId> = right.iter().map(|r| r[k]).collect();
+                let entry = dot(g, row, &column);
+                let identity = if i == k { g.one() } else { g.zero() };
+                out.push(g.sub(entry, identity));
+            }
+        }
+        out
+    };
+    let mut defect = product(g, b, &rows.a);
+    let mut reported = product(g, &rows.a, b);
     for (b_row, &q0_r) in b.iter().zip(q0) {
         let drift = dot(g, b_row, &rows.offset);
-        defect.push(g.add(q0_r, drift));
+        let offset = g.add(q0_r, drift);
+        defect.push(offset);
+        reported.push(offset);
     }
-    // What the generated `inverse_defect` reports: A·B − I (equivalent to B·A − I for a square
-    // matrix, and what its documentation states), then the offset part.
-    let mut reported = Vec::with_capacity(n * (n + 1));
-    for (i, a_row) in rows.a.iter().enumerate() {
-        for k in 0..n {
-            let column: Vec<NodeId> = b.iter().map(|b_row| b_row[k]).collect();
-            let product = dot(g, a_row, &column);
-            let identity = if i == k { g.one() } else { g.zero() };
-            reported.push(g.sub(product, identity));
-        }
-    }
-    reported.extend_from_slice(&defect[n * n..]);
-    let mut bad_rows: Option<Vec<(usize, f64, bool)>> = None;
+    (defect, reported)
+}
+
+/// The rows of the defect that are wrong at a generic point — (row, worst entry, whether in
+/// the linear part) — when at least two of three points agree; `None` when the inverse is
+/// right (a point outside the inverse's domain gives no verdict).
+fn wrong_rows(g: &Graph, defect: &[NodeId], n: usize) -> Option<Vec<(usize, f64, bool)>> {
+    let mut first: Option<Vec<(usize, f64, bool)>> = None;
     let mut failures = 0;
     for values in generic::points(3, g.input_count()) {
-        let d = g.evaluate(&defect, &values);
+        let d = g.evaluate(defect, &values);
         if d.iter().any(|x| !x.is_finite()) {
-            continue; // outside the inverse's domain here: no verdict from this point
+            continue;
         }
         let worst = |r: usize| {
             d[r * n..(r + 1) * n]
@@ -79,37 +119,8 @@ pub fn check(
             .collect();
         if !wrong.is_empty() {
             failures += 1;
-            bad_rows.get_or_insert(wrong);
+            first.get_or_insert(wrong);
         }
     }
-    match bad_rows {
-        Some(wrong) if failures >= 2 => {
-            for (r, worst, linear) in wrong {
-                let name = &spec.coordinates[r];
-                let how = if linear {
-                    format!(
-                        "B(q)·A(q) differs from the identity by {} in this row",
-                        super::significant(worst)
-                    )
-                } else {
-                    format!(
-                        "at w = 0 it gives {} where the rows' parts without velocities require \
-                         −B·a",
-                        super::significant(worst)
-                    )
-                };
-                lowerer.push_error(syn::Error::new_spanned(
-                    row_source(f, r),
-                    format!(
-                        "`#[velocities]` is not the inverse of the constraints and quasi-velocities: \
-                         the velocity of `{name}` it gives is wrong (at a generic configuration \
-                         {how}); q̇ = B·(w − a) must solve w = A·q̇ + a for every w, including the \
-                         constrained entries"
-                    ),
-                ));
-            }
-            None
-        }
-        _ => Some(reported),
-    }
+    first.filter(|_| failures >= 2)
 }

@@ -176,37 +176,22 @@ pub(super) struct Vectors<'v> {
 
 pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equations> {
     let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
-    let free = spec.dims.free();
     let g = &mut *lowerer.graph;
-    let t = g.new_input("t");
-    let q = fresh(g, "q", n);
-    let w = fresh(g, "w", free);
-    let u = fresh(g, "u", m);
-    let v = fresh(g, "v", n);
-    let omega = fresh(g, "omega", n);
-
-    let rows = rows::build(lowerer, spec, t, &q, &v)?;
-    let (transformation, inverse_defect) =
-        transformation::build(lowerer, spec, &rows, t, &q, &omega)?;
-    let g = &mut *lowerer.graph;
-    let zero = g.zero();
-    let (b, pivots) = transformation.columns(g, n);
-    // q̇ = Σ_{l≥p} B_l w_l + Q₀ with Q₀ = −B a: the drift that affine rows impose.
-    let drift: Vec<NodeId> = match &transformation {
-        Transformation::Closed { q0, .. } => q0.clone(),
-        Transformation::Numeric(_) if rows.offset.iter().all(|&a| g.is_zero(a)) => vec![zero; n],
-        Transformation::Numeric(lu) => {
-            let (solved, _) = lu.solve(g, &rows.offset);
-            solved.into_iter().map(|x| g.neg(x)).collect()
-        }
+    let inputs = Inputs {
+        t: g.new_input("t"),
+        q: fresh(g, "q", n),
+        w: fresh(g, "w", spec.dims.free()),
+        u: fresh(g, "u", m),
+        v: fresh(g, "v", n),
     };
-    let qd: Vec<NodeId> = (0..n)
-        .map(|i| {
-            let row: Vec<NodeId> = b[p..].iter().map(|col| col[i]).collect();
-            let s = dot(g, &row, &w);
-            g.add(s, drift[i])
-        })
-        .collect();
+    let omega = fresh(g, "omega", n);
+    let (t, q, v) = (inputs.t, inputs.q.as_slice(), inputs.v.as_slice());
+
+    let rows = rows::build(lowerer, spec, t, q, v)?;
+    let (transformation, inverse_defect) =
+        transformation::build(lowerer, spec, &rows, t, q, &omega)?;
+    let (b, pivots) = transformation.columns(lowerer.graph, n);
+    let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b, &inputs.w, p);
     let transformation_pivots = match &transformation {
         Transformation::Numeric(_) => Some(TransformationPivots {
             pivots,
@@ -215,53 +200,127 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
                 .iter()
                 .flatten()
                 .copied()
-                .filter(|&e| !g.is_zero(e))
+                .filter(|&e| !lowerer.graph.is_zero(e))
                 .collect(),
         }),
         Transformation::Closed { .. } => None,
     };
-
-    // Generalized forces at the admissible velocity.
-    let forces = match spec.forces {
-        Some(f) => {
-            let args = vec![Value::Real(t), array(&q), array(&qd), array(&u)];
-            let value = lowerer.call_role(f, args);
-            if value.is_poison() {
-                return None;
-            }
-            value.flatten()?
-        }
-        None => vec![zero; n],
-    };
+    let forces = forces(lowerer, spec, &inputs, &qd)?;
     let vectors = Vectors {
         t,
-        q: &q,
-        w: &w,
+        q,
+        w: &inputs.w,
         qd: &qd,
         b: &b,
         rows: &rows.all,
         offset: &rows.offset,
-        v: &v,
+        v,
         forces: &forces,
     };
-    let assembled = match lagrangian::quasi(lowerer, spec, &transformation, t, &q, &omega)? {
+    let assembled = match lagrangian::quasi(lowerer, spec, &transformation, t, q, &omega)? {
         Some(lt) => hamel::assemble(lowerer.graph, lt, &omega, &vectors, p),
         None => {
-            let l = lagrangian::lagrangian(lowerer, spec, t, &q, &v)?;
+            let l = lagrangian::lagrangian(lowerer, spec, t, q, v)?;
             let Transformation::Numeric(lu) = &transformation else {
                 return None;
             };
             projected::assemble(lowerer.graph, l, lu, &vectors)
         }
     };
-    let energy = match lagrangian::split_energy(lowerer, spec, t, &q, &v, &qd)? {
+    let energy = match lagrangian::split_energy(lowerer, spec, t, q, v, &qd)? {
         Some(e) => e,
         None => assembled.energy,
     };
-
     let g = &mut *lowerer.graph;
-    let mass_free: Vec<Vec<NodeId>> = assembled.mass[p..].to_vec();
-    let solution = ldlt::solve(g, &mass_free, &assembled.rhs[p..]);
+    let motion = solve(g, &assembled, &vectors, p);
+    let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
+    let conservative =
+        spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
+    let gamma = gamma::gamma(g, &rows.all, q, v, &b[p..]);
+    Some(Equations {
+        transformation: transformation_pivots,
+        constraint_rows: rows.all[..p].to_vec(),
+        quasi_rows: rows.all[p..].to_vec(),
+        qd,
+        wdot: motion.wdot,
+        pivots: motion.pivots,
+        mass: motion.mass,
+        energy,
+        power: motion.power,
+        multipliers: motion.multipliers,
+        gamma,
+        inverse_defect,
+        holonomic: rows.holonomic,
+        conservative,
+        inputs,
+    })
+}
+
+/// q̇ = Σ_{l≥p} B_l w_l + Q₀, with Q₀ = −B a the drift that affine rows impose: the user's
+/// own Q₀ with a closed-form inverse, one more LU solve without.
+fn admissible_velocity(
+    g: &mut Graph,
+    transformation: &Transformation,
+    rows: &rows::Rows,
+    b: &[Vec<NodeId>],
+    w: &[NodeId],
+    p: usize,
+) -> Vec<NodeId> {
+    let n = b.len();
+    let zero = g.zero();
+    let drift: Vec<NodeId> = match transformation {
+        Transformation::Closed { q0, .. } => q0.clone(),
+        Transformation::Numeric(_) if rows.offset.iter().all(|&a| g.is_zero(a)) => vec![zero; n],
+        Transformation::Numeric(lu) => {
+            let (solved, _) = lu.solve(g, &rows.offset);
+            solved.into_iter().map(|x| g.neg(x)).collect()
+        }
+    };
+    (0..n)
+        .map(|i| {
+            let row: Vec<NodeId> = b[p..].iter().map(|col| col[i]).collect();
+            let s = dot(g, &row, w);
+            g.add(s, drift[i])
+        })
+        .collect()
+}
+
+/// The generalized forces at the admissible velocity (zero without `#[forces]`).
+fn forces<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    inputs: &Inputs,
+    qd: &[NodeId],
+) -> Option<Vec<NodeId>> {
+    let Some(f) = spec.forces else {
+        return Some(vec![lowerer.graph.zero(); spec.dims.n]);
+    };
+    let args = vec![
+        Value::Real(inputs.t),
+        array(&inputs.q),
+        array(qd),
+        array(&inputs.u),
+    ];
+    let value = lowerer.call_role(f, args);
+    if value.is_poison() {
+        return None;
+    }
+    value.flatten()
+}
+
+/// The motion from the assembled equations: the free rows solved by LDLᵀ for ω̇, the
+/// constrained ones giving the multipliers, and the power.
+struct Motion {
+    mass: Vec<Vec<NodeId>>,
+    wdot: Vec<NodeId>,
+    pivots: Vec<NodeId>,
+    multipliers: Vec<NodeId>,
+    power: NodeId,
+}
+
+fn solve(g: &mut Graph, assembled: &Assembled, x: &Vectors<'_>, p: usize) -> Motion {
+    let mass: Vec<Vec<NodeId>> = assembled.mass[p..].to_vec();
+    let solution = ldlt::solve(g, &mass, &assembled.rhs[p..]);
     let multipliers: Vec<NodeId> = (0..p)
         .map(|k| {
             let coupled = dot(g, &assembled.mass[k], &solution.x);
@@ -270,35 +329,19 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         .collect();
     let power = power(
         g,
-        &forces,
-        &qd,
+        x.forces,
+        x.qd,
         &multipliers,
-        &rows.offset[..p],
+        &x.offset[..p],
         assembled.lagrangian_rate,
     );
-    let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
-    let conservative =
-        spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
-    let gamma = gamma::gamma(g, &rows.all, &q, &v, &b[p..]);
-    let constraint_rows = rows.all[..p].to_vec();
-    let quasi_rows = rows.all[p..].to_vec();
-    Some(Equations {
-        inputs: Inputs { t, q, w, u, v },
-        transformation: transformation_pivots,
-        constraint_rows,
-        quasi_rows,
-        qd,
+    Motion {
+        mass,
         wdot: solution.x,
         pivots: solution.pivots,
-        mass: mass_free,
-        energy,
-        power,
         multipliers,
-        gamma,
-        inverse_defect,
-        holonomic: rows.holonomic,
-        conservative,
-    })
+        power,
+    }
 }
 
 /// dE/dt = f·q̇ − λᵀa_c − ∂L/∂t: the power of the forces, of the constraint forces where the
