@@ -101,7 +101,10 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
     let conservative = h.conservative;
     let result = quote!(::core::result::Result);
     let singularity = quote!(::hamel::Singularity);
-    let allow = quote!(#[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
+    // `#[inline]` on every method: besides inlining, it makes their code generated only in the
+    // crates that call them, so a library of models (the catalogue) does not compile the
+    // Jacobian, the constraint forces or γ of every model for nobody.
+    let allow = quote!(#[inline] #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
     let Bodies {
         rhs,
         generalized_velocities,
