@@ -74,6 +74,8 @@ impl<const C: bool> HamelSystem for Skate<C> {
     type Extended = [f64; 6];
     type MassMatrix = [[f64; 2]; 2];
     type Gamma = [[[f64; 2]; 2]; 3];
+    type StateJacobian = [f64; 25];
+    type InputJacobian = [f64; 10];
 
     const N: usize = 3;
     const P: usize = 1;
@@ -168,6 +170,29 @@ impl<const C: bool> HamelSystem for Skate<C> {
         g[0][0][1] = -1.0;
         g[0][1][0] = 1.0;
         Ok(g)
+    }
+
+    /// ∂F/∂x of F = (v cos θ, v sin θ, ω, F/m, τ/I): only the rows of ẋ and ẏ depend on the
+    /// state (through θ and v), and θ̇ = ω; ∂F/∂u is diag(1/m, 1/I) in the rows of v̇ and ω̇.
+    fn jacobian(
+        &self,
+        _t: f64,
+        x: &[f64; 5],
+        _u: &[f64; 2],
+    ) -> Result<([f64; 25], [f64; 10]), Singularity> {
+        let [m, i] = self.pivots()?;
+        let [_, _, theta, v, _] = *x;
+        let (s, c) = theta.sin_cos();
+        let mut a = [0.0; 25];
+        a[2] = -v * s;
+        a[3] = c;
+        a[5 + 2] = v * c;
+        a[5 + 3] = s;
+        a[2 * 5 + 4] = 1.0;
+        let mut b = [0.0; 10];
+        b[3 * 2] = 1.0 / m;
+        b[4 * 2 + 1] = 1.0 / i;
+        Ok((a, b))
     }
 }
 
