@@ -4,6 +4,8 @@
 //!
 //! Run with `--nocapture` to see the measured figures.
 
+mod common;
+
 use hamel_runtime::{
     AssemblyFailure, DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity,
 };
@@ -666,4 +668,20 @@ fn a_run_past_the_crank_reach_is_a_named_error() {
         Err(Error::Assembly { t, .. }) => assert!((t - 3.0).abs() < 1e-6, "{t}"),
         other => panic!("{other:?}"),
     }
+}
+
+/// The hand-derived Jacobian against central differences of the right-hand side, at a state
+/// where every entry that can be nonzero is (the crank's rate depends on θ, φ and v).
+#[test]
+fn the_crank_skates_jacobian_is_the_derivative_of_its_rate() {
+    let x = [1.2, -0.5, 0.3, 0.4f64.asin(), 1.5, 0.7];
+    let u = [0.3, -0.2];
+    let (a, b) = CRANK.jacobian(0.0, &x, &u).unwrap();
+    let (fa, fb) = common::central_differences(&CRANK, 0.0, &x, &u);
+    let (da, db) = (
+        common::relative_difference(&a, &fa),
+        common::relative_difference(&b, &fb),
+    );
+    println!("relative difference from central differences: A {da:.1e}, B {db:.1e}");
+    assert!(da <= 1e-8 && db <= 1e-8, "{da:e} {db:e}");
 }

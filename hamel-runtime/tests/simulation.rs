@@ -1,6 +1,8 @@
 //! The simulation driver on a hand-written system: a skate (knife edge) on a level plane,
 //! with the closed-form solution of its free motion.
 
+mod common;
+
 use hamel_runtime::{
     DormandPrince, Error, HamelSystem, NamedValues, Parameters, Rk4, Simulation, Singularity,
 };
@@ -556,4 +558,19 @@ fn the_balance_of_a_body_set_moving_from_rest() {
     let text = summary.to_string();
     assert!(text.contains("\nwork                     4.36\n"), "{text}");
     assert!(!text.contains("holonomic"), "{text}");
+}
+
+/// The hand-derived Jacobian against central differences of the right-hand side, at a state
+/// where every entry that can be nonzero is.
+#[test]
+fn the_skates_jacobian_is_the_derivative_of_its_rate() {
+    let u = [0.3, -0.2];
+    let (a, b) = SKATE.jacobian(0.0, &X0, &u).unwrap();
+    let (fa, fb) = common::central_differences(&SKATE, 0.0, &X0, &u);
+    let (da, db) = (
+        common::relative_difference(&a, &fa),
+        common::relative_difference(&b, &fb),
+    );
+    println!("relative difference from central differences: A {da:.1e}, B {db:.1e}");
+    assert!(da <= 1e-8 && db <= 1e-8, "{da:e} {db:e}");
 }
