@@ -303,7 +303,7 @@ fn scale<S: HamelSystem + ?Sized>(
 
 /// The sizes and indices a hand-written implementation could get wrong; checked so that they
 /// are an error rather than an index out of bounds.
-fn check_shape<S: HamelSystem + ?Sized>() -> Result<(), Error> {
+pub(crate) fn check_shape<S: HamelSystem + ?Sized>() -> Result<(), Error> {
     let (n, k) = (S::Coordinates::LEN, S::K);
     let inconsistent = |what: String| Err(Error::InconsistentModel { what });
     if S::Holonomic::LEN != k || S::HolonomicJacobian::LEN != k * n || S::DEPENDENT.len() != k {
@@ -327,7 +327,7 @@ fn check_shape<S: HamelSystem + ?Sized>() -> Result<(), Error> {
 }
 
 /// The name of holonomic constraint `row` (the last K of `CONSTRAINTS`).
-fn constraint_name<S: HamelSystem + ?Sized>(row: usize) -> String {
+pub(crate) fn constraint_name<S: HamelSystem + ?Sized>(row: usize) -> String {
     (S::P + row)
         .checked_sub(S::K)
         .and_then(|i| S::CONSTRAINTS.get(i))

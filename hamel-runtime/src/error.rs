@@ -257,6 +257,107 @@ pub enum Error {
     #[error("unknown name `{name}`: a state is set by the names of its {known}")]
     UnknownStateName { name: String, known: String },
 
+    /// `HamelSystem::linearize` was given a time, state component or input that is not a
+    /// finite number (`name` is `t`, a state name or an input name).
+    #[error("the operating point's `{name}` is {value}: a linearization needs finite values")]
+    NonFiniteOperatingPoint {
+        /// `t`, or the name of the state component or input.
+        name: String,
+        /// The value given.
+        value: f64,
+    },
+
+    /// A derivative of a linearization is not a finite number: the model is not
+    /// differentiable at the operating point (a square root at 0, say), or overflows there.
+    #[error(
+        "{of} has the derivative {value} with respect to `{by}` {at}: a linearization needs \
+         finite derivatives; the model may not be differentiable there, or overflow"
+    )]
+    NonFiniteDerivative {
+        /// What is differentiated: "the rate of `v`", or a holonomic constraint.
+        of: String,
+        /// The state or input it is differentiated by.
+        by: String,
+        /// The derivative (infinite or NaN).
+        value: f64,
+        /// Where: the operating point, or the matrix given to `Linearization::new`.
+        at: String,
+    },
+
+    /// A linearization or mode was asked for a state or input it does not have.
+    #[error("unknown {kind} `{name}`; the {kind}s are: {known}")]
+    UnknownName {
+        /// "state" or "input".
+        kind: &'static str,
+        /// The name asked for.
+        name: String,
+        /// The names there are, comma-separated.
+        known: String,
+    },
+
+    /// The same name was given twice where each must appear once.
+    #[error("the {kind} `{name}` is given twice: {context}")]
+    DuplicateName {
+        /// "state" or "input".
+        kind: &'static str,
+        /// The name given twice.
+        name: String,
+        /// Where: what the names are for.
+        context: &'static str,
+    },
+
+    /// Matrices or names whose sizes do not fit together.
+    #[error("sizes do not fit: {what}")]
+    DimensionMismatch {
+        /// The sizes given and those needed.
+        what: String,
+    },
+
+    /// `Linearization::reduce` was asked to drop a state that a kept state depends on.
+    #[error(
+        "cannot drop `{name}`: the rate of the kept state `{kept}` depends on it (the derivative \
+         is {}, beyond the tolerance {} for rounding), so it is neither cyclic nor a coordinate \
+         a holonomic constraint determines; keep `{name}`, or drop `{kept}` too",
+        Num(*derivative), Num(*tolerance)
+    )]
+    NotCyclic {
+        /// The state asked to be dropped.
+        name: String,
+        /// The first kept state whose rate depends on it.
+        kept: String,
+        /// ∂(rate of `kept`)/∂`name`, after any dependent coordinates dropped with it are
+        /// eliminated.
+        derivative: f64,
+        /// The largest derivative taken for rounding (`CYCLIC_TOLERANCE` times the largest
+        /// |Aᵢⱼ|).
+        tolerance: f64,
+    },
+
+    /// `Linearization::reduce` cannot eliminate a dependent coordinate: at the operating point
+    /// the holonomic constraints it is eliminated with do not determine it.
+    #[error(
+        "cannot eliminate `{coordinate}` through the holonomic constraint `{constraint}`: at the \
+         operating point the constraints do not determine it (the LU pivot for it is {}, \
+         relative to the constraint's largest derivative); keep `{coordinate}`",
+        Num(*pivot)
+    )]
+    SingularElimination {
+        /// The dependent coordinate to eliminate.
+        coordinate: String,
+        /// The holonomic constraint that determines it.
+        constraint: String,
+        /// The LU pivot for it, its constraint row scaled to a largest derivative of 1.
+        pivot: f64,
+    },
+
+    /// nalgebra's Schur or singular value decomposition gave no answer for a linearization's
+    /// modes, or an eigenvalue is too large for an `f64`.
+    #[error("no eigen-analysis of A: {reason}")]
+    EigenAnalysis {
+        /// Which, and why.
+        reason: String,
+    },
+
     /// A state builder was given both velocities and speeds.
     #[error(
         "both the velocities and the speed `{speed}` were given: the speeds follow from the \

@@ -4,6 +4,7 @@
 use crate::assembly;
 use crate::builder::StateBuilder;
 use crate::error::{Error, Singularity};
+use crate::linearization::{self, Linearization};
 use crate::named::NamedValues;
 use crate::vector::Vector;
 
@@ -195,6 +196,22 @@ pub trait HamelSystem: Parameters {
         x: &Self::State,
         u: &Self::Inputs,
     ) -> Result<(Self::StateJacobian, Self::InputJacobian), Singularity>;
+
+    /// The linearization δẋ = A δx + B δu of the right-hand side at the operating point
+    /// (t, x, u), with the state and input names (from [`Self::jacobian`]), and the holonomic
+    /// constraints' ∂f/∂q there, with which [`Linearization::reduce`] eliminates dependent
+    /// coordinates.
+    ///
+    /// Errors: [`Error::NonFiniteOperatingPoint`] naming a time (`t`), state component or
+    /// input that is not finite; [`Error::InvalidParameter`]; [`Error::HolonomicViolation`]
+    /// when the configuration does not satisfy a holonomic constraint (to
+    /// [`crate::HOLONOMIC_TOLERANCE`] of its scale, as for [`Self::state_from_speeds`]); the
+    /// singularity met, named with the time and state ([`Self::singular`]);
+    /// [`Error::NonFiniteDerivative`] naming a derivative that is not finite;
+    /// [`Error::InconsistentModel`] for a hand-written implementation whose sizes disagree.
+    fn linearize(&self, t: f64, x: &Self::State, u: &Self::Inputs) -> Result<Linearization, Error> {
+        linearization::linearize(self, t, x, u)
+    }
 
     /// Check the parameters, and that a closed-form inverse B really inverts A at (t, q).
     fn check_configuration(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
