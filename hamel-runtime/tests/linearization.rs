@@ -517,7 +517,9 @@ impl HamelSystem for CartPendulum {
         x: &[f64; 4],
         u: &[f64; 1],
     ) -> Result<([f64; 16], [f64; 4]), Singularity> {
-        jacobian_by_duals(t, x, u, |_, x, u, dx| self.rhs_generic(x, u, dx))
+        jacobian_by_duals(t, x, u, &[0, 1, 2, 3, 4], |_, x, u, dx| {
+            self.rhs_generic(x, u, dx)
+        })
     }
 }
 
