@@ -1,0 +1,273 @@
+//! The Whipple bicycle benchmark (Meijaard, Papadopoulos, Ruina & Schwab, *Linearized
+//! dynamics equations for the balance and steer of a bicycle: a benchmark and review*,
+//! Proc. R. Soc. A 463, 1955–1982, 2007), reproduced from the nonlinear model
+//! `hamel::models::WhippleBicycle` by linearizing it about upright, straight running:
+//!
+//! * the coefficient matrices of M q̈ + v C₁ q̇ + (g K₀ + v² K₂) q = f, q = (φ, δ), to all
+//!   printed digits (the paper's eqs. (A 21)–(A 26) and section 5.3);
+//! * the eigenvalues of Table 2 at v = 0, 1, …, 10 m/s;
+//! * the weave and capsize speeds of Table 2, 4.29238253634111 and 6.02426201538837 m/s.
+//!
+//! The Table 2 values below were transcribed from the paper (as in D. L. Peterson's
+//! gyrostat implementation's test, which hand-codes every published eigenvalue).
+
+use hamel::models::WhippleBicycle;
+use hamel::roots::brent;
+use hamel::{Error, HamelSystem, Linearization};
+use nalgebra::Complex;
+
+/// The paper's M, C₁, K₀, K₂ (section 5.3), as printed.
+const M: [[f64; 2]; 2] = [
+    [80.81722, 2.31941332208709],
+    [2.31941332208709, 0.29784188199686],
+];
+const C1: [[f64; 2]; 2] = [
+    [0.0, 33.86641391492494],
+    [-0.85035641456978, 1.68540397397560],
+];
+const K0: [[f64; 2]; 2] = [
+    [-80.95, -2.59951685249872],
+    [-2.59951685249872, -0.80329488458618],
+];
+const K2: [[f64; 2]; 2] = [[0.0, 76.59734589573222], [0.0, 2.65431523794604]];
+
+const WEAVE_SPEED: f64 = 4.29238253634111;
+const CAPSIZE_SPEED: f64 = 6.02426201538837;
+
+/// Table 2 (b), (c): at v = 0 four real eigenvalues; above, capsize (real), the weave pair
+/// (re ± i im) and castering (real).
+const STANDSTILL: [f64; 4] = [
+    -5.53094371765393,
+    -3.13164324790656,
+    3.13164324790656,
+    5.53094371765393,
+];
+/// v = 1 … 10: [capsize, weave re, weave im, castering].
+const TABLE_2: [[f64; 4]; 10] = [
+    [
+        -3.13423125066578,
+        3.52696170990070,
+        0.80774027519930,
+        -7.11008014637442,
+    ],
+    [
+        -3.07158645641514,
+        2.68234517512745,
+        1.68066296590675,
+        -8.67387984831735,
+    ],
+    [
+        -2.63366137253667,
+        1.70675605663975,
+        2.31582447384325,
+        -10.35101467245920,
+    ],
+    [
+        -1.42944427361326,
+        0.41325331521125,
+        3.07910818603206,
+        -12.15861426576447,
+    ],
+    [
+        -0.32286642900409,
+        -0.77534188219585,
+        4.46486771378823,
+        -14.07838969279822,
+    ],
+    [
+        -0.00406690076970,
+        -1.52644486584142,
+        5.87673060598709,
+        -16.08537123098030,
+    ],
+    [
+        0.10268170574766,
+        -2.13875644258362,
+        7.19525913329805,
+        -18.15788466125262,
+    ],
+    [
+        0.14327879765713,
+        -2.69348683581097,
+        8.46037971396931,
+        -20.27940894394569,
+    ],
+    [
+        0.15790184030917,
+        -3.21675402252485,
+        9.69377351531791,
+        -22.43788559040858,
+    ],
+    [
+        0.16105338653172,
+        -3.72016840437287,
+        10.90681139476287,
+        -24.62459635017404,
+    ],
+];
+
+/// The lateral states the benchmark's equations are in.
+const LATERAL: [&str; 4] = ["phi", "delta", "roll_rate", "steer_rate"];
+
+/// Upright, straight running at speed v: the rear wheel turns at −v/r_R.
+fn upright(bike: &WhippleBicycle, v: f64) -> [f64; 11] {
+    let mut x = [0.0; 11];
+    x[WhippleBicycle::N + WhippleBicycle::REAR_WHEEL_RATE] = -v / bike.r_r;
+    x
+}
+
+fn linearized(bike: &WhippleBicycle, v: f64) -> Linearization {
+    bike.linearize(0.0, &upright(bike, v), &[0.0, 0.0])
+        .unwrap()
+        .reduce(&LATERAL)
+        .unwrap()
+}
+
+/// The 2×2 blocks [[∂φ̈/∂a, ∂φ̈/∂b], [∂δ̈/∂a, ∂δ̈/∂b]] of a linearization.
+fn block(lin: &Linearization, columns: [&str; 2], inputs: bool) -> [[f64; 2]; 2] {
+    let entry = |row: &str, column: &str| {
+        if inputs {
+            lin.b(row, column).unwrap()
+        } else {
+            lin.a(row, column).unwrap()
+        }
+    };
+    [
+        [
+            entry("roll_rate", columns[0]),
+            entry("roll_rate", columns[1]),
+        ],
+        [
+            entry("steer_rate", columns[0]),
+            entry("steer_rate", columns[1]),
+        ],
+    ]
+}
+
+fn multiply(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let mut c = [[0.0; 2]; 2];
+    for i in 0..2 {
+        for j in 0..2 {
+            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j];
+        }
+    }
+    c
+}
+
+fn inverse(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    [
+        [a[1][1] / det, -a[0][1] / det],
+        [-a[1][0] / det, a[0][0] / det],
+    ]
+}
+
+/// The benchmark's matrices from the linearization: B's rows give M⁻¹, A's give
+/// −M⁻¹(g K₀ + v² K₂) and −M⁻¹ v C₁.
+fn matrices(bike: &WhippleBicycle) -> [[[f64; 2]; 2]; 4] {
+    let at_rest = linearized(bike, 0.0);
+    let m = inverse(block(&at_rest, ["roll_torque", "steer_torque"], true));
+    let stiffness = |lin: &Linearization| {
+        let k = multiply(m, block(lin, ["phi", "delta"], false));
+        [[-k[0][0], -k[0][1]], [-k[1][0], -k[1][1]]]
+    };
+    let g_k0 = stiffness(&at_rest);
+    let moving = linearized(bike, 1.0);
+    let k_at_1 = stiffness(&moving);
+    let damping = multiply(m, block(&moving, ["roll_rate", "steer_rate"], false));
+    let k0 = g_k0.map(|row| row.map(|x| x / bike.g));
+    let k2: [[f64; 2]; 2] =
+        std::array::from_fn(|i| std::array::from_fn(|j| k_at_1[i][j] - g_k0[i][j]));
+    let c1 = damping.map(|row| row.map(|x| -x));
+    [m, c1, k0, k2]
+}
+
+#[test]
+fn the_coefficient_matrices_are_the_papers_to_every_printed_digit() {
+    let bike = WhippleBicycle::default();
+    let computed = matrices(&bike);
+    let mut worst = 0.0f64;
+    for ((name, ours), theirs) in ["M", "C1", "K0", "K2"]
+        .iter()
+        .zip(computed)
+        .zip([M, C1, K0, K2])
+    {
+        for i in 0..2 {
+            for j in 0..2 {
+                let (a, b) = (ours[i][j], theirs[i][j]);
+                // Relative to the entry; the structural zeros to the matrix's scale.
+                let scale = if b == 0.0 { 1.0 } else { b.abs() };
+                let error = (a - b).abs() / scale;
+                worst = worst.max(error);
+                assert!(error <= 1e-10, "{name}[{i}][{j}]: {a} vs {b} ({error:e})");
+            }
+        }
+    }
+    println!("M, C1, K0, K2: worst relative difference {worst:e}");
+}
+
+/// The eigenvalues in the order of the table: by real part, then imaginary part.
+fn sorted(mut values: Vec<Complex<f64>>) -> Vec<Complex<f64>> {
+    values.sort_by(|a, b| a.re.total_cmp(&b.re).then(a.im.total_cmp(&b.im)));
+    values
+}
+
+#[test]
+fn the_eigenvalues_are_those_of_table_2() {
+    let bike = WhippleBicycle::default();
+    let mut worst = 0.0f64;
+    for v in 0..=10 {
+        let ours = sorted(linearized(&bike, v as f64).eigenvalues().unwrap());
+        let theirs = if v == 0 {
+            STANDSTILL.iter().map(|&x| Complex::new(x, 0.0)).collect()
+        } else {
+            let [capsize, re, im, castering] = TABLE_2[v - 1];
+            vec![
+                Complex::new(capsize, 0.0),
+                Complex::new(re, im),
+                Complex::new(re, -im),
+                Complex::new(castering, 0.0),
+            ]
+        };
+        let theirs = sorted(theirs);
+        for (a, b) in ours.iter().zip(&theirs) {
+            let error = (a - b).norm();
+            worst = worst.max(error);
+            assert!(error <= 1e-10, "v = {v}: {a} vs {b} ({error:e})");
+        }
+    }
+    println!("Table 2 eigenvalues: worst difference {worst:e}");
+}
+
+/// The largest real part of the lateral eigenvalues at speed v: zero at the boundaries of
+/// self-stability.
+fn spectral_abscissa(bike: &WhippleBicycle, v: f64) -> Result<f64, Error> {
+    let values = linearized(bike, v).eigenvalues()?;
+    Ok(values
+        .iter()
+        .map(|l| l.re)
+        .fold(f64::NEG_INFINITY, f64::max))
+}
+
+#[test]
+fn the_weave_and_capsize_speeds_are_table_2s() {
+    let bike = WhippleBicycle::default();
+    let speed = |a, b| {
+        brent(
+            "the largest real part",
+            |v| spectral_abscissa(&bike, v),
+            a,
+            b,
+            1e-14,
+        )
+        .unwrap()
+    };
+    let (weave, capsize) = (speed(4.0, 5.0), speed(6.0, 7.0));
+    println!("weave speed {weave}, capsize speed {capsize}");
+    assert!((weave - WEAVE_SPEED).abs() <= 1e-10, "{weave}");
+    assert!((capsize - CAPSIZE_SPEED).abs() <= 1e-10, "{capsize}");
+    // Between them the bicycle is self-stable; outside, not.
+    assert!(spectral_abscissa(&bike, 5.0).unwrap() < 0.0);
+    assert!(spectral_abscissa(&bike, 3.0).unwrap() > 0.0);
+    assert!(spectral_abscissa(&bike, 7.0).unwrap() > 0.0);
+}
