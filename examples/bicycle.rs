@@ -1,0 +1,165 @@
+//! The Whipple bicycle benchmark (Meijaard, Papadopoulos, Ruina & Schwab, Proc. R. Soc. A
+//! 463, 1955–1982, 2007) from the nonlinear model `hamel::models::WhippleBicycle`:
+//!
+//! 1. linearized about upright, straight running for v = 0 … 10 m/s: the eigenvalues of the
+//!    lateral motion (roll φ, steer δ and their rates), printed for whole speeds (the
+//!    paper's Table 2), written to `bicycle_eigenvalues.csv` and plotted against speed in
+//!    the style of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`);
+//! 2. the weave and capsize speeds, where the largest real part crosses zero;
+//! 3. two nonlinear simulations: at 4.6 m/s, inside the self-stable range, a push in roll
+//!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave.
+//!
+//! ```text
+//! cargo run --release --example bicycle
+//! ```
+
+use hamel::models::WhippleBicycle;
+use hamel::prelude::*;
+use hamel::roots::brent;
+use hamel::{Linearization, Mode};
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+/// The lateral states of the benchmark's linear equations.
+const LATERAL: [&str; 4] = ["phi", "delta", "roll_rate", "steer_rate"];
+
+/// The lateral linearization at speed v.
+fn lateral(bike: &WhippleBicycle, v: f64) -> Result<Linearization, Error> {
+    let x = bike
+        .state_builder()
+        .set("rear_wheel_rate", -v / bike.r_r)
+        .build()?;
+    bike.linearize(0.0, &x, &[0.0, 0.0])?.reduce(&LATERAL)
+}
+
+/// The modes at speed v, least stable first.
+fn modes(bike: &WhippleBicycle, v: f64) -> Result<Vec<Mode>, Error> {
+    lateral(bike, v)?.modes()
+}
+
+/// The largest real part of the lateral eigenvalues: zero at the boundaries of self-stability.
+fn abscissa(bike: &WhippleBicycle, v: f64) -> Result<f64, Error> {
+    Ok(modes(bike, v)?[0].value.re)
+}
+
+/// The eigenvalues at v = 0, 0.01, …, 10, as CSV rows `v,re1,im1,…,re4,im4`, the modes in the
+/// order `modes` gives (least stable first).
+fn sweep(bike: &WhippleBicycle) -> Result<(String, Vec<(f64, Vec<Mode>)>), Error> {
+    let mut csv = String::from("v,re1,im1,re2,im2,re3,im3,re4,im4\n");
+    let mut all = Vec::new();
+    for i in 0..=1000 {
+        let v = i as f64 / 100.0;
+        let m = modes(bike, v)?;
+        let _ = write!(csv, "{v}");
+        for mode in &m {
+            let _ = write!(csv, ",{:?},{:?}", mode.value.re, mode.value.im);
+        }
+        csv.push('\n');
+        all.push((v, m));
+    }
+    Ok((csv, all))
+}
+
+/// Table 2's layout: whole speeds, the four eigenvalues.
+fn table(all: &[(f64, Vec<Mode>)]) -> String {
+    let mut text = String::from("   v     eigenvalues (1/s), least stable first\n");
+    for (v, m) in all.iter().filter(|(v, _)| v.fract() == 0.0) {
+        let _ = write!(text, "{v:>4}  ");
+        for mode in m {
+            let l = mode.value;
+            if l.im == 0.0 {
+                let _ = write!(text, "  {:>+9.5}          ", l.re);
+            } else {
+                let _ = write!(text, "  {:>+9.5} {:>+8.5}i", l.re, l.im);
+            }
+        }
+        text.push('\n');
+    }
+    text
+}
+
+/// A nonlinear run from upright at speed v with an initial lean and roll rate, sampled
+/// every `every` seconds; the holonomic front contact is kept by projection.
+fn ride(
+    bike: &WhippleBicycle,
+    v: f64,
+    (lean, roll_rate): (f64, f64),
+    seconds: f64,
+    every: f64,
+) -> Result<Trajectory, Error> {
+    let x = bike
+        .state_builder()
+        .set("phi", lean)
+        .set("roll_rate", roll_rate)
+        .set("rear_wheel_rate", -v / bike.r_r)
+        .build()?;
+    Simulation::new(bike, x)
+        .end_time(seconds)
+        .sample_interval(every)
+        .project_holonomic(true)
+        .run_constant(&DormandPrince::new(1e-10, 1e-12), [0.0, 0.0])
+}
+
+/// The roll and steer angles of a run, one line per sample.
+fn angles(run: &Trajectory) -> String {
+    let (t, phi, delta) = (
+        run.times(),
+        run.column("phi").unwrap_or(&[]),
+        run.column("delta").unwrap_or(&[]),
+    );
+    let mut text = String::from("     t      roll φ     steer δ  (rad)\n");
+    for i in 0..t.len() {
+        let _ = writeln!(
+            text,
+            "  {:>4.2}  {:>+9.5}  {:>+9.5}",
+            t[i], phi[i], delta[i]
+        );
+    }
+    text
+}
+
+fn run() -> Result<(), Error> {
+    let bike = WhippleBicycle::default();
+    println!("Whipple bicycle benchmark (Meijaard, Papadopoulos, Ruina & Schwab 2007)");
+    println!("n = 8 coordinates, p = 5 constraints (1 holonomic), 11 states; Table 1 parameters\n");
+
+    let (csv, all) = sweep(&bike)?;
+    println!("{}", table(&all));
+    let speed = |a, b| brent("the largest real part", |v| abscissa(&bike, v), a, b, 1e-14);
+    let (weave, capsize) = (speed(4.0, 5.0)?, speed(6.0, 7.0)?);
+    println!("weave speed   {weave:.14} m/s   (paper: 4.29238253634111)");
+    println!("capsize speed {capsize:.14} m/s   (paper: 6.02426201538837)");
+    println!("self-stable between them\n");
+
+    std::fs::write("bicycle_eigenvalues.csv", csv).map_err(|e| Error::Io {
+        path: "bicycle_eigenvalues.csv".into(),
+        message: e.to_string(),
+    })?;
+    println!("wrote {} rows to bicycle_eigenvalues.csv", all.len());
+
+    let stable = ride(&bike, 4.6, (0.0, 0.5), 5.0, 0.5)?;
+    println!("\nv = 4.6 m/s (self-stable), from upright with a roll rate of 0.5 rad/s: the");
+    println!("oscillation dies out\n{}", angles(&stable));
+    println!("{}\n", stable.summary());
+    let weaving = ride(&bike, 2.0, (0.01, 0.0), 1.5, 0.25)?;
+    let weave = modes(&bike, 2.0)?[0].value;
+    println!("v = 2 m/s (below the weave speed), from a lean of 0.01 rad: the weave grows, ");
+    println!(
+        "e-fold every {:.2} s (its eigenvalue {:.4} ± {:.4}i)\n{}",
+        1.0 / weave.re,
+        weave.re,
+        weave.im.abs(),
+        angles(&weaving)
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
