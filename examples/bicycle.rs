@@ -42,9 +42,12 @@ fn abscissa(bike: &WhippleBicycle, v: f64) -> Result<f64, Error> {
     Ok(modes(bike, v)?[0].value.re)
 }
 
+/// The modes at each speed of a sweep.
+type Sweep = Vec<(f64, Vec<Mode>)>;
+
 /// The eigenvalues at v = 0, 0.01, …, 10, as CSV rows `v,re1,im1,…,re4,im4`, the modes in the
 /// order `modes` gives (least stable first).
-fn sweep(bike: &WhippleBicycle) -> Result<(String, Vec<(f64, Vec<Mode>)>), Error> {
+fn sweep(bike: &WhippleBicycle) -> Result<(String, Sweep), Error> {
     let mut csv = String::from("v,re1,im1,re2,im2,re3,im3,re4,im4\n");
     let mut all = Vec::new();
     for i in 0..=1000 {

@@ -26,7 +26,9 @@ pub fn brent(
 ) -> Result<f64, Error> {
     let (mut a, mut b) = (a, b);
     let (mut fa, mut fb) = (f(a)?, f(b)?);
-    if !(fa.is_finite() && fb.is_finite()) || !(tolerance >= 0.0) {
+    // Written so that a NaN tolerance fails too.
+    let usable = fa.is_finite() && fb.is_finite() && tolerance.is_finite() && tolerance >= 0.0;
+    if !usable {
         return Err(Error::RootNotBracketed { what, a, b, fa, fb });
     }
     if fa == 0.0 {

@@ -17,10 +17,12 @@ use hamel::{Error, HamelSystem, Linearization};
 use nalgebra::Complex;
 
 /// The paper's M, C₁, K₀, K₂ (section 5.3), as printed.
+#[allow(clippy::excessive_precision)]
 const M: [[f64; 2]; 2] = [
     [80.81722, 2.31941332208709],
     [2.31941332208709, 0.29784188199686],
 ];
+#[allow(clippy::excessive_precision)]
 const C1: [[f64; 2]; 2] = [
     [0.0, 33.86641391492494],
     [-0.85035641456978, 1.68540397397560],
@@ -42,7 +44,8 @@ const STANDSTILL: [f64; 4] = [
     3.13164324790656,
     5.53094371765393,
 ];
-/// v = 1 … 10: [capsize, weave re, weave im, castering].
+/// v = 1 … 10: [capsize, weave re, weave im, castering]. As printed, trailing zeros included.
+#[allow(clippy::excessive_precision)]
 const TABLE_2: [[f64; 4]; 10] = [
     [
         -3.13423125066578,
