@@ -126,7 +126,7 @@ mod tests {
         let cube = brent("x³ − 2", |x| Ok(x * x * x - 2.0), 0.0, 2.0, 0.0).unwrap();
         assert!((cube - 2f64.cbrt()).abs() <= 4.0 * f64::EPSILON, "{cube}");
         // A root at an end.
-        assert_eq!(brent("x", |x| Ok(x), 0.0, 1.0, 1e-12).unwrap(), 0.0);
+        assert_eq!(brent("x", Ok, 0.0, 1.0, 1e-12).unwrap(), 0.0);
     }
 
     #[test]
@@ -153,7 +153,7 @@ mod tests {
         assert!(e.to_string().contains("x² + 1"), "{e}");
         let e = brent("1/x", |x| Ok(1.0 / x), 0.0, 1.0, 1e-12).unwrap_err();
         assert!(matches!(e, Error::RootNotBracketed { .. }), "{e}");
-        let e = brent("x", |x| Ok(x), -1.0, 1.0, f64::NAN).unwrap_err();
+        let e = brent("x", Ok, -1.0, 1.0, f64::NAN).unwrap_err();
         assert!(matches!(e, Error::RootNotBracketed { .. }), "{e}");
     }
 }
