@@ -51,6 +51,8 @@ extern crate self as hamel;
 
 pub mod docs;
 pub mod models;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod prelude;
 
 pub use hamel_macros::{differentiate, hamel_system};
