@@ -8,6 +8,8 @@
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
+//! [`plot`] (feature `plot`, on by default) draws trajectories and analyses as SVG or PNG.
+//!
 //! # How a model becomes a simulator
 //!
 //! `#[hamel_system]` lowers the role functions' bodies into one expression graph and builds

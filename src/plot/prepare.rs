@@ -82,7 +82,7 @@ pub(crate) fn prepare(
         .iter()
         .zip(&points)
         .enumerate()
-        .map(|(i, (s, p))| drawn(s, i, p, x, y, log))
+        .map(|(i, (s, p))| drawn(s, i, p, (x, y), area, log))
         .collect();
     let legend = legend_corner(panel.legend, &series, (x, y), area, text_scale);
     Ok(Prepared {
@@ -224,17 +224,21 @@ fn drawn(
     series: &Series,
     index: usize,
     points: &[Option<Point>],
-    x: (f64, f64),
-    y: (f64, f64),
+    (x, y): ((f64, f64), (f64, f64)),
+    area: (f64, f64),
     log: bool,
 ) -> Drawn {
-    let parts = match series.style() {
+    let mut parts = match series.style() {
         Style::Points => {
             let inside = |&(px, py): &Point| inside(px, x) && inside(py, y);
             vec![points.iter().flatten().copied().filter(inside).collect()]
         }
         Style::Line | Style::Dashed => clip_lines(points, x, y),
     };
+    let pixel = ((x.1 - x.0) / area.0, (y.1 - y.0) / area.1);
+    for part in &mut parts {
+        thin(part, pixel);
+    }
     let mut label = series.name().to_string();
     if points.iter().all(Option::is_none) {
         label += if log {
@@ -250,6 +254,27 @@ fn drawn(
             .unwrap_or(PALETTE[index % PALETTE.len()]),
         style: series.style(),
         parts,
+    }
+}
+
+/// Drops the points within half a pixel, on both axes, of the last point kept (keeping the
+/// last point of all): the drawing moves by less than a pixel, and a long run's line
+/// needs a few points per pixel, not thousands (an SVG file stays small, drawing fast).
+fn thin(points: &mut Vec<Point>, pixel: (f64, f64)) {
+    let Some(&last) = points.last() else {
+        return;
+    };
+    let (half_x, half_y) = (0.5 * pixel.0, 0.5 * pixel.1);
+    let mut kept: Option<Point> = None;
+    points.retain(|&p| {
+        let keep = kept.is_none_or(|k| (p.0 - k.0).abs() >= half_x || (p.1 - k.1).abs() >= half_y);
+        if keep {
+            kept = Some(p);
+        }
+        keep
+    });
+    if points.last() != Some(&last) {
+        points.push(last);
     }
 }
 

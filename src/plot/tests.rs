@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use super::prepare::{Axis, Prepared, prepare};
+use super::render::MIN_PANEL as MIN_PANEL_SIZE;
 use super::*;
 use crate::models::{KnifeEdge, MobileRobot};
 use crate::{DormandPrince, HamelSystem, Simulation, Trajectory};
@@ -351,6 +352,8 @@ fn unknown_columns_are_listed() {
     assert_eq!(err.kind(), &expected);
     assert_eq!(err.path(), Some("never.svg"));
     assert!(xy(&run, "x", "z", "never.svg").is_err());
+    let err = Panel::time_series(&run, &[]).unwrap_err();
+    assert!(matches!(err.kind(), ErrorKind::NoSeries { .. }));
     assert!(!std::path::Path::new("never.svg").exists());
 }
 
@@ -379,4 +382,70 @@ fn energy_drift_shows_the_energy_balance_when_forces_work() {
         png_size(&figure.to_png().unwrap()),
         (3 * PANEL_SIZE.0, PANEL_SIZE.1)
     );
+}
+
+/// Values that stress the layout: huge, tiny, of both signs, non-finite.
+fn awkward(seed: &mut u64) -> f64 {
+    // A 64-bit LCG (Knuth's MMIX constants): reproducible, with no dependency.
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let r = (*seed >> 11) as f64 / (1u64 << 53) as f64;
+    match *seed >> 60 {
+        0 => f64::NAN,
+        1 => f64::INFINITY,
+        2 => 0.0,
+        3 => 1e300 * (r - 0.5),
+        4 => 1e-300 * r,
+        5 => 1.0 + 1e-15 * r,
+        _ => 10f64.powf(40.0 * r - 20.0) * if r < 0.3 { -1.0 } else { 1.0 },
+    }
+}
+
+#[test]
+fn awkward_data_gives_a_figure_or_an_error_never_a_panic() {
+    let (mut seed, mut drawn) = (7, 0);
+    for case in 0..200 {
+        let n = 1 + case % 7;
+        let x: Vec<f64> = (0..n).map(|_| awkward(&mut seed)).collect();
+        let y: Vec<f64> = (0..n).map(|_| awkward(&mut seed)).collect();
+        let mut panel = Panel::new(format!("case {case}"))
+            .x_label("x")
+            .y_label("y")
+            .line("line", &x, &y)
+            .points("dots", &y, &x);
+        if case % 2 == 0 {
+            panel = panel.log_y();
+        }
+        if case % 3 == 0 {
+            panel = panel.equal_aspect();
+        }
+        if case % 5 == 0 {
+            panel = panel.y_range(1e-3, 1e3).x_range(-1.0, 1.0);
+        }
+        let figure = Figure::from(panel).size(MIN_PANEL_SIZE.0, MIN_PANEL_SIZE.1);
+        if let Ok(svg) = figure.to_svg() {
+            check_svg(&svg);
+            png_size(&figure.to_png().unwrap());
+            drawn += 1;
+        }
+    }
+    assert!(drawn > 50, "only {drawn} of 200 cases drawn");
+}
+
+#[test]
+fn long_runs_are_thinned_to_the_resolution() {
+    let n = 100_000;
+    let t: Vec<f64> = (0..n).map(|i| f64::from(i) * 1e-4).collect();
+    let y: Vec<f64> = t.iter().map(|t| (3.0 * t).sin()).collect();
+    let panel = Panel::new("long").line("y", &t, &y);
+    let prepared = lay_out(&panel).unwrap();
+    let part = &prepared.series[0].parts[0];
+    // One point a half pixel along the curve (about 8000 pixels up and down, 600 across)
+    // at most, and the ends kept.
+    assert!(part.len() < 20_000, "{} points", part.len());
+    assert_eq!(part.first(), Some(&(0.0, 0.0)));
+    assert_eq!(part.last(), Some(&(t[n as usize - 1], y[n as usize - 1])));
+    let svg = Figure::from(panel).to_svg().unwrap();
+    assert!(svg.len() < 200_000, "{} bytes", svg.len());
 }

@@ -44,6 +44,10 @@ impl Panel {
     pub fn time_series(trajectory: &Trajectory, names: &[&str]) -> Result<Panel, PlotError> {
         let joined = names.join(", ");
         let t = time_name(trajectory);
+        if names.is_empty() {
+            let panel = format!("no columns against {t}");
+            return Err(ErrorKind::NoSeries { panel }.into());
+        }
         let mut panel = Panel::new(format!("{joined} against {t}"))
             .x_label(t)
             .y_label(joined);
