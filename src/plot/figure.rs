@@ -151,9 +151,11 @@ impl Series {
 /// Which points are drawn: a point with a non-finite coordinate (NaN, ±∞) is left out, and
 /// so, on a logarithmic y axis, is a point whose y is zero or negative. A line is broken
 /// where a point is left out rather than joined across the gap, so that it never suggests
-/// values that were not there. A series with no point left keeps its legend entry, marked
-/// "(no finite values)" or "(no positive values)"; a panel with no point left at all is an
-/// error ([`ErrorKind::NothingToPlot`]).
+/// values that were not there. A series none of whose points can be drawn keeps its legend
+/// entry, marked "(no finite values)" or "(no positive values)"; a panel none of whose
+/// points can be drawn is an error ([`ErrorKind::NothingToPlot`]). Lines and dots are
+/// thinned to the figure's resolution: a point within half a pixel of the last one drawn
+/// is skipped, which moves nothing visibly.
 ///
 /// The axes span the data (with a margin) unless [`Panel::x_range`] or [`Panel::y_range`]
 /// fix them; lines are then clipped at the edges of the plotting area.
