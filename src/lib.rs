@@ -8,6 +8,8 @@
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
+//! [`plot`] (feature `plot`, on by default) draws trajectories and analyses as SVG or PNG.
+//!
 //! # How a model becomes a simulator
 //!
 //! `#[hamel_system]` lowers the role functions' bodies into one expression graph and builds
@@ -51,6 +53,8 @@ extern crate self as hamel;
 
 pub mod docs;
 pub mod models;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod prelude;
 
 pub use hamel_macros::{differentiate, hamel_system};
