@@ -14,6 +14,7 @@
 //! ```
 
 use hamel::models::WhippleBicycle;
+use hamel::plot::{Figure, Panel};
 use hamel::prelude::*;
 use hamel::roots::brent;
 use hamel::{Linearization, Mode};
@@ -81,6 +82,31 @@ fn table(all: &[(f64, Vec<Mode>)]) -> String {
     text
 }
 
+/// The paper's Figure 3: the real parts (dots) and the positive imaginary parts (circles of
+/// another colour) of the eigenvalues against speed, with the weave and capsize speeds.
+fn figure(all: &[(f64, Vec<Mode>)], weave: f64, capsize: f64) -> Figure {
+    let (mut v_re, mut re, mut v_im, mut im) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (v, modes) in all {
+        for mode in modes {
+            v_re.push(*v);
+            re.push(mode.value.re);
+            if mode.value.im > 0.0 {
+                v_im.push(*v);
+                im.push(mode.value.im);
+            }
+        }
+    }
+    let panel = Panel::new("Whipple bicycle: eigenvalues of the lateral motion")
+        .x_label("forward speed v (m/s)")
+        .y_label("eigenvalue λ (1/s)")
+        .y_range(-10.0, 10.0)
+        .points("Re λ", &v_re, &re)
+        .points("Im λ", &v_im, &im)
+        .dashed("weave speed", &[weave, weave], &[-10.0, 10.0])
+        .dashed("capsize speed", &[capsize, capsize], &[-10.0, 10.0]);
+    Figure::from(panel).size(900, 600)
+}
+
 /// A nonlinear run from upright at speed v with an initial lean and roll rate, sampled
 /// every `every` seconds; the holonomic front contact is kept by projection.
 fn ride(
@@ -139,6 +165,10 @@ fn run() -> Result<(), Error> {
         message: e.to_string(),
     })?;
     println!("wrote {} rows to bicycle_eigenvalues.csv", all.len());
+    let plot = figure(&all, weave, capsize);
+    plot.save("bicycle_eigenvalues.svg")?;
+    plot.save("bicycle_eigenvalues.png")?;
+    println!("wrote bicycle_eigenvalues.svg and bicycle_eigenvalues.png (the paper's Figure 3)");
 
     let stable = ride(&bike, 4.6, (0.0, 0.5), 5.0, 0.5)?;
     println!("\nv = 4.6 m/s (self-stable), from upright with a roll rate of 0.5 rad/s: the");
