@@ -390,4 +390,16 @@ pub enum Error {
         near: f64,
         residual: f64,
     },
+
+    /// An event function returned a value that is not finite.
+    #[error(
+        "the event function `{name}` is {} at t = {}: event functions must be finite along the \
+         run; state: {state}", Num(*value), Num(*t)
+    )]
+    NonFiniteEvent {
+        name: String,
+        t: f64,
+        value: f64,
+        state: NamedValues,
+    },
 }

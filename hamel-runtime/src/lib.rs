@@ -4,6 +4,7 @@
 mod assembly;
 mod builder;
 mod error;
+mod events;
 pub mod integrate;
 mod jacobian;
 mod linearization;
@@ -14,6 +15,7 @@ mod recorder;
 pub mod roots;
 mod scalar;
 mod simulation;
+mod sink;
 mod system;
 mod system_ode;
 mod trajectory;
@@ -22,14 +24,20 @@ mod vector;
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use error::{AssemblyFailure, Error, Num, Singularity};
-pub use integrate::{DormandPrince, Integrator, Observer, Ode, Rk4, Stats};
+pub use integrate::{
+    Control, DormandPrince, Grid, Integrator, Interpolant, Observer, Ode, Rk4, SampleObserver,
+    SampleTimes, Stats, StepView,
+};
 pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
 pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use scalar::Scalar;
-pub use simulation::Simulation;
+pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
+pub use recorder::Output;
+pub use simulation::{Progress, Simulation};
+pub use sink::{CsvSink, Sink};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};
-pub use trajectory::{Summary, Trajectory};
+pub use trajectory::{Stopped, Summary, Trajectory};
 pub use vector::Vector;

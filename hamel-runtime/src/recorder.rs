@@ -1,96 +1,143 @@
-//! Recording a simulation's samples with the monitors of its [`Summary`]: the constraint and
-//! holonomic residuals, the energy drift and the energy balance.
+//! Recording a simulation's samples into a [`Sink`] with the monitors of its [`Summary`]: the
+//! constraint and holonomic residuals, the energy drift and the energy balance.
+
+use std::cell::RefCell;
 
 use crate::error::{Error, Singularity};
+use crate::events::EventRecord;
 use crate::integrate::Stats;
+use crate::sink::Sink;
 use crate::system::HamelSystem;
-use crate::trajectory::{Summary, Trajectory};
+use crate::trajectory::{Stopped, Summary};
 
-/// Records the samples and keeps the monitors' running maxima.
-pub(crate) struct Recorder<'s, S> {
-    system: &'s S,
-    trajectory: Trajectory,
-    /// max |W| so far, for the scale of the relative energy balance.
-    max_work: f64,
+/// A named output column computed from the time and state (a contact point's position).
+pub struct Output<'s, S: HamelSystem> {
+    pub(crate) name: String,
+    pub(crate) f: Box<dyn Fn(f64, &S::State) -> f64 + 's>,
 }
 
-impl<'s, S: HamelSystem> Recorder<'s, S> {
-    /// An empty recording with the columns t, the state, `energy` and, for a system that is
-    /// not conservative, `energy_balance`.
-    pub fn new(system: &'s S) -> Self {
-        let balance: &[&str] = if S::CONSERVATIVE {
-            &[]
-        } else {
-            &["energy_balance"]
-        };
-        let names = ["t"]
+/// What a simulation records besides the time and the state.
+pub(crate) struct Columns<'a, 's, S: HamelSystem> {
+    /// User outputs.
+    pub outputs: &'a [Output<'s, S>],
+    /// Whether to record the constraint forces λ.
+    pub forces: bool,
+}
+
+impl<S: HamelSystem> Columns<'_, '_, S> {
+    /// The column names: t, the state, the inputs, the outputs, `energy`, for a system that
+    /// is not conservative `energy_balance`, and `lambda_<constraint>` when asked.
+    pub fn names(&self) -> Vec<String> {
+        let mut names: Vec<String> = ["t"]
             .iter()
             .chain(S::STATE)
-            .chain(&["energy"])
-            .chain(balance)
+            .chain(S::INPUTS)
             .map(|n| (*n).to_string())
             .collect();
-        let summary = Summary {
-            steps: 0,
-            rejected: 0,
-            evaluations: 0,
-            samples: 0,
-            max_constraint_residual: 0.0,
-            initial_energy: f64::NAN,
-            max_energy_drift: 0.0,
-            relative_energy_drift: 0.0,
-            conservative: S::CONSERVATIVE,
-            holonomic_constraints: S::K,
-            max_holonomic_residual: 0.0,
-            work: 0.0,
-            max_energy_balance: 0.0,
-            relative_energy_balance: 0.0,
-        };
-        Recorder {
-            system,
-            trajectory: Trajectory::new(names, summary),
-            max_work: 0.0,
+        names.extend(self.outputs.iter().map(|o| o.name.clone()));
+        names.push("energy".into());
+        if !S::CONSERVATIVE {
+            names.push("energy_balance".into());
         }
+        if self.forces {
+            names.extend(S::CONSTRAINTS.iter().map(|c| format!("lambda_{c}")));
+        }
+        names
+    }
+}
+
+/// Records the samples and keeps the monitors' running maxima.
+pub(crate) struct Recorder<'a, 's, S: HamelSystem, F> {
+    system: &'s S,
+    inputs: &'a RefCell<F>,
+    columns: Columns<'a, 's, S>,
+    sink: &'a mut dyn Sink,
+    summary: Summary,
+    /// max |W| so far, for the scale of the relative energy balance.
+    max_work: f64,
+    row: Vec<f64>,
+}
+
+impl<'a, 's, S, F> Recorder<'a, 's, S, F>
+where
+    S: HamelSystem,
+    F: FnMut(f64, &S::State) -> S::Inputs,
+{
+    /// A recording into `sink`, whose columns it announces.
+    pub fn new(
+        system: &'s S,
+        inputs: &'a RefCell<F>,
+        columns: Columns<'a, 's, S>,
+        sink: &'a mut dyn Sink,
+    ) -> Result<Self, Error> {
+        let names = columns.names();
+        sink.begin(&names)?;
+        Ok(Recorder {
+            system,
+            inputs,
+            columns,
+            sink,
+            summary: Summary::new::<S>(),
+            max_work: 0.0,
+            row: Vec::with_capacity(names.len()),
+        })
     }
 
     /// Records the state x at time t, with the work W done on the system since the first
     /// sample (0 for a conservative system).
     pub fn record(&mut self, t: f64, x: &S::State, work: f64) -> Result<(), Error> {
         let at = |s: Singularity| S::singular(s, t, x);
-        let energy = self.system.energy(t, x).map_err(at)?;
+        let system = self.system;
+        let energy = system.energy(t, x).map_err(at)?;
         let q = S::coordinates_of(x);
-        let qd = self.system.generalized_velocities(t, x).map_err(at)?;
-        let residual = self.system.constraint_residual(t, &q, &qd);
-        let holonomic = self.system.holonomic_residual(t, &q);
+        let qd = system.generalized_velocities(t, x).map_err(at)?;
+        let residual = system.constraint_residual(t, &q, &qd);
+        let holonomic = system.holonomic_residual(t, &q);
+        let u = (self.inputs.borrow_mut())(t, x);
 
-        let first = self.trajectory.is_empty();
+        let first = self.summary.samples == 0;
         let e0 = if first {
             energy
         } else {
-            self.trajectory.summary().initial_energy
+            self.summary.initial_energy
         };
         let balance = energy - e0 - work;
-        let balance_column: &[f64] = if S::CONSERVATIVE { &[] } else { &[balance] };
-        self.trajectory.push(
-            core::iter::once(t)
-                .chain(x.as_ref().iter().copied())
-                .chain([energy])
-                .chain(balance_column.iter().copied()),
-        );
+        self.row.clear();
+        self.row.push(t);
+        self.row.extend_from_slice(x.as_ref());
+        self.row.extend_from_slice(u.as_ref());
+        for output in self.columns.outputs {
+            self.row.push((output.f)(t, x));
+        }
+        self.row.push(energy);
+        if !S::CONSERVATIVE {
+            self.row.push(balance);
+        }
+        if self.columns.forces {
+            let lambda = system.constraint_forces(t, x, &u).map_err(at)?;
+            self.row.extend_from_slice(lambda.as_ref());
+        }
+        self.sink.row(&self.row)?;
         self.max_work = nan_max(self.max_work, work.abs());
+        self.monitor(e0, energy, work, residual.as_ref(), holonomic.as_ref());
+        Ok(())
+    }
 
-        let summary = self.trajectory.summary_mut();
+    /// The summary's running maxima after a sample.
+    fn monitor(&mut self, e0: f64, energy: f64, work: f64, residual: &[f64], holonomic: &[f64]) {
+        let summary = &mut self.summary;
         summary.samples += 1;
         summary.initial_energy = e0;
-        for r in residual.as_ref() {
+        for r in residual {
             summary.max_constraint_residual = nan_max(summary.max_constraint_residual, r.abs());
         }
-        for f in holonomic.as_ref() {
+        for f in holonomic {
             summary.max_holonomic_residual = nan_max(summary.max_holonomic_residual, f.abs());
         }
         summary.max_energy_drift = nan_max(summary.max_energy_drift, (energy - e0).abs());
         summary.relative_energy_drift = summary.max_energy_drift / e0.abs().max(f64::MIN_POSITIVE);
         summary.work = work;
+        let balance = energy - e0 - work;
         summary.max_energy_balance = nan_max(summary.max_energy_balance, balance.abs());
         // The energies that take part in the balance: E₀, the change E − E₀ and the work W.
         // E₀ alone would not do: it may be 0 (a body at rest set moving by its inputs), and
@@ -101,17 +148,32 @@ impl<'s, S: HamelSystem> Recorder<'s, S> {
             .max(self.max_work)
             .max(f64::MIN_POSITIVE);
         summary.relative_energy_balance = summary.max_energy_balance / scale;
-        Ok(())
     }
 
-    /// The recording, with what the integration cost.
-    pub fn finish(self, stats: Stats) -> Trajectory {
-        let mut trajectory = self.trajectory;
-        let summary = trajectory.summary_mut();
+    /// An event, passed on to the sink.
+    pub fn event(&mut self, event: &EventRecord) -> Result<(), Error> {
+        if event.terminal {
+            self.summary.stopped = Some(Stopped::Event {
+                name: event.name.clone(),
+                t: event.t,
+            });
+        }
+        self.sink.event(event)
+    }
+
+    /// A run cancelled by its progress callback at t.
+    pub fn cancelled(&mut self, t: f64) {
+        self.summary.stopped = Some(Stopped::Cancelled { t });
+    }
+
+    /// The summary, with what the integration cost; the sink is told the run is over.
+    pub fn finish(self, stats: Stats) -> Result<Summary, Error> {
+        self.sink.end()?;
+        let mut summary = self.summary;
         summary.steps = stats.steps;
         summary.rejected = stats.rejected;
         summary.evaluations = stats.evaluations;
-        trajectory
+        Ok(summary)
     }
 }
 

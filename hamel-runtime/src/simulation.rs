@@ -1,12 +1,51 @@
 //! The simulation driver: checks a run's settings, integrates a [`HamelSystem`] with any
-//! [`Integrator`], and records a [`Trajectory`] with energy and constraint monitors.
+//! [`Integrator`], records the samples into a [`Trajectory`] or streams them into a
+//! [`Sink`], with energy and constraint monitors, events, extra output columns and a
+//! progress callback that can cancel the run.
+
+use std::cell::RefCell;
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
 
 use crate::error::Error;
-use crate::integrate::Integrator;
-use crate::recorder::Recorder;
+use crate::events::{EVENT_TOLERANCE, Event, Watch};
+use crate::integrate::{Control, Grid, Integrator, Observer, SampleTimes, StepView};
+use crate::recorder::{Columns, Output, Recorder};
+use crate::sink::Sink;
 use crate::system::HamelSystem;
 use crate::system_ode::{BalanceOde, PlainOde, extend, project_coordinates, split};
-use crate::trajectory::Trajectory;
+use crate::trajectory::{Summary, Trajectory};
+
+/// Where a run is, for a progress callback.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// The time reached.
+    pub t: f64,
+    /// The run's start and end times.
+    pub t0: f64,
+    pub t_end: f64,
+    /// Accepted steps so far.
+    pub steps: usize,
+    /// Wall-clock time since the run started.
+    pub elapsed: Duration,
+}
+
+impl Progress {
+    /// The fraction of the span done, in [0, 1].
+    pub fn fraction(&self) -> f64 {
+        ((self.t - self.t0) / (self.t_end - self.t0)).clamp(0.0, 1.0)
+    }
+}
+
+/// A progress callback: `ControlFlow::Break(())` cancels the run.
+type ProgressFn<'s> = Box<dyn Fn(&Progress) -> ControlFlow<()> + 's>;
+
+/// How often, at most, the progress callback is called.
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
+
+/// Samples × columns above which an in-memory run is refused (8 bytes each: 4 GiB), in favour
+/// of streaming them ([`Simulation::stream`]).
+const MAX_IN_MEMORY: f64 = 512.0 * 1024.0 * 1024.0;
 
 /// A run of a system from an initial state: x0 at `t0`, recorded every `dt_out` until
 /// `t_end` (defaults: from 0 to 10, every 0.01).
@@ -17,11 +56,12 @@ pub struct Simulation<'s, S: HamelSystem> {
     t_end: f64,
     dt_out: f64,
     project: bool,
+    events: Vec<Event<'s, S>>,
+    event_tolerance: f64,
+    outputs: Vec<Output<'s, S>>,
+    forces: bool,
+    progress: Option<ProgressFn<'s>>,
 }
-
-/// More samples than this is a mistaken sample interval, not a simulation: refuse it before
-/// allocating gigabytes.
-const MAX_SAMPLES: f64 = 1e8;
 
 impl<'s, S: HamelSystem> Simulation<'s, S> {
     /// A run of `system` from the state `x0` (see [`HamelSystem::state_builder`],
@@ -34,6 +74,11 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             t_end: 10.0,
             dt_out: 0.01,
             project: false,
+            events: Vec::new(),
+            event_tolerance: EVENT_TOLERANCE,
+            outputs: Vec::new(),
+            forces: false,
+            progress: None,
         }
     }
 
@@ -69,8 +114,48 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         self
     }
 
-    /// The sample times t0, t0 + dt, …, t_end, after checking the settings.
-    pub fn sample_times(&self) -> Result<Vec<f64>, Error> {
+    /// Watches an event: its sign changes are located on the integrator's dense output and
+    /// recorded ([`Trajectory::events`]); a terminal one ends the run at its time.
+    pub fn event(mut self, event: Event<'s, S>) -> Self {
+        self.events.push(event);
+        self
+    }
+
+    /// The time tolerance of event location, relative to the step the event falls in
+    /// (default [`crate::EVENT_TOLERANCE`], 10⁻¹²).
+    pub fn event_tolerance(mut self, relative: f64) -> Self {
+        self.event_tolerance = relative;
+        self
+    }
+
+    /// Records one more column, `name`, computed from the time and the state at every sample
+    /// (a contact point's position, a distance).
+    pub fn output(mut self, name: impl Into<String>, f: impl Fn(f64, &S::State) -> f64 + 's) -> Self {
+        self.outputs.push(Output {
+            name: name.into(),
+            f: Box::new(f),
+        });
+        self
+    }
+
+    /// Records the constraint forces λ ([`HamelSystem::constraint_forces`]) in the columns
+    /// `lambda_<constraint>` (default: off).
+    pub fn record_constraint_forces(mut self, on: bool) -> Self {
+        self.forces = on;
+        self
+    }
+
+    /// Calls `f` with the run's progress, every 50 ms of computing at most and once at the
+    /// end; `ControlFlow::Break(())` cancels the run there: it ends at the time reached, its
+    /// summary says so ([`crate::Summary::stopped`]), and what was recorded is kept.
+    pub fn on_progress(mut self, f: impl Fn(&Progress) -> ControlFlow<()> + 's) -> Self {
+        self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// The sample times, after checking the settings; computed on demand, so that a run of
+    /// 10⁸ samples does not hold 10⁸ times.
+    pub fn samples(&self) -> Result<Grid, Error> {
         let (t0, t_end, dt) = (self.t0, self.t_end, self.dt_out);
         if !t0.is_finite() {
             return Err(Error::InvalidSetting {
@@ -86,68 +171,136 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                 reason: "it must be a finite number after the start time (0 unless set with `start_time`)",
             });
         }
-        if !(dt.is_finite() && dt > 0.0) {
+        if !(dt.is_finite() && dt > 0.0 && (t_end - t0) / dt < 1e15) {
             return Err(Error::InvalidSetting {
                 name: "sample interval",
                 value: dt,
-                reason: "it must be a positive finite number",
+                reason: "it must be a positive finite number, at most 10¹⁵ of which fill the span",
             });
         }
-        let intervals = (t_end - t0) / dt;
-        if intervals >= MAX_SAMPLES {
+        if !(self.event_tolerance.is_finite() && self.event_tolerance >= 0.0) {
             return Err(Error::InvalidSetting {
-                name: "sample interval",
-                value: dt,
-                reason: "it gives more than 10⁸ samples; choose a longer interval",
+                name: "event tolerance",
+                value: self.event_tolerance,
+                reason: "it must be a finite number ≥ 0 (relative to a step)",
             });
         }
-        // i·dt from the start rather than accumulated sums, so t0 + 100·0.01 is 1 and not
-        // 1.0000000000000007; a sample closer to t_end than a billionth of dt is dropped in
-        // favour of t_end itself rather than leaving a sliver of an interval.
-        let mut times: Vec<f64> = (0..)
-            .map(|i| t0 + i as f64 * dt)
-            .take_while(|t| *t < t_end - 1e-9 * dt)
-            .collect();
-        times.push(t_end);
-        Ok(times)
+        Ok(Grid::new(t0, t_end, dt))
+    }
+
+    /// The sample times t0, t0 + dt, …, t_end as a vector (see [`Simulation::samples`]).
+    pub fn sample_times(&self) -> Result<Vec<f64>, Error> {
+        let grid = self.samples()?;
+        Ok((0..grid.count()).map(|i| grid.time(i)).collect())
     }
 
     /// Runs with the inputs given as a function of time and state (a feedback law or a
-    /// schedule), recording at every sample time. A system that is not
-    /// [`HamelSystem::CONSERVATIVE`] is integrated with the work done on it, Ẇ =
-    /// [`HamelSystem::power`], outside the step-size control (so with the same steps), for
-    /// the energy balance of the [`crate::Summary`] and the column `energy_balance`.
+    /// schedule), recording at every sample time into a [`Trajectory`] in memory. A system
+    /// that is not [`HamelSystem::CONSERVATIVE`] is integrated with the work done on it,
+    /// Ẇ = [`HamelSystem::power`], outside the step-size control (so with the same steps),
+    /// for the energy balance of the [`crate::Summary`] and the column `energy_balance`. The
+    /// inputs are recorded too, at the samples (they are called there once more).
     pub fn run<I: Integrator>(
         &self,
         integrator: &I,
         inputs: impl FnMut(f64, &S::State) -> S::Inputs,
     ) -> Result<Trajectory, Error> {
+        let grid = self.samples()?;
+        let columns = Columns {
+            outputs: &self.outputs,
+            forces: self.forces,
+        };
+        let size = grid.count() as f64 * columns.names().len() as f64;
+        if size > MAX_IN_MEMORY {
+            return Err(Error::InvalidSetting {
+                name: "sample interval",
+                value: self.dt_out,
+                reason: "the samples would take more than 4 GiB in memory: stream them to a \
+                         file with `Simulation::stream` and a `CsvSink`, or sample less often",
+            });
+        }
+        let mut trajectory = Trajectory::new(Vec::new(), Summary::new::<S>());
+        let summary = self.drive(integrator, inputs, &grid, &mut trajectory)?;
+        trajectory.set_summary(summary);
+        Ok(trajectory)
+    }
+
+    /// Runs with constant inputs.
+    pub fn run_constant<I: Integrator>(
+        &self,
+        integrator: &I,
+        u: S::Inputs,
+    ) -> Result<Trajectory, Error> {
+        self.run(integrator, move |_, _| u)
+    }
+
+    /// Runs as [`Simulation::run`] does, but hands every sample to `sink` as it is produced
+    /// (a [`crate::CsvSink`] writes it to a file), so that a run of any length needs the
+    /// same memory; returns the summary. Events go to `sink` too (`Sink::event`).
+    pub fn stream<I: Integrator>(
+        &self,
+        integrator: &I,
+        inputs: impl FnMut(f64, &S::State) -> S::Inputs,
+        sink: &mut dyn Sink,
+    ) -> Result<Summary, Error> {
+        let grid = self.samples()?;
+        self.drive(integrator, inputs, &grid, sink)
+    }
+
+    /// The run itself: the initial state checked, the inputs shared between the ODE and the
+    /// recorder, the plain or the work-extended ODE integrated.
+    fn drive<I: Integrator, F: FnMut(f64, &S::State) -> S::Inputs>(
+        &self,
+        integrator: &I,
+        inputs: F,
+        grid: &Grid,
+        sink: &mut dyn Sink,
+    ) -> Result<Summary, Error> {
         let x0 = self.initial_state()?;
-        let times = self.sample_times()?;
-        let mut recorder = Recorder::new(self.system);
+        let inputs = RefCell::new(inputs);
+        let columns = Columns {
+            outputs: &self.outputs,
+            forces: self.forces,
+        };
+        let recorder = Recorder::new(self.system, &inputs, columns, sink)?;
+        let watch = Watch::new(&self.events, self.event_tolerance, self.t0, &x0)?;
         let (system, project) = (self.system, self.project);
+        let mut observer = Driver {
+            recorder,
+            watch,
+            watching_events: !Event::is_empty(&self.events),
+            progress: self.progress.as_deref(),
+            started: Instant::now(),
+            reported: Instant::now(),
+            span: (self.t0, self.t_end),
+            steps: 0,
+        };
         let stats = if S::CONSERVATIVE {
             let mut ode = PlainOde {
                 system,
-                inputs,
+                inputs: &inputs,
                 project,
             };
-            integrator.integrate(&mut ode, self.t0, &x0, &times, &mut |t, x| {
-                recorder.record(t, x, 0.0)
-            })?
+            let mut states = States {
+                driver: &mut observer,
+                split: |x: &S::State| (*x, 0.0),
+            };
+            integrator.integrate_observed(&mut ode, self.t0, &x0, grid, &mut states)?
         } else {
             let mut ode = BalanceOde {
                 system,
-                inputs,
+                inputs: &inputs,
                 project,
             };
             let v0 = extend::<S>(&x0)?;
-            integrator.integrate(&mut ode, self.t0, &v0, &times, &mut |t, v| {
-                let (x, work) = split::<S>(v);
-                recorder.record(t, &x, work)
-            })?
+            let mut states = States {
+                driver: &mut observer,
+                split: split::<S>,
+            };
+            integrator.integrate_observed(&mut ode, self.t0, &v0, grid, &mut states)?
         };
-        Ok(recorder.finish(stats))
+        observer.report_progress(observer.span.1.min(stats.stopped.unwrap_or(f64::INFINITY)));
+        observer.recorder.finish(stats)
     }
 
     /// The checked initial state, its dependent coordinates re-solved when projecting.
@@ -172,13 +325,80 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         }
         Ok(x0)
     }
+}
 
-    /// Runs with constant inputs.
-    pub fn run_constant<I: Integrator>(
-        &self,
-        integrator: &I,
-        u: S::Inputs,
-    ) -> Result<Trajectory, Error> {
-        self.run(integrator, move |_, _| u)
+/// What the integrator reports to, for one run: the recorder, the events and the progress.
+struct Driver<'a, 's, 'e, S: HamelSystem, F> {
+    recorder: Recorder<'a, 's, S, F>,
+    watch: Watch<'e, 's, S>,
+    watching_events: bool,
+    progress: Option<&'a (dyn Fn(&Progress) -> ControlFlow<()> + 's)>,
+    started: Instant,
+    reported: Instant,
+    span: (f64, f64),
+    steps: usize,
+}
+
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Driver<'_, '_, '_, S, F> {
+    /// Calls the progress callback; whether it asked to stop.
+    fn report_progress(&mut self, t: f64) -> bool {
+        let Some(progress) = self.progress else {
+            return false;
+        };
+        self.reported = Instant::now();
+        let p = Progress {
+            t,
+            t0: self.span.0,
+            t_end: self.span.1,
+            steps: self.steps,
+            elapsed: self.started.elapsed(),
+        };
+        progress(&p).is_break()
+    }
+}
+
+/// The driver as an observer of the integrator's states (the plain state, or the state and
+/// the work), which `split` separates.
+struct States<'d, D, G> {
+    driver: &'d mut D,
+    split: G,
+}
+
+impl<'a, 's, 'e, S, F, V, G> Observer<V> for States<'_, Driver<'a, 's, 'e, S, F>, G>
+where
+    S: HamelSystem,
+    F: FnMut(f64, &S::State) -> S::Inputs,
+    V: crate::vector::Vector,
+    G: Fn(&V) -> (S::State, f64),
+{
+    fn sample(&mut self, t: f64, v: &V) -> Result<(), Error> {
+        let (x, work) = (self.split)(v);
+        self.driver.recorder.record(t, &x, work)
+    }
+
+    fn watches_steps(&self) -> bool {
+        self.driver.watching_events || self.driver.progress.is_some()
+    }
+
+    fn step(&mut self, view: &StepView<'_, V>) -> Result<Control, Error> {
+        let driver = &mut *self.driver;
+        driver.steps += 1;
+        if driver.watching_events {
+            let split = &self.split;
+            for event in driver.watch.step(view, |v| split(v).0)? {
+                driver.recorder.event(&event)?;
+                if event.terminal {
+                    return Ok(Control::Stop(event.t));
+                }
+            }
+        }
+        if driver.progress.is_some()
+            && driver.reported.elapsed() >= PROGRESS_INTERVAL
+            && driver.report_progress(view.t1)
+        {
+            driver.recorder.cancelled(view.t1);
+            return Ok(Control::Stop(view.t1));
+        }
+        Ok(Control::Continue)
     }
 }

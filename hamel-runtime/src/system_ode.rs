@@ -2,6 +2,8 @@
 //! system, the state extended by the work done on it otherwise; with the holonomic
 //! constraints re-solved after every step when asked.
 
+use std::cell::RefCell;
+
 use crate::assembly;
 use crate::error::Error;
 use crate::integrate::Ode;
@@ -14,18 +16,19 @@ const WORK: &str = "work";
 
 /// The reduced ODE ẋ = F(t, x, u(t, x)): the inputs are evaluated at every stage, and a
 /// singular matrix in the right-hand side becomes an error naming the time and state.
-pub(crate) struct PlainOde<'s, S, F> {
+pub(crate) struct PlainOde<'s, 'i, S, F> {
     pub system: &'s S,
-    pub inputs: F,
+    /// Shared with the recorder, which records the inputs at the samples.
+    pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
 }
 
-impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_, S, F> {
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_, '_, S, F> {
     type State = S::State;
 
     fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
-        let u = (self.inputs)(t, x);
+        let u = (self.inputs.borrow_mut())(t, x);
         self.system
             .rhs(t, x, &u, dx)
             .map_err(|s| S::singular(s, t, x))
@@ -48,19 +51,19 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
 /// The reduced ODE extended by the work W done on the system, Ẇ = power(t, x, u), for the
 /// energy balance E(t) − E(t₀) = W(t). W is left out of the step-size control, so the steps
 /// are exactly those of the plain state.
-pub(crate) struct BalanceOde<'s, S, F> {
+pub(crate) struct BalanceOde<'s, 'i, S, F> {
     pub system: &'s S,
-    pub inputs: F,
+    pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
 }
 
-impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'_, S, F> {
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'_, '_, S, F> {
     type State = S::Extended;
 
     fn rhs(&mut self, t: f64, v: &S::Extended, dv: &mut S::Extended) -> Result<(), Error> {
         let (x, _) = split::<S>(v);
-        let u = (self.inputs)(t, &x);
+        let u = (self.inputs.borrow_mut())(t, &x);
         let mut dx = S::State::zeros();
         let at = |s| S::singular(s, t, &x);
         self.system.rhs(t, &x, &u, &mut dx).map_err(at)?;

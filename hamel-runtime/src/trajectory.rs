@@ -6,6 +6,9 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::error::{Error, Num};
+use crate::events::EventRecord;
+use crate::sink::Sink;
+use crate::system::HamelSystem;
 
 /// What a run cost and how well it kept energy and constraints.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,6 +46,49 @@ pub struct Summary {
     /// max |E − E₀ − W| / max(|E₀|, max |E − E₀|, max |W|, f64::MIN_POSITIVE): relative to the
     /// largest energy in the balance (E₀ alone may be 0, for a body at rest set moving).
     pub relative_energy_balance: f64,
+    /// Why the run ended before its end time, if it did.
+    pub stopped: Option<Stopped>,
+}
+
+/// Why a run ended before its end time.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stopped {
+    /// A terminal event happened.
+    Event { name: String, t: f64 },
+    /// The progress callback asked to stop.
+    Cancelled { t: f64 },
+}
+
+impl fmt::Display for Stopped {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Stopped::Event { name, t } => write!(f, "at t = {} by the event `{name}`", Num(*t)),
+            Stopped::Cancelled { t } => write!(f, "at t = {}, cancelled", Num(*t)),
+        }
+    }
+}
+
+impl Summary {
+    /// The summary of a run of `S` before its first sample.
+    pub(crate) fn new<S: HamelSystem>() -> Summary {
+        Summary {
+            steps: 0,
+            rejected: 0,
+            evaluations: 0,
+            samples: 0,
+            max_constraint_residual: 0.0,
+            initial_energy: f64::NAN,
+            max_energy_drift: 0.0,
+            relative_energy_drift: 0.0,
+            conservative: S::CONSERVATIVE,
+            holonomic_constraints: S::K,
+            max_holonomic_residual: 0.0,
+            work: 0.0,
+            max_energy_balance: 0.0,
+            relative_energy_balance: 0.0,
+            stopped: None,
+        }
+    }
 }
 
 impl fmt::Display for Summary {
@@ -83,6 +129,9 @@ impl fmt::Display for Summary {
                 self.relative_energy_balance
             )?;
         }
+        if let Some(stopped) = &self.stopped {
+            write!(f, "\nstopped                  {stopped}")?;
+        }
         Ok(())
     }
 }
@@ -96,7 +145,27 @@ pub struct Trajectory {
     /// `columns[j][i]`: quantity j at sample i. By column, because plots and checks read
     /// quantities, and a column is then a slice.
     columns: Vec<Vec<f64>>,
+    events: Vec<EventRecord>,
     summary: Summary,
+}
+
+/// A trajectory collects a simulation's samples and events in memory.
+impl Sink for Trajectory {
+    fn begin(&mut self, columns: &[String]) -> Result<(), Error> {
+        self.names = columns.to_vec();
+        self.columns = vec![Vec::new(); columns.len()];
+        Ok(())
+    }
+
+    fn row(&mut self, values: &[f64]) -> Result<(), Error> {
+        self.push(values.iter().copied());
+        Ok(())
+    }
+
+    fn event(&mut self, event: &EventRecord) -> Result<(), Error> {
+        self.events.push(event.clone());
+        Ok(())
+    }
 }
 
 impl Trajectory {
@@ -106,8 +175,27 @@ impl Trajectory {
         Trajectory {
             names,
             columns,
+            events: Vec::new(),
             summary,
         }
+    }
+
+    /// The events of the run, in time order (for a [`crate::Simulation`] with events).
+    pub fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
+
+    /// The times of the events called `name`.
+    pub fn event_times(&self, name: &str) -> Vec<f64> {
+        self.events
+            .iter()
+            .filter(|e| e.name == name)
+            .map(|e| e.t)
+            .collect()
+    }
+
+    pub(crate) fn set_summary(&mut self, summary: Summary) {
+        self.summary = summary;
     }
 
     /// Appends one sample, one value per column, in column order.
@@ -122,10 +210,6 @@ impl Trajectory {
             self.names.len(),
             "a row must have one value per column"
         );
-    }
-
-    pub(crate) fn summary_mut(&mut self) -> &mut Summary {
-        &mut self.summary
     }
 
     /// The column names, in order.
@@ -231,6 +315,7 @@ mod tests {
             work: 0.0,
             max_energy_balance: 3e-12,
             relative_energy_balance: 1.2e-12,
+            stopped: None,
         }
     }
 

@@ -246,7 +246,7 @@ fn free_skate_runs_on_its_circle() {
 
     assert_eq!(
         trajectory.names(),
-        ["t", "x", "y", "theta", "v", "omega", "energy"]
+        ["t", "x", "y", "theta", "v", "omega", "force", "torque", "energy"]
     );
     assert_eq!(trajectory.len(), 401);
     assert_eq!(summary.samples, 401);
@@ -309,7 +309,7 @@ fn free_skate_runs_on_its_circle() {
 }
 
 #[test]
-fn csv_header_names_time_state_and_energy() {
+fn csv_header_names_time_state_inputs_and_energy() {
     let trajectory = Simulation::new(&SKATE, X0)
         .end_time(0.25)
         .sample_interval(0.1)
@@ -319,9 +319,12 @@ fn csv_header_names_time_state_and_energy() {
     trajectory.write_csv(&mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0], "t,x,y,theta,v,omega,energy,energy_balance");
+    assert_eq!(
+        lines[0],
+        "t,x,y,theta,v,omega,force,torque,energy,energy_balance"
+    );
     assert_eq!(lines.len(), 1 + 4, "samples 0, 0.1, 0.2 and the end 0.25");
-    assert_eq!(lines[1], "0.0,1.0,-0.5,0.3,1.5,0.7,2.3725,0.0");
+    assert_eq!(lines[1], "0.0,1.0,-0.5,0.3,1.5,0.7,0.0,0.0,2.3725,0.0");
     let last: Vec<f64> = lines[4].split(',').map(|f| f.parse().unwrap()).collect();
     assert_eq!(last[0], 0.25);
     for (value, expected) in last[1..6].iter().zip(circle(0.25)) {

@@ -616,7 +616,7 @@ fn invalid_settings_are_named() {
         .run_constant(&ok, u)
         .unwrap_err();
     assert_invalid_setting(&e, "sample interval", 1e-9);
-    assert_message(&e, &["more than 10⁸ samples"]);
+    assert_message(&e, &["more than 4 GiB in memory", "Simulation::stream"]);
 }
 
 // ---------------------------------------------------------------------------------------------

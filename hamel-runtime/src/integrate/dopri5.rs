@@ -3,7 +3,11 @@
 //! the same tableau, error norm, PI controller, initial-step heuristic and continuous
 //! extension, so its step counts can be checked against the Fortran code's.
 
-use super::{Integrator, Observer, Ode, Stats, check_problem, check_state, combine, equal_steps};
+use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::{
+    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps,
+    too_many_steps,
+};
 use crate::error::Error;
 use crate::vector::Vector;
 
@@ -28,10 +32,15 @@ pub struct DormandPrince {
     /// `Some(h)`: no error control; equal steps of at most h that end exactly on the final
     /// sample, every one accepted. For convergence studies and reproducible cost.
     pub fixed_step: Option<f64>,
-    /// The most steps (accepted and rejected) an adaptive integration may take (Hairer's
-    /// NMAX): near a singularity of the solution the steps can shrink to where they still
-    /// advance, but by so little that the run would not end. Default [`Self::MAX_STEPS`].
+    /// The most steps (accepted and rejected) an integration may take (Hairer's NMAX): near
+    /// a singularity of the solution the steps can shrink to where they still advance, but by
+    /// so little that the run would not end; a fixed or largest step too small for the span
+    /// is refused before the first step. Default [`super::MAX_STEPS`].
     pub max_steps: usize,
+    /// The smallest step an adaptive integration may take, relative to the span integrated
+    /// (default [`Self::MIN_STEP`]): a step below it means the solution (or the tolerance)
+    /// asks for more than the method can give, and is an error rather than a crawl.
+    pub min_step: f64,
 }
 
 impl DormandPrince {
@@ -43,18 +52,26 @@ impl DormandPrince {
             initial_step: None,
             max_step: f64::INFINITY,
             fixed_step: None,
-            max_steps: Self::MAX_STEPS,
+            max_steps: MAX_STEPS,
+            min_step: Self::MIN_STEP,
         }
     }
 
-    /// The default limit on the steps of one integration: far more than a run at any
-    /// tolerance over a span of its natural time scales takes (hundreds to thousands), and
-    /// seconds of computing for a small system.
-    pub const MAX_STEPS: usize = 1_000_000;
+    /// The default floor on an adaptive step, relative to the span: 10⁻¹² of it, far below
+    /// what a non-stiff solution at any sensible tolerance needs, far above what would make
+    /// a run crawl for hours.
+    pub const MIN_STEP: f64 = 1e-12;
 
-    /// Limits an adaptive integration to `n` steps, rejected ones included.
+    /// Limits an integration to `n` steps, rejected ones included.
     pub fn with_max_steps(mut self, n: usize) -> Self {
         self.max_steps = n;
+        self
+    }
+
+    /// The floor on an adaptive step, relative to the span integrated (≥ 0; 0 leaves only
+    /// the limit of `f64` itself).
+    pub fn with_min_step(mut self, relative: f64) -> Self {
+        self.min_step = relative;
         self
     }
 
@@ -113,6 +130,13 @@ impl DormandPrince {
         }
         if self.max_steps == 0 {
             return invalid("max steps", 0.0, "the integration needs at least one step");
+        }
+        if !(self.min_step.is_finite() && (0.0..1.0).contains(&self.min_step)) {
+            return invalid(
+                "min step",
+                self.min_step,
+                "the floor on the step, relative to the span, must be in [0, 1)",
+            );
         }
         if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
             return invalid(
@@ -394,53 +418,66 @@ fn initial_step<O: Ode>(
     Ok((100.0 * h).min(h1).min(hmax))
 }
 
-/// The bookkeeping of sample times: which come next, and observing those an accepted step
-/// covers.
-struct Samples<'a, 'o, V> {
-    times: &'a [f64],
-    next: usize,
-    observe: &'a mut Observer<'o, V>,
+impl<V: Vector> Interpolant<V> for Dense<V> {
+    fn at(&self, t: f64) -> V {
+        Dense::at(self, t)
+    }
 }
 
-impl<V: Vector> Samples<'_, '_, V> {
-    /// The last sample time: where the integration ends.
-    fn end(&self) -> f64 {
-        self.times.last().copied().unwrap_or(f64::NAN)
+/// The bookkeeping of sample times: which come next, and reporting those an accepted step
+/// covers.
+struct Samples<'a, T: ?Sized, V> {
+    times: &'a T,
+    next: usize,
+    observer: &'a mut dyn Observer<V>,
+}
+
+impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
+    /// The sample time `next` points at, if any is left.
+    fn upcoming(&self) -> Option<f64> {
+        (self.next < self.times.count()).then(|| self.times.time(self.next))
     }
 
-    /// Observes the samples in the accepted step from (t, y) to t1: at t1 the step's result
-    /// as projected, `y1`; inside the step the continuous extension (formed only if needed)
-    /// of the step as computed, projected.
-    fn observe_step<O: Ode<State = V>>(
+    /// Reports the samples in the accepted step from (t, y) to t1 — up to `stop` when the
+    /// observer ends the integration within the step: at t1 the step's result as projected,
+    /// `y1`; inside the step the continuous extension, projected; at a stop the extension
+    /// there, projected, as the last sample.
+    fn report<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
-        (t, y): (f64, &V),
         (t1, y1): (f64, &V),
-        step: &Step<V>,
+        dense: &Dense<V>,
+        stop: Option<f64>,
     ) -> Result<(), Error> {
-        let mut dense = None;
-        while let Some(&s) = self.times.get(self.next).filter(|s| **s <= t1) {
+        let end = stop.unwrap_or(t1);
+        while let Some(s) = self.upcoming().filter(|s| *s <= end && (stop.is_none() || *s < end))
+        {
             if s == t1 {
-                (self.observe)(s, y1)?;
+                self.observer.sample(s, y1)?;
             } else {
-                let mut value = dense.get_or_insert_with(|| Dense::new(t, y, step)).at(s);
+                let mut value = dense.at(s);
                 ode.project(s, &mut value)?;
-                (self.observe)(s, &value)?;
+                self.observer.sample(s, &value)?;
             }
             self.next += 1;
+        }
+        if let Some(ts) = stop {
+            let mut value = if ts == t1 { *y1 } else { dense.at(ts) };
+            ode.project(ts, &mut value)?;
+            self.observer.sample(ts, &value)?;
         }
         Ok(())
     }
 }
 
 impl Integrator for DormandPrince {
-    fn integrate<O: Ode>(
+    fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,
         t0: f64,
         x0: &O::State,
-        samples: &[f64],
-        observe: &mut Observer<'_, O::State>,
+        samples: &T,
+        observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error> {
         self.check_settings()?;
         check_problem(ode, t0, x0, samples)?;
@@ -448,14 +485,20 @@ impl Integrator for DormandPrince {
         let mut samples = Samples {
             times: samples,
             next: 0,
-            observe,
+            observer,
         };
-        while let Some(&s) = samples.times.get(samples.next).filter(|s| **s == t0) {
-            (samples.observe)(s, x0)?;
+        while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
+            samples.observer.sample(s, x0)?;
             samples.next += 1;
         }
-        if samples.next == samples.times.len() {
+        let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
             return Ok(stats);
+        };
+        // A step too small for the span is an error now, not after the steps it allows.
+        let smallest = self.fixed_step.unwrap_or(self.max_step);
+        let needed = ((t_end - t0) / smallest).ceil();
+        if needed > self.max_steps as f64 {
+            return Err(too_many_steps(ode, t0, smallest, x0, needed.min(usize::MAX as f64) as usize));
         }
 
         let mut f0 = O::State::zeros();
@@ -467,36 +510,58 @@ impl Integrator for DormandPrince {
             f: f0,
         };
         match self.fixed_step {
-            Some(h) => self.fixed(ode, start, h, &mut samples, &mut stats)?,
-            None => self.adaptive(ode, start, &mut samples, &mut stats)?,
+            Some(h) => self.fixed(ode, start, (h, t_end), &mut samples, &mut stats)?,
+            None => self.adaptive(ode, start, t_end, &mut samples, &mut stats)?,
         }
         Ok(stats)
     }
 }
 
 /// Completes an accepted step from (t, y) to t1: checks its result, projects it
-/// (`Ode::project`), observes the samples it covers, and returns the state the next step
-/// starts from with its derivative: the step's last stage (FSAL), or, if the projection moved
-/// the state, a new evaluation there, counted (none after the `last` step).
-fn complete<O: Ode>(
+/// (`Ode::project`), reports it (if the observer watches steps) and the samples it covers,
+/// and returns the state the next step starts from with its derivative: the step's last
+/// stage (FSAL), or, if the projection moved the state, a new evaluation there, counted
+/// (none after the `last` step). `None` when the observer stopped the integration.
+fn complete<O: Ode, T: SampleTimes + ?Sized>(
     ode: &mut O,
     (t, y): (f64, &O::State),
     (t1, last): (f64, bool),
     step: &Step<O::State>,
-    samples: &mut Samples<'_, '_, O::State>,
+    samples: &mut Samples<'_, T, O::State>,
     stats: &mut Stats,
-) -> Result<(O::State, O::State), Error> {
+) -> Result<Option<(O::State, O::State)>, Error> {
     check_state(ode, t1, &step.y1)?;
     stats.steps += 1;
     let mut y1 = step.y1;
     let moved = ode.project(t1, &mut y1)?;
-    samples.observe_step(ode, (t, y), (t1, &y1), step)?;
+    let dense = Dense::new(t, y, step);
+    let control = if samples.observer.watches_steps() {
+        let view = StepView {
+            t,
+            x: y,
+            t1,
+            x1: &y1,
+            dense: &dense,
+        };
+        samples.observer.step(&view)?
+    } else {
+        Control::Continue
+    };
+    let stop = match control {
+        Control::Continue => None,
+        Control::Stop(ts) => Some(ts.clamp(t, t1)),
+    };
+    samples.report(ode, (t1, &y1), &dense, stop)?;
+    if stop.is_some() {
+        stats.stopped = stop;
+        return Ok(None);
+    }
     let mut f1 = step.k[6];
     if moved && !last {
         ode.rhs(t1, &y1, &mut f1)?;
         stats.evaluations += 1;
     }
-    Ok((y1, f1))
+    Ok(Some((y1, f1)))
 }
 
 /// Where the steps start: the initial point and the derivative there.
@@ -507,15 +572,16 @@ struct Start<V> {
 }
 
 impl DormandPrince {
-    fn adaptive<O: Ode>(
+    fn adaptive<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,
         start: Start<O::State>,
-        samples: &mut Samples<'_, '_, O::State>,
+        t_end: f64,
+        samples: &mut Samples<'_, T, O::State>,
         stats: &mut Stats,
     ) -> Result<(), Error> {
-        let t_end = samples.end();
         let hmax = self.max_step.min(t_end - start.t);
+        let floor = self.min_step * (t_end - start.t);
         let mut h = match self.initial_step {
             Some(h) => h.min(hmax),
             None => initial_step(ode, start.t, &start.y, &start.f, self, hmax, stats)?,
@@ -528,16 +594,12 @@ impl DormandPrince {
         } = start;
         loop {
             if stats.steps + stats.rejected >= self.max_steps {
-                return Err(Error::TooManySteps {
-                    t,
-                    steps: stats.steps + stats.rejected,
-                    h,
-                    state: ode.describe(&y),
-                });
+                return Err(too_many_steps(ode, t, h, &y, stats.steps + stats.rejected));
             }
-            // Below this, t + h no longer differs from t by more than a few roundings: the
-            // solution (or the tolerance) asks for more than f64 can give.
-            if h < 16.0 * f64::EPSILON * t.abs() || h < 1e-300 {
+            // Below 16 ulps of t, t + h no longer differs from t by more than a few roundings;
+            // below the floor the run would crawl: the solution (or the tolerance) asks for
+            // more than the method can give.
+            if h < 16.0 * f64::EPSILON * t.abs() || h < floor || h < 1e-300 {
                 return Err(Error::StepSizeUnderflow {
                     t,
                     h,
@@ -554,7 +616,10 @@ impl DormandPrince {
             let err = error_norm(&y, &step, self.rtol, self.atol, len);
             if err <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
-                let (y1, f1) = complete(ode, (t, &y), (t1, last), &step, samples, stats)?;
+                let Some((y1, f1)) = complete(ode, (t, &y), (t1, last), &step, samples, stats)?
+                else {
+                    return Ok(());
+                };
                 let h_new = controller.accepted(h, err, hmax);
                 (t, y, k1) = (t1, y1, f1);
                 if last {
@@ -568,15 +633,14 @@ impl DormandPrince {
         }
     }
 
-    fn fixed<O: Ode>(
+    fn fixed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,
         start: Start<O::State>,
-        h_max: f64,
-        samples: &mut Samples<'_, '_, O::State>,
+        (h_max, t_end): (f64, f64),
+        samples: &mut Samples<'_, T, O::State>,
         stats: &mut Stats,
     ) -> Result<(), Error> {
-        let t_end = samples.end();
         let Start {
             t: t0,
             mut y,
@@ -592,7 +656,10 @@ impl DormandPrince {
                 t_end
             };
             let step = attempt(ode, t, &y, &k1, h, stats)?;
-            (y, k1) = complete(ode, (t, &y), (t1, i + 1 == n), &step, samples, stats)?;
+            match complete(ode, (t, &y), (t1, i + 1 == n), &step, samples, stats)? {
+                Some(next) => (y, k1) = next,
+                None => return Ok(()),
+            }
         }
         Ok(())
     }

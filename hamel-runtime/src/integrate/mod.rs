@@ -1,14 +1,22 @@
 //! Integrators for the reduced ODE: the [`Ode`] they integrate, the [`Integrator`] interface
 //! and the checks and vector arithmetic every method shares.
 //!
-//! An integrator reports the solution only at the sample times the caller asks for, through
-//! an observer. That keeps the solution on the stack (no per-step allocation) and lets the
-//! caller monitor energy and constraints at exactly the times it records.
+//! An integrator reports the solution at the sample times the caller asks for, and, when the
+//! observer watches steps, every accepted step with its dense output, through an observer
+//! ([`observer`]). That keeps the solution on the stack (no per-step allocation), lets the
+//! caller monitor energy and constraints at exactly the times it records, and locate events
+//! between steps.
+//!
+//! Every integration is bounded: a limit on the number of steps, and for the adaptive method
+//! a floor on the step size; reaching either is an error that names the time, the step and
+//! the state, never a run that does not end.
 
 mod dopri5;
+pub mod observer;
 mod rk4;
 
 pub use dopri5::DormandPrince;
+pub use observer::{Control, Grid, Interpolant, Observer, SampleTimes, StepView};
 pub use rk4::Rk4;
 
 use crate::error::Error;
@@ -53,8 +61,8 @@ pub trait Ode {
     }
 }
 
-/// What an integration cost.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// What an integration cost, and whether it ended before the last sample time.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     /// Accepted steps.
     pub steps: usize,
@@ -62,36 +70,85 @@ pub struct Stats {
     pub rejected: usize,
     /// Right-hand-side evaluations, including those spent choosing the initial step.
     pub evaluations: usize,
+    /// The time the observer stopped the integration at ([`Control::Stop`]), if it did.
+    pub stopped: Option<f64>,
 }
 
-/// Where an integrator reports the solution: called with (t, x(t)) at every sample time; an
-/// `Err` stops the integration and is returned as is.
-pub type Observer<'a, S> = dyn FnMut(f64, &S) -> Result<(), Error> + 'a;
+/// The default limit on the steps of one integration (accepted and rejected): far more than a
+/// run over many of its natural time scales takes at any tolerance (hundreds to a few
+/// hundred thousand), and seconds to minutes of computing, so that a run that could not end
+/// is an error instead.
+pub const MAX_STEPS: usize = 10_000_000;
+
+/// Where [`Integrator::integrate`] reports the solution: called with (t, x(t)) at every sample
+/// time; an `Err` stops the integration and is returned as is.
+pub type SampleObserver<'a, S> = dyn FnMut(f64, &S) -> Result<(), Error> + 'a;
 
 /// A method that integrates an [`Ode`] and reports the solution at given times.
 pub trait Integrator {
-    /// Integrates from (`t0`, `x0`) to the last sample time and calls `observe` exactly once
-    /// for every entry of `samples` (ascending, none before `t0`), in order; a sample equal
-    /// to `t0` observes `x0`. An error from `observe` or from the right-hand side stops the
-    /// integration and is returned unchanged. No samples: nothing is integrated.
-    fn integrate<O: Ode>(
+    /// Integrates from (`t0`, `x0`) to the last sample time and reports exactly one
+    /// `observer.sample` for every sample time (ascending, none before `t0`), in order; a
+    /// sample equal to `t0` reports `x0`. When the observer watches steps, every accepted
+    /// step is reported before its samples, and [`Control::Stop`] ends the integration there
+    /// (the samples before the stop, then the stop itself, are reported). An error from the
+    /// observer or the right-hand side stops the integration and is returned unchanged. No
+    /// samples: nothing is integrated.
+    fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,
         t0: f64,
         x0: &O::State,
-        samples: &[f64],
-        observe: &mut Observer<'_, O::State>,
+        samples: &T,
+        observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error>;
+
+    /// [`Integrator::integrate_observed`] with a closure that observes the samples only.
+    fn integrate<O: Ode, T: SampleTimes + ?Sized>(
+        &self,
+        ode: &mut O,
+        t0: f64,
+        x0: &O::State,
+        samples: &T,
+        observe: &mut SampleObserver<'_, O::State>,
+    ) -> Result<Stats, Error> {
+        self.integrate_observed(ode, t0, x0, samples, &mut Samples(observe))
+    }
+}
+
+/// A closure of samples as an [`Observer`].
+struct Samples<'o, 'a, V>(&'o mut SampleObserver<'a, V>);
+
+impl<V> Observer<V> for Samples<'_, '_, V> {
+    fn sample(&mut self, t: f64, x: &V) -> Result<(), Error> {
+        (self.0)(t, x)
+    }
+}
+
+/// The error for an integration that would need more than `limit` steps: known before the
+/// first step for fixed steps (`needed` of them), reached during it for adaptive ones.
+pub(crate) fn too_many_steps<O: Ode>(
+    ode: &O,
+    t: f64,
+    h: f64,
+    x: &O::State,
+    steps: usize,
+) -> Error {
+    Error::TooManySteps {
+        t,
+        steps,
+        h,
+        state: ode.describe(x),
+    }
 }
 
 /// The checks every integrator makes before its first step: a finite start, a finite initial
 /// state (the error names the component), and sample times that are finite, ascending and
 /// not before the start.
-pub(crate) fn check_problem<O: Ode>(
+pub(crate) fn check_problem<O: Ode, T: SampleTimes + ?Sized>(
     ode: &O,
     t0: f64,
     x0: &O::State,
-    samples: &[f64],
+    samples: &T,
 ) -> Result<(), Error> {
     if !t0.is_finite() {
         return Err(Error::InvalidSetting {
@@ -111,8 +168,16 @@ pub(crate) fn check_problem<O: Ode>(
             value: x0.as_ref()[i],
         });
     }
+    // A grid is ascending by construction (only its start is checked); given times are
+    // checked, each once.
+    let checked = if samples.ascending() {
+        samples.count().min(1)
+    } else {
+        samples.count()
+    };
     let mut previous = t0;
-    for &s in samples {
+    for i in 0..checked {
+        let s = samples.time(i);
         // Written so that NaN fails too.
         if !(s.is_finite() && s >= previous) {
             return Err(Error::InvalidSetting {
@@ -191,7 +256,7 @@ mod tests {
         let ok = [1.0, 2.0];
         assert_eq!(check_problem(&Decay, 0.0, &ok, &[0.0, 0.0, 1.0]), Ok(()));
         assert!(matches!(
-            check_problem(&Decay, f64::INFINITY, &ok, &[]),
+            check_problem(&Decay, f64::INFINITY, &ok, &[] as &[f64]),
             Err(Error::InvalidSetting {
                 name: "start time",
                 ..
