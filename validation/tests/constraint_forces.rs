@@ -102,8 +102,9 @@ fn recorded_states<S: HamelSystem>(run: &Trajectory) -> Vec<(f64, S::State)> {
 //
 //   λ(t) = −m ω C − 2 m g sin(i) sin(φ₀ + ωt):
 //
-// a constant centripetal part plus twice gravity's cross component (once to hold the skate
-// against it, once more for the curvature of the speed it gains from gravity).
+// a constant centripetal part plus twice gravity's cross component: once to hold the skate
+// against it, once more as the centripetal force m ω (k sin φ) on the part of the speed that
+// gravity has added.
 
 /// λ at the state (φ, v, ω), derived above.
 fn knife_lambda(sys: &KnifeEdge, phi: f64, v: f64, omega: f64) -> f64 {
