@@ -23,7 +23,9 @@ pub trait Parameters {
     /// The value of the parameter `name`.
     fn get(&self, name: &str) -> Option<f64>;
 
-    /// Set a parameter by name; an unknown name is an error that lists the known ones.
+    /// Set a parameter by name; an unknown name is an error that lists the known ones, a
+    /// value that is not a finite number an [`Error::InvalidParameter`] (the parameter keeps
+    /// its value).
     fn set(&mut self, name: &str, value: f64) -> Result<(), Error>;
 
     /// Every parameter must be a finite number.

@@ -9,8 +9,10 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use hamel::models::{KnifeEdge, MobileRobot};
-use hamel::{DormandPrince, Error, HamelSystem, Rk4, Simulation, Singularity, hamel_system};
+use hamel::models::{KnifeEdge, MobileRobot, NTrailer2};
+use hamel::{
+    DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity, hamel_system,
+};
 
 /// The message of an error after checking that it contains every `part`.
 #[track_caller]
@@ -157,6 +159,32 @@ fn nan_parameter_is_refused_everywhere() {
         .unwrap_err();
     assert_invalid_parameter(&e, "g");
     assert!(e.to_string().contains("is inf"));
+}
+
+/// `Parameters::set` refuses a value that is not a finite number and keeps the old one; an
+/// unknown name is named as such whatever the value.
+#[test]
+fn set_refuses_non_finite_parameter_values() {
+    let mut robot = MobileRobot::default();
+    for value in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let e = robot.set("m0", value).unwrap_err();
+        assert_invalid_parameter(&e, "m0");
+        assert_eq!(robot.m0, 10.0, "the parameter changed to {value}");
+    }
+    // An entry of an array parameter, by its indexed name.
+    let mut train = NTrailer2::default();
+    let before = train.get("d1");
+    let e = train.set("d1", f64::NAN).unwrap_err();
+    assert_invalid_parameter(&e, "d1");
+    assert_eq!(train.get("d1"), before);
+    // Finite values, negative or zero included, are set.
+    robot.set("m0", -0.0).unwrap();
+    assert_eq!(robot.get("m0"), Some(0.0));
+    let e = robot.set("mass", f64::NAN).unwrap_err();
+    assert!(
+        matches!(&e, Error::UnknownParameter { name, .. } if name == "mass"),
+        "{e}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
