@@ -75,6 +75,12 @@ impl core::fmt::Display for Num {
     }
 }
 
+impl core::fmt::Debug for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
+    }
+}
+
 /// Why Newton's method found no configuration that satisfies a holonomic constraint (see
 /// [`Error::Assembly`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,7 +126,11 @@ impl core::fmt::Display for AssemblyFailure {
 }
 
 /// Everything that can go wrong when building states and running simulations.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+///
+/// `Debug` prints the same message as `Display` (as anyhow's errors do): `fn main() ->
+/// Result<(), hamel::Error>` and `unwrap` print an error with `Debug`, and a user reads the
+/// message there, not the variant's fields. Match on the variant for the values.
+#[derive(Clone, PartialEq, thiserror::Error)]
 pub enum Error {
     #[error("parameter `{name}` is {value}: parameters must be finite numbers")]
     InvalidParameter { name: String, value: f64 },
