@@ -132,13 +132,13 @@ impl core::fmt::Display for AssemblyFailure {
 /// message there, not the variant's fields. Match on the variant for the values.
 #[derive(Clone, PartialEq, thiserror::Error)]
 pub enum Error {
-    #[error("parameter `{name}` is {value}: parameters must be finite numbers")]
+    #[error("parameter `{name}` is {}: parameters must be finite numbers", Num(*value))]
     InvalidParameter { name: String, value: f64 },
 
     #[error("unknown parameter `{name}`; the parameters are: {known}")]
     UnknownParameter { name: String, known: String },
 
-    #[error("initial value of `{name}` is {value}: it must be a finite number")]
+    #[error("initial value of `{name}` is {}: it must be a finite number", Num(*value))]
     NonFiniteInitialValue { name: String, value: f64 },
 
     #[error(
@@ -153,9 +153,9 @@ pub enum Error {
     },
 
     #[error(
-        "singular reduced mass matrix at t = {t}: the motion along `{speed}` has no inertia here \
+        "singular reduced mass matrix at t = {}: the motion along `{speed}` has no inertia here \
          (its pivot in the LDLᵀ factorization is {}); check the kinetic energy; state: {state}",
-        Num(*value)
+        Num(*t), Num(*value)
     )]
     SingularMassMatrix {
         t: f64,
@@ -165,10 +165,10 @@ pub enum Error {
     },
 
     #[error(
-        "singular velocity transformation at t = {t}: the constraints and quasi-velocities do not \
+        "singular velocity transformation at t = {}: the constraints and quasi-velocities do not \
          determine the velocity of `{coordinate}` at this configuration (the LU pivot of A(q) for it \
          is {}); choose quasi-velocities that complete the constraints here; state: {state}",
-        Num(*value)
+        Num(*t), Num(*value)
     )]
     SingularTransformation {
         t: f64,
@@ -186,7 +186,10 @@ pub enum Error {
         configuration: NamedValues,
     },
 
-    #[error("step size underflow at t = {t}: the step shrank to {}; state: {state}", Num(*h))]
+    #[error(
+        "step size underflow at t = {}: the step shrank to {}; state: {state}",
+        Num(*t), Num(*h)
+    )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
     /// An adaptive integration used up its steps (`DormandPrince::max_steps`) before the end.
@@ -203,7 +206,7 @@ pub enum Error {
         state: NamedValues,
     },
 
-    #[error("the state became non-finite at t = {t}: {state}")]
+    #[error("the state became non-finite at t = {}: {state}", Num(*t))]
     NonFiniteState { t: f64, state: NamedValues },
 
     #[error("invalid setting `{name}` = {}: {reason}", Num(*value))]
@@ -269,7 +272,7 @@ pub enum Error {
 
     /// `HamelSystem::linearize` was given a time, state component or input that is not a
     /// finite number (`name` is `t`, a state name or an input name).
-    #[error("the operating point's `{name}` is {value}: a linearization needs finite values")]
+    #[error("the operating point's `{name}` is {}: a linearization needs finite values", Num(*value))]
     NonFiniteOperatingPoint {
         /// `t`, or the name of the state component or input.
         name: String,
@@ -280,8 +283,9 @@ pub enum Error {
     /// A derivative of a linearization is not a finite number: the model is not
     /// differentiable at the operating point (a square root at 0, say), or overflows there.
     #[error(
-        "{of} has the derivative {value} with respect to `{by}` {at}: a linearization needs \
-         finite derivatives; the model may not be differentiable there, or overflow"
+        "{of} has the derivative {} with respect to `{by}` {at}: a linearization needs \
+         finite derivatives; the model may not be differentiable there, or overflow",
+        Num(*value)
     )]
     NonFiniteDerivative {
         /// What is differentiated: "the rate of `v`", or a holonomic constraint.

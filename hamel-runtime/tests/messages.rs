@@ -7,7 +7,9 @@ use hamel_runtime::{AssemblyFailure, Error, NamedValues, Num};
 /// values that are not finite.
 fn awkward_state() -> NamedValues {
     NamedValues::new(
-        &["huge", "tiny", "nan", "inf", "neg", "sum", "t_like", "zero", "whole"],
+        &[
+            "huge", "tiny", "nan", "inf", "neg", "sum", "t_like", "zero", "whole",
+        ],
         &[
             1e300,
             1e-300,
@@ -77,6 +79,49 @@ fn debug_prints_the_message() {
 }
 
 #[test]
+fn named_values_display_with_bounded_digits() {
+    assert_eq!(
+        awkward_state().to_string(),
+        "huge = 1e300, tiny = 1e-300, nan = NaN, inf = inf, neg = -inf, sum = 0.3, \
+         t_like = 2.669, zero = 0, whole = -16"
+    );
+    // Debug stays exact, for diagnostics: the value itself, as Rust writes it.
+    let debug = format!("{:?}", awkward_state());
+    assert!(
+        debug.contains("sum: 0.30000000000000004") && debug.contains("t_like: 2.6692648621662616"),
+        "{debug}"
+    );
+}
+
+#[test]
+fn numbers_in_messages_have_bounded_digits() {
+    let [_, invalid, underflow, assembly, _] = &samples()[..] else {
+        unreachable!()
+    };
+    assert_eq!(
+        invalid.to_string(),
+        "parameter `m` is NaN: parameters must be finite numbers"
+    );
+    let text = underflow.to_string();
+    assert!(
+        text.starts_with("step size underflow at t = 2.669: the step shrank to 1e-300; state: huge = 1e300, tiny = 1e-300"),
+        "{text}"
+    );
+    let text = assembly.to_string();
+    assert!(text.contains("at t = 0.3:"), "{text}");
+    for e in samples() {
+        let text = e.to_string();
+        // No number runs to more than 6 digits (`-16.67`, `1.235e-7`, `12346`).
+        let longest = text
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest <= 6, "a long number in: {text}");
+    }
+}
+
+#[test]
 fn non_finite_values_in_messages() {
     let e = Error::NonFiniteInitialValue {
         name: "x".into(),
@@ -92,7 +137,10 @@ fn non_finite_values_in_messages() {
         value: f64::NAN,
         at: "at the operating point".into(),
     };
-    assert!(e.to_string().contains("derivative NaN with respect to `x`"), "{e}");
+    assert!(
+        e.to_string().contains("derivative NaN with respect to `x`"),
+        "{e}"
+    );
     assert_eq!(Num(f64::NAN).to_string(), "NaN");
     assert_eq!(Num(0.1 + 0.2).to_string(), "0.3");
 }
