@@ -7,15 +7,46 @@ use crate::named::NamedValues;
 /// the time and state (see [`crate::HamelSystem::singular`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Singularity {
-    /// A pivot of the reduced mass matrix's LDLᵀ factorization is not positive: the motion
-    /// along free quasi-velocity number `speed` has no inertia.
+    /// A pivot of the reduced mass matrix's LDLᵀ factorization is zero to rounding (relative
+    /// to its diagonal entry): the motion along free quasi-velocity number `speed` has no
+    /// inertia.
     MassMatrix { speed: usize, value: f64 },
     /// A pivot of the LU factorization of A(q) vanishes: the constraints and quasi-velocities
     /// do not determine the velocity of coordinate number `coordinate` here.
     Transformation { coordinate: usize, value: f64 },
+    /// A pivot of the reduced mass matrix's LDLᵀ factorization is negative beyond rounding:
+    /// the kinetic energy of some admissible motion along free quasi-velocity number `speed`
+    /// (with the speeds before it) is negative, which no physical parameters give.
+    IndefiniteMassMatrix { speed: usize, value: f64 },
+    /// A value the checks read is not a finite number: with `speed` `Some(j)`, the pivot or
+    /// the diagonal entry of the reduced mass matrix for free quasi-velocity number j; with
+    /// `None`, an entry of A(q) (B computed by LU). Not a singular matrix: the right-hand side
+    /// is undefined here.
+    NonFinite { speed: Option<usize> },
 }
 
 impl Singularity {
+    /// What a failed check of the LDLᵀ pivot `pivot` for free quasi-velocity number `speed`
+    /// means, its diagonal entry being `diagonal` and the check `pivot > tolerance·|diagonal|`
+    /// (generated code calls this on the cold path): a value that is not finite, a pivot
+    /// negative beyond that tolerance (an indefinite matrix), or one that is zero to it (a
+    /// singular matrix).
+    pub fn mass_pivot(speed: usize, pivot: f64, diagonal: f64, tolerance: f64) -> Singularity {
+        if !(pivot.is_finite() && diagonal.is_finite()) {
+            Singularity::NonFinite { speed: Some(speed) }
+        } else if pivot < -tolerance * diagonal.abs() {
+            Singularity::IndefiniteMassMatrix {
+                speed,
+                value: pivot,
+            }
+        } else {
+            Singularity::MassMatrix {
+                speed,
+                value: pivot,
+            }
+        }
+    }
+
     /// The full error at time `t` and `state`, naming the coordinate or speed concerned.
     pub fn at(self, t: f64, state: NamedValues, coordinates: &[&str], speeds: &[&str]) -> Error {
         let name = |names: &[&str], i: usize| {
@@ -34,6 +65,17 @@ impl Singularity {
                 t,
                 coordinate: name(coordinates, coordinate),
                 value,
+                state,
+            },
+            Singularity::IndefiniteMassMatrix { speed, value } => Error::IndefiniteMassMatrix {
+                t,
+                speed: name(speeds, speed),
+                value,
+                state,
+            },
+            Singularity::NonFinite { speed } => Error::NonFiniteDynamics {
+                t,
+                speed: speed.map(|j| name(speeds, j)),
                 state,
             },
         }
@@ -154,7 +196,9 @@ pub enum Error {
 
     #[error(
         "singular reduced mass matrix at t = {}: the motion along `{speed}` has no inertia here \
-         (its pivot in the LDLᵀ factorization is {}); check the kinetic energy; state: {state}",
+         (its pivot in the LDLᵀ factorization, {}, is zero to rounding beside its diagonal \
+         entry); check the kinetic energy, or whether the model's geometry degenerates at this \
+         configuration; state: {state}",
         Num(*t), Num(*value)
     )]
     SingularMassMatrix {
@@ -404,4 +448,51 @@ pub enum Error {
         near: f64,
         residual: f64,
     },
+
+    /// The reduced mass matrix is indefinite at a state: a pivot of its LDLᵀ factorization
+    /// is negative beyond rounding. Met by a run (at the time it is met, the start time for a
+    /// matrix indefinite from the start) or when a state is built.
+    #[error(
+        "the reduced mass matrix is not positive definite at t = {}: the kinetic energy of a \
+         motion along `{speed}` (with the speeds before it) is negative, its pivot in the LDLᵀ \
+         factorization being {}; no physical parameters give that: check the parameters for a \
+         negative mass or moment of inertia (or one too small for the others), then the \
+         kinetic energy; state: {state}",
+        Num(*t), Num(*value)
+    )]
+    IndefiniteMassMatrix {
+        t: f64,
+        /// The speed whose pivot is negative (the first, in the order of the speeds).
+        speed: String,
+        /// The pivot.
+        value: f64,
+        state: NamedValues,
+    },
+
+    /// The right-hand side met a value that is not a finite number in the matrices it
+    /// factors: the reduced mass matrix (`speed` names the first speed whose pivot or diagonal
+    /// entry is not finite) or A(q) (`speed` is `None`).
+    #[error("{}", Error::non_finite_message(*t, speed.as_deref(), state))]
+    NonFiniteDynamics {
+        t: f64,
+        speed: Option<String>,
+        state: NamedValues,
+    },
+}
+
+impl Error {
+    /// The message of [`Error::NonFiniteDynamics`], for `Display`.
+    fn non_finite_message(t: f64, speed: Option<&str>, state: &NamedValues) -> String {
+        let place = match speed {
+            Some(speed) => format!("in the reduced mass matrix, for `{speed}`"),
+            None => "in the matrix A(q) of the constraints and quasi-velocities".to_string(),
+        };
+        format!(
+            "the right-hand side produced a value that is not a finite number at t = {} ({place}): \
+             the state is likely outside the model's geometry (a square root of a negative \
+             number, a division by zero there), or a parameter makes a division by zero; state: \
+             {state}",
+            Num(t)
+        )
+    }
 }
