@@ -144,3 +144,54 @@ fn non_finite_values_in_messages() {
     assert_eq!(Num(f64::NAN).to_string(), "NaN");
     assert_eq!(Num(0.1 + 0.2).to_string(), "0.3");
 }
+
+/// A failed LDLᵀ pivot check, sorted: rounding below zero is still a singular matrix, a
+/// pivot negative beyond the tolerance an indefinite one, a NaN or infinite pivot or diagonal
+/// entry neither.
+#[test]
+fn failed_mass_pivots_are_told_apart() {
+    use hamel_runtime::Singularity;
+    let tol = 1e-13;
+    let singular = |value| Singularity::MassMatrix { speed: 2, value };
+    assert_eq!(Singularity::mass_pivot(2, 0.0, 0.0, tol), singular(0.0));
+    assert_eq!(
+        Singularity::mass_pivot(2, -1e-17, 1.0, tol),
+        singular(-1e-17)
+    );
+    // Positive, but zero beside a huge diagonal entry (the falling bicycle's case).
+    assert_eq!(
+        Singularity::mass_pivot(2, 2.57, 3.5e13, tol),
+        singular(2.57)
+    );
+    assert_eq!(
+        Singularity::mass_pivot(2, -1e-12, 1.0, tol),
+        Singularity::IndefiniteMassMatrix {
+            speed: 2,
+            value: -1e-12
+        }
+    );
+    // A zero diagonal entry with a negative pivot: coupling to the speeds before it.
+    assert_eq!(
+        Singularity::mass_pivot(1, -0.5, 0.0, tol),
+        Singularity::IndefiniteMassMatrix {
+            speed: 1,
+            value: -0.5
+        }
+    );
+    for (pivot, diagonal) in [(2.375, f64::NAN), (f64::NAN, 1.0), (1.0, f64::INFINITY)] {
+        assert_eq!(
+            Singularity::mass_pivot(2, pivot, diagonal, tol),
+            Singularity::NonFinite { speed: Some(2) }
+        );
+    }
+    // Named, with the time and the state.
+    let state = NamedValues::new(&["x", "v"], &[f64::NAN, 1.0]);
+    let e = Singularity::NonFinite { speed: None }.at(0.25, state, &["x"], &["v"]);
+    assert_eq!(
+        e.to_string(),
+        "the right-hand side produced a value that is not a finite number at t = 0.25 (in the \
+         matrix A(q) of the constraints and quasi-velocities): the state is likely outside the \
+         model's geometry (a square root of a negative number, a division by zero there), or a \
+         parameter makes a division by zero; state: x = NaN, v = 1"
+    );
+}
