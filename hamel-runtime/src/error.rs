@@ -7,15 +7,46 @@ use crate::named::NamedValues;
 /// the time and state (see [`crate::HamelSystem::singular`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Singularity {
-    /// A pivot of the reduced mass matrix's LDLᵀ factorization is not positive: the motion
-    /// along free quasi-velocity number `speed` has no inertia.
+    /// A pivot of the reduced mass matrix's LDLᵀ factorization is zero to rounding (relative
+    /// to its diagonal entry): the motion along free quasi-velocity number `speed` has no
+    /// inertia.
     MassMatrix { speed: usize, value: f64 },
     /// A pivot of the LU factorization of A(q) vanishes: the constraints and quasi-velocities
     /// do not determine the velocity of coordinate number `coordinate` here.
     Transformation { coordinate: usize, value: f64 },
+    /// A pivot of the reduced mass matrix's LDLᵀ factorization is negative beyond rounding:
+    /// the kinetic energy of some admissible motion along free quasi-velocity number `speed`
+    /// (with the speeds before it) is negative, which no physical parameters give.
+    IndefiniteMassMatrix { speed: usize, value: f64 },
+    /// A value the checks read is not a finite number: with `speed` `Some(j)`, the pivot or
+    /// the diagonal entry of the reduced mass matrix for free quasi-velocity number j; with
+    /// `None`, an entry of A(q) (B computed by LU). Not a singular matrix: the right-hand side
+    /// is undefined here.
+    NonFinite { speed: Option<usize> },
 }
 
 impl Singularity {
+    /// What a failed check of the LDLᵀ pivot `pivot` for free quasi-velocity number `speed`
+    /// means, its diagonal entry being `diagonal` and the check `pivot > tolerance·|diagonal|`
+    /// (generated code calls this on the cold path): a value that is not finite, a pivot
+    /// negative beyond that tolerance (an indefinite matrix), or one that is zero to it (a
+    /// singular matrix).
+    pub fn mass_pivot(speed: usize, pivot: f64, diagonal: f64, tolerance: f64) -> Singularity {
+        if !(pivot.is_finite() && diagonal.is_finite()) {
+            Singularity::NonFinite { speed: Some(speed) }
+        } else if pivot < -tolerance * diagonal.abs() {
+            Singularity::IndefiniteMassMatrix {
+                speed,
+                value: pivot,
+            }
+        } else {
+            Singularity::MassMatrix {
+                speed,
+                value: pivot,
+            }
+        }
+    }
+
     /// The full error at time `t` and `state`, naming the coordinate or speed concerned.
     pub fn at(self, t: f64, state: NamedValues, coordinates: &[&str], speeds: &[&str]) -> Error {
         let name = |names: &[&str], i: usize| {
@@ -34,6 +65,17 @@ impl Singularity {
                 t,
                 coordinate: name(coordinates, coordinate),
                 value,
+                state,
+            },
+            Singularity::IndefiniteMassMatrix { speed, value } => Error::IndefiniteMassMatrix {
+                t,
+                speed: name(speeds, speed),
+                value,
+                state,
+            },
+            Singularity::NonFinite { speed } => Error::NonFiniteDynamics {
+                t,
+                speed: speed.map(|j| name(speeds, j)),
                 state,
             },
         }
@@ -72,6 +114,12 @@ impl core::fmt::Display for Num {
         } else {
             f.write_str(&trim(format!("{v:.3e}")))
         }
+    }
+}
+
+impl core::fmt::Debug for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
     }
 }
 
@@ -120,15 +168,19 @@ impl core::fmt::Display for AssemblyFailure {
 }
 
 /// Everything that can go wrong when building states and running simulations.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+///
+/// `Debug` prints the same message as `Display` (as anyhow's errors do): `fn main() ->
+/// Result<(), hamel::Error>` and `unwrap` print an error with `Debug`, and a user reads the
+/// message there, not the variant's fields. Match on the variant for the values.
+#[derive(Clone, PartialEq, thiserror::Error)]
 pub enum Error {
-    #[error("parameter `{name}` is {value}: parameters must be finite numbers")]
+    #[error("parameter `{name}` is {}: parameters must be finite numbers", Num(*value))]
     InvalidParameter { name: String, value: f64 },
 
     #[error("unknown parameter `{name}`; the parameters are: {known}")]
     UnknownParameter { name: String, known: String },
 
-    #[error("initial value of `{name}` is {value}: it must be a finite number")]
+    #[error("initial value of `{name}` is {}: it must be a finite number", Num(*value))]
     NonFiniteInitialValue { name: String, value: f64 },
 
     #[error(
@@ -143,9 +195,11 @@ pub enum Error {
     },
 
     #[error(
-        "singular reduced mass matrix at t = {t}: the motion along `{speed}` has no inertia here \
-         (its pivot in the LDLᵀ factorization is {}); check the kinetic energy; state: {state}",
-        Num(*value)
+        "singular reduced mass matrix at t = {}: the motion along `{speed}` has no inertia here \
+         (its pivot in the LDLᵀ factorization, {}, is zero to rounding beside its diagonal \
+         entry); check the kinetic energy, or whether the model's geometry degenerates at this \
+         configuration; state: {state}",
+        Num(*t), Num(*value)
     )]
     SingularMassMatrix {
         t: f64,
@@ -155,10 +209,10 @@ pub enum Error {
     },
 
     #[error(
-        "singular velocity transformation at t = {t}: the constraints and quasi-velocities do not \
+        "singular velocity transformation at t = {}: the constraints and quasi-velocities do not \
          determine the velocity of `{coordinate}` at this configuration (the LU pivot of A(q) for it \
          is {}); choose quasi-velocities that complete the constraints here; state: {state}",
-        Num(*value)
+        Num(*t), Num(*value)
     )]
     SingularTransformation {
         t: f64,
@@ -176,7 +230,10 @@ pub enum Error {
         configuration: NamedValues,
     },
 
-    #[error("step size underflow at t = {t}: the step shrank to {}; state: {state}", Num(*h))]
+    #[error(
+        "step size underflow at t = {}: the step shrank to {}; state: {state}",
+        Num(*t), Num(*h)
+    )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
     /// An adaptive integration used up its steps (`DormandPrince::max_steps`) before the end.
@@ -193,7 +250,7 @@ pub enum Error {
         state: NamedValues,
     },
 
-    #[error("the state became non-finite at t = {t}: {state}")]
+    #[error("the state became non-finite at t = {}: {state}", Num(*t))]
     NonFiniteState { t: f64, state: NamedValues },
 
     #[error("invalid setting `{name}` = {}: {reason}", Num(*value))]
@@ -259,7 +316,7 @@ pub enum Error {
 
     /// `HamelSystem::linearize` was given a time, state component or input that is not a
     /// finite number (`name` is `t`, a state name or an input name).
-    #[error("the operating point's `{name}` is {value}: a linearization needs finite values")]
+    #[error("the operating point's `{name}` is {}: a linearization needs finite values", Num(*value))]
     NonFiniteOperatingPoint {
         /// `t`, or the name of the state component or input.
         name: String,
@@ -270,8 +327,9 @@ pub enum Error {
     /// A derivative of a linearization is not a finite number: the model is not
     /// differentiable at the operating point (a square root at 0, say), or overflows there.
     #[error(
-        "{of} has the derivative {value} with respect to `{by}` {at}: a linearization needs \
-         finite derivatives; the model may not be differentiable there, or overflow"
+        "{of} has the derivative {} with respect to `{by}` {at}: a linearization needs \
+         finite derivatives; the model may not be differentiable there, or overflow",
+        Num(*value)
     )]
     NonFiniteDerivative {
         /// What is differentiated: "the rate of `v`", or a holonomic constraint.
@@ -402,4 +460,51 @@ pub enum Error {
         value: f64,
         state: NamedValues,
     },
+
+    /// The reduced mass matrix is indefinite at a state: a pivot of its LDLᵀ factorization
+    /// is negative beyond rounding. Met by a run (at the time it is met, the start time for a
+    /// matrix indefinite from the start) or when a state is built.
+    #[error(
+        "the reduced mass matrix is not positive definite at t = {}: the kinetic energy of a \
+         motion along `{speed}` (with the speeds before it) is negative, its pivot in the LDLᵀ \
+         factorization being {}; no physical parameters give that: check the parameters for a \
+         negative mass or moment of inertia (or one too small for the others), then the \
+         kinetic energy; state: {state}",
+        Num(*t), Num(*value)
+    )]
+    IndefiniteMassMatrix {
+        t: f64,
+        /// The speed whose pivot is negative (the first, in the order of the speeds).
+        speed: String,
+        /// The pivot.
+        value: f64,
+        state: NamedValues,
+    },
+
+    /// The right-hand side met a value that is not a finite number in the matrices it
+    /// factors: the reduced mass matrix (`speed` names the first speed whose pivot or diagonal
+    /// entry is not finite) or A(q) (`speed` is `None`).
+    #[error("{}", Error::non_finite_message(*t, speed.as_deref(), state))]
+    NonFiniteDynamics {
+        t: f64,
+        speed: Option<String>,
+        state: NamedValues,
+    },
+}
+
+impl Error {
+    /// The message of [`Error::NonFiniteDynamics`], for `Display`.
+    fn non_finite_message(t: f64, speed: Option<&str>, state: &NamedValues) -> String {
+        let place = match speed {
+            Some(speed) => format!("in the reduced mass matrix, for `{speed}`"),
+            None => "in the matrix A(q) of the constraints and quasi-velocities".to_string(),
+        };
+        format!(
+            "the right-hand side produced a value that is not a finite number at t = {} ({place}): \
+             the state is likely outside the model's geometry (a square root of a negative \
+             number, a division by zero there), or a parameter makes a division by zero; state: \
+             {state}",
+            Num(t)
+        )
+    }
 }

@@ -1,12 +1,16 @@
 //! Values with names, for messages: `x = 0.1, y = -2, alpha = 0.3`.
 
+use crate::error::Num;
 use core::fmt;
 
-/// Named values, as they appear in error messages and `Debug` output.
+/// Named values, as they appear in error messages and `Debug` output: `Display` writes each
+/// value with four significant digits ([`Num`]: `t = 2.669`, `x = 1e300`), as a person reads a
+/// message; `Debug` writes the exact values, for diagnostics that compare them.
 #[derive(Clone, PartialEq)]
 pub struct NamedValues(pub Vec<(String, f64)>);
 
 impl NamedValues {
+    /// The values paired with the names, in order (the shorter list sets the length).
     pub fn new(names: &[&str], values: &[f64]) -> Self {
         NamedValues(
             names
@@ -17,6 +21,7 @@ impl NamedValues {
         )
     }
 
+    /// The value named `name`, exact.
     pub fn get(&self, name: &str) -> Option<f64> {
         self.0.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
     }
@@ -28,7 +33,7 @@ impl fmt::Display for NamedValues {
             if i > 0 {
                 f.write_str(", ")?;
             }
-            write!(f, "{name} = {value}")?;
+            write!(f, "{name} = {}", Num(*value))?;
         }
         Ok(())
     }

@@ -23,7 +23,9 @@ pub trait Parameters {
     /// The value of the parameter `name`.
     fn get(&self, name: &str) -> Option<f64>;
 
-    /// Set a parameter by name; an unknown name is an error that lists the known ones.
+    /// Set a parameter by name; an unknown name is an error that lists the known ones, a
+    /// value that is not a finite number an [`Error::InvalidParameter`] (the parameter keeps
+    /// its value).
     fn set(&mut self, name: &str, value: f64) -> Result<(), Error>;
 
     /// Every parameter must be a finite number.
@@ -267,7 +269,9 @@ pub trait HamelSystem: Parameters {
     /// The state of a configuration and velocities at time `t`, after checking that the
     /// parameters and values are finite, that the configuration satisfies the holonomic
     /// constraints (to [`crate::HOLONOMIC_TOLERANCE`] of their scale, see
-    /// [`Self::assemble`]) and that the velocities satisfy the constraints.
+    /// [`Self::assemble`]), that the velocities satisfy the constraints and that the reduced
+    /// mass matrix is not indefinite there ([`Error::IndefiniteMassMatrix`]: parameters no
+    /// physical system has). A singular one is left to the run, which names the time.
     fn state_from_velocities(
         &self,
         t: f64,
@@ -290,12 +294,15 @@ pub trait HamelSystem: Parameters {
             }
         }
         let speeds = self.speeds(t, q, qd);
-        Ok(join::<Self>(q, &speeds))
+        let x = join::<Self>(q, &speeds);
+        check_inertia(self, t, &x)?;
+        Ok(x)
     }
 
     /// The state of a configuration and the free quasi-velocities at time `t` (always
-    /// admissible), after checking that the parameters and values are finite and that the
-    /// configuration satisfies the holonomic constraints (see [`Self::state_from_velocities`]).
+    /// admissible), after checking that the parameters and values are finite, that the
+    /// configuration satisfies the holonomic constraints and that the reduced mass matrix is
+    /// not indefinite (see [`Self::state_from_velocities`]).
     fn state_from_speeds(
         &self,
         t: f64,
@@ -305,7 +312,9 @@ pub trait HamelSystem: Parameters {
         self.check_configuration(t, q)?;
         assembly::check(self, t, q)?;
         check_finite(Self::SPEEDS, speeds.as_ref(), "")?;
-        Ok(join::<Self>(q, speeds))
+        let x = join::<Self>(q, speeds);
+        check_inertia(self, t, &x)?;
+        Ok(x)
     }
 
     /// A builder of a state by the names of its coordinates and speeds, which solves the
@@ -362,6 +371,20 @@ fn check_finite(names: &[&str], values: &[f64], prefix: &str) -> Result<(), Erro
         }
     }
     Ok(())
+}
+
+/// A state at which the reduced mass matrix is indefinite is refused when it is built, not
+/// left for the first step: the kinetic energy of some admissible motion is negative there,
+/// which says the parameters (or the kinetic energy) are wrong, not where a run went. The
+/// right-hand side, with zero inputs (they do not enter the matrix), runs the generated
+/// pivot checks; its other singularities, which a run meets and reports with the time, do not
+/// stop a state being built (a singular transformation comes first and hides the matrix).
+fn check_inertia<S: HamelSystem + ?Sized>(system: &S, t: f64, x: &S::State) -> Result<(), Error> {
+    let mut dx = S::State::zeros();
+    match system.rhs(t, x, &S::Inputs::zeros(), &mut dx) {
+        Err(s @ Singularity::IndefiniteMassMatrix { .. }) => Err(S::singular(s, t, x)),
+        _ => Ok(()),
+    }
 }
 
 fn join<S: HamelSystem + ?Sized>(q: &S::Coordinates, w: &S::Speeds) -> S::State {

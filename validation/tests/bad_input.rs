@@ -9,8 +9,12 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use hamel::models::{KnifeEdge, MobileRobot};
-use hamel::{DormandPrince, Error, HamelSystem, Rk4, Simulation, Singularity, hamel_system};
+use hamel::models::{
+    BallOnTurntable, ChaplyginSleigh, KnifeEdge, MobileRobot, NTrailer2, WhippleBicycle,
+};
+use hamel::{
+    DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity, hamel_system,
+};
 
 /// The message of an error after checking that it contains every `part`.
 #[track_caller]
@@ -159,6 +163,32 @@ fn nan_parameter_is_refused_everywhere() {
     assert!(e.to_string().contains("is inf"));
 }
 
+/// `Parameters::set` refuses a value that is not a finite number and keeps the old one; an
+/// unknown name is named as such whatever the value.
+#[test]
+fn set_refuses_non_finite_parameter_values() {
+    let mut robot = MobileRobot::default();
+    for value in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let e = robot.set("m0", value).unwrap_err();
+        assert_invalid_parameter(&e, "m0");
+        assert_eq!(robot.m0, 10.0, "the parameter changed to {value}");
+    }
+    // An entry of an array parameter, by its indexed name.
+    let mut train = NTrailer2::default();
+    let before = train.get("d1");
+    let e = train.set("d1", f64::NAN).unwrap_err();
+    assert_invalid_parameter(&e, "d1");
+    assert_eq!(train.get("d1"), before);
+    // Finite values, negative or zero included, are set.
+    robot.set("m0", -0.0).unwrap();
+    assert_eq!(robot.get("m0"), Some(0.0));
+    let e = robot.set("mass", f64::NAN).unwrap_err();
+    assert!(
+        matches!(&e, Error::UnknownParameter { name, .. } if name == "mass"),
+        "{e}"
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // 3. Quasi-velocities that make A(q) singular (B from the generated LU)
 // ---------------------------------------------------------------------------------------------
@@ -267,7 +297,7 @@ fn degenerate_quasi_velocity_is_a_singular_transformation() {
             &[
                 "singular velocity transformation at t = 2.5",
                 "do not determine the velocity of `phi`",
-                "phi = 1.5707963267948966",
+                "phi = 1.571,",
                 "x = 0.1, y = 0.2",
                 "v = 1, turn = 0",
             ],
@@ -780,4 +810,257 @@ fn bead_over_the_contact_point_makes_the_mass_matrix_singular() {
         "{e:?}"
     );
     assert_message(&e, &["at t = 0:", "s = 0"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8. Parameters that make the reduced mass matrix indefinite
+// ---------------------------------------------------------------------------------------------
+
+/// The checks on an indefinite reduced mass matrix, at a state `x0` built by hand (so not
+/// checked by a state builder): `rhs` returns the singularity, a run stops at its start time
+/// naming the speed, and the message names the parameters as the likely cause.
+#[track_caller]
+fn assert_indefinite<S: HamelSystem>(sys: &S, x0: S::State, u: S::Inputs, speed: &str) {
+    let mut dx = x0;
+    match sys.rhs(0.0, &x0, &u, &mut dx) {
+        Err(Singularity::IndefiniteMassMatrix { speed: j, value }) => {
+            assert_eq!(S::SPEEDS[j], speed);
+            assert!(value < 0.0, "pivot {value}");
+        }
+        other => panic!("expected an indefinite mass matrix, got {other:?}"),
+    }
+    let e = Simulation::new(sys, x0)
+        .start_time(0.5)
+        .end_time(1.0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), u)
+        .unwrap_err();
+    match &e {
+        Error::IndefiniteMassMatrix {
+            t,
+            speed: named,
+            value,
+            ..
+        } => {
+            assert_eq!((*t, named.as_str()), (0.5, speed));
+            assert!(*value < 0.0);
+        }
+        other => panic!("expected an indefinite mass matrix, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "not positive definite at t = 0.5",
+            &format!("along `{speed}`"),
+            "negative",
+            "parameters",
+            "mass or moment of inertia",
+        ],
+    );
+}
+
+/// A negative mass or moment of inertia that the admissible motions feel makes the reduced
+/// mass matrix indefinite. Before, each run stopped with "singular reduced mass matrix … has
+/// no inertia here" (its pivot being, say, −56.88) and the states were built without a word.
+#[test]
+fn negative_masses_make_an_indefinite_mass_matrix() {
+    let skate = KnifeEdge {
+        m: -1.0,
+        ..Default::default()
+    };
+    assert_indefinite(&skate, [0.0, 0.0, 0.2, 1.0, 0.5], [], "v");
+    let spinner = KnifeEdge {
+        j: -0.1,
+        ..Default::default()
+    };
+    assert_indefinite(&spinner, [0.0, 0.0, 0.2, 1.0, 0.5], [], "omega");
+
+    // The sleigh's turning inertia about the contact point is I + m a²: I = −0.5 with
+    // m a² = 0.32 leaves −0.18.
+    let sleigh = ChaplyginSleigh {
+        inertia: -0.5,
+        ..Default::default()
+    };
+    assert_indefinite(&sleigh, [0.0, 0.0, 0.0, 1.0, 2.0], [], "omega");
+
+    let ball = BallOnTurntable {
+        m: -1.0,
+        ..Default::default()
+    };
+    assert_indefinite(
+        &ball,
+        [0.3, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0],
+        [],
+        "omega_x",
+    );
+
+    // The robot's body lighter than nothing: the pitch's pivot m₀l² + J_y + … is negative.
+    let robot = MobileRobot {
+        m0: -10.0,
+        ..Default::default()
+    };
+    let x0 = [0.0, 0.0, 0.1, 0.0, 0.0, 0.2, 0.4, 0.3];
+    assert_indefinite(&robot, x0, [0.0, 0.0], "w3");
+
+    // The bicycle with a negative rear frame (rider) mass, or a front wheel with a negative
+    // moment of inertia about its diameter.
+    let upright = |bike: &WhippleBicycle| {
+        let mut x = [0.0; 11];
+        x[WhippleBicycle::N + WhippleBicycle::REAR_WHEEL_RATE] = -5.0 / bike.r_r;
+        x
+    };
+    let bike = WhippleBicycle {
+        m_b: -85.0,
+        ..Default::default()
+    };
+    assert_indefinite(&bike, upright(&bike), [0.0, 0.0], "roll_rate");
+    let bike = WhippleBicycle {
+        i_fxx: -0.1405,
+        ..Default::default()
+    };
+    assert_indefinite(&bike, upright(&bike), [0.0, 0.0], "steer_rate");
+}
+
+/// A state is not built where the reduced mass matrix is indefinite: every way of building
+/// one names the speed, at the time given.
+#[test]
+fn states_are_not_built_with_an_indefinite_mass_matrix() {
+    let robot = MobileRobot {
+        m0: -10.0,
+        ..Default::default()
+    };
+    let from_speeds = robot
+        .state_from_speeds(2.0, &ROBOT_Q, &[0.2, 0.4, 0.0])
+        .unwrap_err();
+    let from_velocities = robot
+        .state_from_velocities(2.0, &ROBOT_Q, &robot_admissible_qd())
+        .unwrap_err();
+    let built = robot
+        .state_builder()
+        .at_time(2.0)
+        .set("alpha", 0.1)
+        .build()
+        .unwrap_err();
+    for e in [from_speeds, from_velocities, built] {
+        assert!(
+            matches!(&e, Error::IndefiniteMassMatrix { t: 2.0, speed, .. } if speed == "w3"),
+            "{e}"
+        );
+        assert_message(&e, &["at t = 2:", "along `w3`", "parameters"]);
+    }
+    let bike = WhippleBicycle {
+        m_b: -85.0,
+        ..Default::default()
+    };
+    let e = bike.state_builder().set("phi", 0.01).build().unwrap_err();
+    assert!(
+        matches!(&e, Error::IndefiniteMassMatrix { speed, .. } if speed == "roll_rate"),
+        "{e}"
+    );
+
+    // A singular matrix is the dynamics' business, reported when a run meets it: a knife
+    // edge without a moment of inertia still gives a state (section 7).
+    let pointlike = KnifeEdge {
+        j: 0.0,
+        ..Default::default()
+    };
+    pointlike
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.2], &[1.0, 0.5])
+        .unwrap();
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. A right-hand side that meets a value that is not finite
+// ---------------------------------------------------------------------------------------------
+
+/// A skate whose moment of inertia about the vertical depends on where it is, j·√(1 − x²)
+/// (a made-up geometry that exists for |x| ≤ 1 only): beyond, the reduced mass matrix's entry
+/// for the turning rate is NaN, while A(q) stays finite.
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct StripSkate {
+    m: f64,
+    j: f64,
+}
+
+#[hamel_system(coordinates(x, y, phi), speeds(v, turn))]
+impl StripSkate {
+    #[kinetic_energy]
+    pub fn kinetic_energy(&self, q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        let inertia = self.j * (1.0 - q[0] * q[0]).sqrt();
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * inertia * qd[2] * qd[2]
+    }
+
+    #[constraints]
+    pub fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[0] * q[2].sin() - qd[1] * q[2].cos()]
+    }
+
+    #[quasi_velocities]
+    pub fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+        [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+}
+
+/// Before, a NaN pivot or diagonal entry was reported as a singular matrix ("has no inertia
+/// here (its pivot … is NaN)"), a NaN in A(q) as a singular transformation.
+#[test]
+fn a_non_finite_value_is_not_called_singular() {
+    let sys = StripSkate { m: 1.0, j: 0.1 };
+    let x = [2.0, 0.0, 0.0, 1.0, 0.5];
+    let mut dx = [0.0; 5];
+    assert_eq!(
+        sys.rhs(0.0, &x, &[], &mut dx),
+        Err(Singularity::NonFinite {
+            speed: Some(StripSkate::TURN)
+        })
+    );
+    let e = Simulation::new(&sys, x)
+        .start_time(1.25)
+        .end_time(2.0)
+        .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        .unwrap_err();
+    match &e {
+        Error::NonFiniteDynamics { t, speed, state } => {
+            assert_eq!((*t, speed.as_deref()), (1.25, Some("turn")));
+            assert_eq!(state.get("x"), Some(2.0));
+        }
+        other => panic!("expected a non-finite right-hand side, got {other:?}"),
+    }
+    assert_message(
+        &e,
+        &[
+            "not a finite number at t = 1.25",
+            "reduced mass matrix",
+            "`turn`",
+            "outside the model's geometry",
+            "x = 2, y = 0",
+        ],
+    );
+
+    // The bicycle lying flat on the ground (rolled by π/2, so the front wheel's axle is
+    // vertical): the lowest point of the front wheel is a division by zero, and A(q), whose
+    // rolling rows use it, has NaN entries.
+    let bike = WhippleBicycle::default();
+    let mut flat = [0.0; 11];
+    flat[WhippleBicycle::PHI] = FRAC_PI_2;
+    let mut dx = [0.0; 11];
+    assert_eq!(
+        bike.rhs(0.0, &flat, &[0.0, 0.0], &mut dx),
+        Err(Singularity::NonFinite { speed: None })
+    );
+    let e = Simulation::new(&bike, flat)
+        .run_constant(&Rk4::new(0.01), [0.0, 0.0])
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NonFiniteDynamics {
+                t: 0.0,
+                speed: None,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert_message(&e, &["at t = 0", "A(q)", "phi = 1.571"]);
 }

@@ -1,7 +1,7 @@
 //! The generated code: `impl hamel::HamelSystem for Model` and the model's inherent items
 //! (index constants, `rhs_generic`).
 
-use super::equations::Equations;
+use super::equations::{Equations, TransformationPivots};
 use super::interface::{self, Bodies, Dims, Header, lit};
 use super::spec::Spec;
 use crate::engine::emit::{Code, Emitter, Scalar};
@@ -137,42 +137,67 @@ impl<'g> Context<'g> {
         };
         let mut tokens = TokenStream::new();
         if let Some(t) = transformation {
-            // The matrix's scale as a sum of magnitudes: a plain sum, where a NaN-aware `max`
-            // chain would cost more than the factorization it guards.
-            let scale = t.entries.iter().map(|&e| {
-                let v = re(e);
-                quote!(+ #v.abs())
-            });
-            let tolerance = (self.n as f64) * f64::EPSILON;
-            let pivots = t.pivots.iter().map(|&(p, coordinate)| {
-                let v = re(p);
-                let c = lit(coordinate);
-                quote! {
-                    let pivot = #v;
-                    if !(pivot.abs() > #tolerance * scale_a) {
-                        return ::core::result::Result::Err(::hamel::Singularity::Transformation { coordinate: #c, value: pivot });
-                    }
-                }
-            });
-            tokens.extend(quote! {
-                let scale_a = 0.0f64 #(#scale)*;
-                #(#pivots)*
-            });
+            tokens.extend(self.transformation_checks(t, &re));
         }
         if checks.mass {
-            let tolerance = PIVOT_TOLERANCE;
-            for (j, (&d, &m)) in self.eq.pivots.iter().zip(&diagonal).enumerate() {
-                let (v, diag) = (re(d), re(m));
-                let j = lit(j);
-                tokens.extend(quote! {
-                    let pivot = #v;
-                    if !(pivot > #tolerance * #diag.abs()) {
-                        return ::core::result::Result::Err(::hamel::Singularity::MassMatrix { speed: #j, value: pivot });
-                    }
-                });
-            }
+            tokens.extend(self.mass_checks(&diagonal, &re));
         }
         Ok((code, tokens))
+    }
+
+    /// The checks of the LU pivots of A(q), `re` giving a node's value as an `f64`.
+    fn transformation_checks(
+        &self,
+        t: &TransformationPivots,
+        re: &dyn Fn(NodeId) -> TokenStream,
+    ) -> TokenStream {
+        // The matrix's scale as a sum of magnitudes: a plain sum, where a NaN-aware `max`
+        // chain would cost more than the factorization it guards.
+        let scale = t.entries.iter().map(|&e| {
+            let v = re(e);
+            quote!(+ #v.abs())
+        });
+        let tolerance = (self.n as f64) * f64::EPSILON;
+        // A NaN or infinite entry fails the first pivot's test (NaN compares false, an
+        // infinite scale is beyond every pivot): told apart there, off the hot path.
+        let pivots = t.pivots.iter().map(|&(p, coordinate)| {
+            let v = re(p);
+            let c = lit(coordinate);
+            quote! {
+                let pivot = #v;
+                if !(pivot.abs() > #tolerance * scale_a) {
+                    return ::core::result::Result::Err(if scale_a.is_finite() && pivot.is_finite() {
+                        ::hamel::Singularity::Transformation { coordinate: #c, value: pivot }
+                    } else {
+                        ::hamel::Singularity::NonFinite { speed: ::core::option::Option::None }
+                    });
+                }
+            }
+        });
+        quote! {
+            let scale_a = 0.0f64 #(#scale)*;
+            #(#pivots)*
+        }
+    }
+
+    /// The checks of the mass matrix's LDLᵀ pivots against their diagonal entries.
+    fn mass_checks(&self, diagonal: &[NodeId], re: &dyn Fn(NodeId) -> TokenStream) -> TokenStream {
+        let tolerance = PIVOT_TOLERANCE;
+        let mut tokens = TokenStream::new();
+        // One comparison per pivot on the hot path; whether a failure is a value that is not
+        // finite, an indefinite or a singular matrix is sorted out by the runtime.
+        for (j, (&d, &m)) in self.eq.pivots.iter().zip(diagonal).enumerate() {
+            let (v, diag) = (re(d), re(m));
+            let j = lit(j);
+            tokens.extend(quote! {
+                let pivot = #v;
+                let diagonal = #diag;
+                if !(pivot > #tolerance * diagonal.abs()) {
+                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivot(#j, pivot, diagonal, #tolerance));
+                }
+            });
+        }
+        tokens
     }
 
     /// An `f64` method body returning `Ok(value)` after the checks.

@@ -51,17 +51,27 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
                 }
             }
 
+            // A struct without parameters has only the unknown-name arm, after which the rest
+            // is unreachable.
+            #[allow(unreachable_code)]
             fn set(&mut self, name: &str, value: f64) -> ::core::result::Result<(), ::hamel::Error> {
-                match name {
-                    #(#names => {
-                        #reads = value;
-                        ::core::result::Result::Ok(())
-                    })*
-                    _ => ::core::result::Result::Err(::hamel::Error::UnknownParameter {
+                let field: &mut f64 = match name {
+                    #(#names => &mut #reads,)*
+                    _ => return ::core::result::Result::Err(::hamel::Error::UnknownParameter {
                         name: ::std::string::ToString::to_string(name),
                         known: <Self as ::hamel::Parameters>::NAMES.join(", "),
                     }),
+                };
+                // Refused here, where the caller still knows where the value came from,
+                // rather than by `validate` when a state is built; the field keeps its value.
+                if !value.is_finite() {
+                    return ::core::result::Result::Err(::hamel::Error::InvalidParameter {
+                        name: ::std::string::ToString::to_string(name),
+                        value,
+                    });
                 }
+                *field = value;
+                ::core::result::Result::Ok(())
             }
         }
     }
