@@ -24,6 +24,7 @@ mod vector;
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use error::{AssemblyFailure, Error, Num, Singularity};
+pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{
     Control, DormandPrince, Grid, Integrator, Interpolant, Observer, Ode, Rk4, SampleObserver,
     SampleTimes, Stats, StepView,
@@ -33,9 +34,8 @@ pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
 pub use named::NamedValues;
 pub use opcount::OpCounts;
-pub use scalar::Scalar;
-pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use recorder::Output;
+pub use scalar::Scalar;
 pub use simulation::{Progress, Simulation};
 pub use sink::{CsvSink, Sink};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};

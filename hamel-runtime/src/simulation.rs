@@ -130,7 +130,11 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
 
     /// Records one more column, `name`, computed from the time and the state at every sample
     /// (a contact point's position, a distance).
-    pub fn output(mut self, name: impl Into<String>, f: impl Fn(f64, &S::State) -> f64 + 's) -> Self {
+    pub fn output(
+        mut self,
+        name: impl Into<String>,
+        f: impl Fn(f64, &S::State) -> f64 + 's,
+    ) -> Self {
         self.outputs.push(Output {
             name: name.into(),
             f: Box::new(f),

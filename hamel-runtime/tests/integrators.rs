@@ -343,16 +343,10 @@ fn blow_up_is_a_step_size_underflow() {
         let mut observed = Vec::new();
         let result = DormandPrince::new(tol, tol)
             .with_min_step(min_step)
-            .integrate(
-                &mut BlowUp,
-                0.0,
-                &[1.0],
-                &[0.5, span],
-                &mut |t, y| {
-                    observed.push((t, y[0]));
-                    Ok(())
-                },
-            );
+            .integrate(&mut BlowUp, 0.0, &[1.0], &[0.5, span], &mut |t, y| {
+                observed.push((t, y[0]));
+                Ok(())
+            });
         println!("blow-up, floor {min_step:e}, tol {tol:e}: {result:?}");
         match result {
             Err(Error::StepSizeUnderflow { t, h, state }) => {

@@ -246,7 +246,9 @@ fn free_skate_runs_on_its_circle() {
 
     assert_eq!(
         trajectory.names(),
-        ["t", "x", "y", "theta", "v", "omega", "force", "torque", "energy"]
+        [
+            "t", "x", "y", "theta", "v", "omega", "force", "torque", "energy"
+        ]
     );
     assert_eq!(trajectory.len(), 401);
     assert_eq!(summary.samples, 401);

@@ -176,7 +176,11 @@ impl Default for MobileRobotPaper {
     inputs(tau1, tau2)
 )]
 impl MobileRobotPaper {
-    /// The paper's eq. (12), ω indexed from 0 here (`w[0]` is ω¹).
+    /// The paper's eq. (12), ω indexed from 0 here (`w[0]` is ω¹), with its terms in ω²
+    /// (the constrained slip along the path) as the bodies give them: ½ m_w (ω²)² + m_w ω²ω⁴,
+    /// where the paper prints m_w (ω²)² − m_w ω²ω⁴. The motion is the same either way (ω² ≡ 0
+    /// and every γ² vanishes), but the constraint forces see the difference: the printed terms
+    /// put (−2 m_w ω⁴ω⁵, −2 m_w ω̇⁴) into λ.
     #[quasi_lagrangian]
     pub fn lagrangian(&self, q: &[f64; 5], w: &[f64; 5]) -> f64 {
         let alpha = q[2];
@@ -187,12 +191,12 @@ impl MobileRobotPaper {
             + 0.75 * self.mw * self.b * self.b
             + 0.5 * self.mw * self.r * self.r;
         0.5 * (self.m0 + 2.0 * self.mw) * w[0] * w[0]
-            + self.mw * w[1] * w[1]
+            + 0.5 * self.mw * w[1] * w[1]
             + 0.5 * (self.jy + ml2) * w[2] * w[2]
             + 0.5 * (self.m0 + 3.0 * self.mw) * w[3] * w[3]
             + 0.5 * j5 * w[4] * w[4]
             + self.m0 * self.l * (w[2] * w[3] * ca - w[0] * w[4] * sa)
-            - self.mw * w[1] * w[3]
+            + self.mw * w[1] * w[3]
             - self.m0 * self.l * self.g * ca
     }
 

@@ -27,7 +27,7 @@
 //!
 //! The model gives no closed-form inverse (`#[velocities]`): A(q) is block triangular along
 //! the train, which the macro's sparse LU of it exploits. The inverse is easy to
-//! write — rolling[i] = Ṗᵢ₋₁ · nᵢ − dᵢ θ̇ᵢ gives θ̇ᵢ axle by axle from the tractor back — and
+//! write — rolling\[i\] = Ṗᵢ₋₁ · nᵢ − dᵢ θ̇ᵢ gives θ̇ᵢ axle by axle from the tractor back — and
 //! gives the same motion, but composed into L̃ = L(q, B(q) ω) it made the code for N = 24
 //! larger and slower: a release build of this crate took about four times as long (18 s
 //! against 4 to 5 s), and a right-hand side 1.8 µs instead of 1.4 µs (on one machine).

@@ -771,48 +771,10 @@ fn robot_multipliers_are_newtons_law_for_the_whole_robot() {
     );
 }
 
-/// The catalogue's `MobileRobotPaper` misses `MobileRobot`'s λ by exactly what the ω² terms
-/// of the paper's eq. (12) predict (derived above): Δλ = (−2 m_w ω⁴ω⁵, −2 m_w ω̇⁴), with ω̇⁴
-/// from the generated right-hand side (the same for both forms). This pins the discrepancy
-/// on the model's L̃, not on the engine; once the catalogue's L̃ is corrected, this test fails
-/// and `catalogue_robot_forms_give_the_same_lambda` passes.
+/// Both catalogue robot forms have the same rows, so the same λ. (With the paper's printed ω²
+/// terms in L̃ they differ by (−2 m_w ω⁴ω⁵, −2 m_w ω̇⁴), about 10⁻² relative; the smallest
+/// reproduction is the default robot at x = (0, 0, 0, 0, 0, 0, 1, 1), u = 0: −14 against −12.)
 #[test]
-fn catalogue_paper_form_misses_lambda_by_its_omega2_terms() {
-    let mut rng = XorShift::new(0xf04c_e006);
-    let (mut worst, mut smallest_gap) = (0.0f64, f64::INFINITY);
-    for robot in robots() {
-        let paper = MobileRobotPaper::from(&robot);
-        for _ in 0..RANDOM_POINTS {
-            let (x, u) = robot_sample(&mut rng);
-            let everyday = regular(robot.constraint_forces(0.0, &x, &u), "MobileRobot λ");
-            let printed = regular(paper.constraint_forces(0.0, &x, &u), "MobileRobotPaper λ");
-            let mut dx = [0.0; 8];
-            regular(robot.rhs(0.0, &x, &u, &mut dx), "MobileRobot rhs");
-            let predicted = [-2.0 * robot.mw * x[6] * x[7], -2.0 * robot.mw * dx[6]];
-            let gap = [printed[0] - everyday[0], printed[1] - everyday[1]];
-            let err = normwise_error(&gap, &predicted) * predicted[0].abs().max(predicted[1].abs())
-                / everyday[0].abs().max(everyday[1].abs());
-            assert!(
-                err <= ROBOT,
-                "at x = {x:?}, u = {u:?}: λ(paper) − λ(bodies) = {gap:?}, predicted \
-                 {predicted:?}"
-            );
-            worst = worst.max(err);
-            smallest_gap = smallest_gap.min(normwise_error(&printed, &everyday));
-        }
-    }
-    println!(
-        "MobileRobotPaper − MobileRobot λ = (−2 m_w ω⁴ω⁵, −2 m_w ω̇⁴) to {worst:.1e} of max|λ|; \
-         the gap itself is at least {smallest_gap:.1e} of max|λ| at these states"
-    );
-}
-
-/// What should hold of the catalogue: both robot forms have the same rows, so the same λ.
-/// Fails today by about 10⁻² relative (see `catalogue_paper_form_misses_lambda_by_its_omega2_
-/// terms`); a minimal reproduction is the default robot at x = (0, 0, 0, 0, 0, 0, 1, 1), u = 0.
-#[test]
-#[ignore = "MobileRobotPaper's L̃ (the paper's eq. 12) has the wrong ω² terms: its λ is off by \
-            (−2 m_w ω⁴ω⁵, −2 m_w ω̇⁴)"]
 fn catalogue_robot_forms_give_the_same_lambda() {
     let mut rng = XorShift::new(0xf04c_e007);
     for robot in robots() {

@@ -450,7 +450,9 @@ impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
         stop: Option<f64>,
     ) -> Result<(), Error> {
         let end = stop.unwrap_or(t1);
-        while let Some(s) = self.upcoming().filter(|s| *s <= end && (stop.is_none() || *s < end))
+        while let Some(s) = self
+            .upcoming()
+            .filter(|s| *s <= end && (stop.is_none() || *s < end))
         {
             if s == t1 {
                 self.observer.sample(s, y1)?;
@@ -498,7 +500,13 @@ impl Integrator for DormandPrince {
         let smallest = self.fixed_step.unwrap_or(self.max_step);
         let needed = ((t_end - t0) / smallest).ceil();
         if needed > self.max_steps as f64 {
-            return Err(too_many_steps(ode, t0, smallest, x0, needed.min(usize::MAX as f64) as usize));
+            return Err(too_many_steps(
+                ode,
+                t0,
+                smallest,
+                x0,
+                needed.min(usize::MAX as f64) as usize,
+            ));
         }
 
         let mut f0 = O::State::zeros();

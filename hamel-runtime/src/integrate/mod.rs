@@ -126,13 +126,7 @@ impl<V> Observer<V> for Samples<'_, '_, V> {
 
 /// The error for an integration that would need more than `limit` steps: known before the
 /// first step for fixed steps (`needed` of them), reached during it for adaptive ones.
-pub(crate) fn too_many_steps<O: Ode>(
-    ode: &O,
-    t: f64,
-    h: f64,
-    x: &O::State,
-    steps: usize,
-) -> Error {
+pub(crate) fn too_many_steps<O: Ode>(ode: &O, t: f64, h: f64, x: &O::State, steps: usize) -> Error {
     Error::TooManySteps {
         t,
         steps,

@@ -115,7 +115,11 @@ impl<O: Ode> Run<'_, O> {
                 return Err(too_many_steps(&*self.ode, t, h, &x, self.stats.steps));
             }
             let start = t + i as f64 * h;
-            let end = if i + 1 < n { t + (i + 1) as f64 * h } else { to };
+            let end = if i + 1 < n {
+                t + (i + 1) as f64 * h
+            } else {
+                to
+            };
             let k1 = match self.slope.take() {
                 Some(k1) => k1,
                 None => {
