@@ -3,6 +3,7 @@
 
 mod assembly;
 mod builder;
+mod crossing;
 mod error;
 mod events;
 pub mod integrate;
@@ -23,6 +24,7 @@ mod vector;
 
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
+pub use crossing::{SingularCrossing, transformation_determinant};
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{

@@ -7,6 +7,7 @@ use std::cell::RefCell;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
+use crate::crossing::CrossingWatch;
 use crate::error::Error;
 use crate::events::{EVENT_TOLERANCE, Event, Watch};
 use crate::integrate::{Control, Grid, Integrator, Observer, SampleTimes, StepView};
@@ -61,6 +62,7 @@ pub struct Simulation<'s, S: HamelSystem> {
     outputs: Vec<Output<'s, S>>,
     forces: bool,
     progress: Option<ProgressFn<'s>>,
+    watch_crossings: bool,
 }
 
 impl<'s, S: HamelSystem> Simulation<'s, S> {
@@ -78,6 +80,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             event_tolerance: EVENT_TOLERANCE,
             outputs: Vec::new(),
             forces: false,
+            watch_crossings: true,
             progress: None,
         }
     }
@@ -146,6 +149,16 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     /// `lambda_<constraint>` (default: off).
     pub fn record_constraint_forces(mut self, on: bool) -> Self {
         self.forces = on;
+        self
+    }
+
+    /// Whether to check, after every accepted step, that the run has not crossed a
+    /// configuration where A(q, t) is singular (default: on). A crossing is flagged in
+    /// [`crate::Summary::singular_crossings`] (and printed with the summary): the run goes on,
+    /// but its results after it are unreliable. The check costs n + 1 evaluations of the rows
+    /// and one n × n determinant per step.
+    pub fn watch_singular_crossings(mut self, on: bool) -> Self {
+        self.watch_crossings = on;
         self
     }
 
@@ -269,9 +282,14 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         let recorder = Recorder::new(self.system, &inputs, columns, sink)?;
         let watch = Watch::new(&self.events, self.event_tolerance, self.t0, &x0)?;
         let (system, project) = (self.system, self.project);
+        let crossings = self
+            .watch_crossings
+            .then(|| CrossingWatch::new(self.system, self.t0, &x0));
         let mut observer = Driver {
+            system: self.system,
             recorder,
             watch,
+            crossings,
             watching_events: !Event::is_empty(&self.events),
             progress: self.progress.as_deref(),
             started: Instant::now(),
@@ -304,7 +322,14 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             integrator.integrate_observed(&mut ode, self.t0, &v0, grid, &mut states)?
         };
         observer.report_progress(observer.span.1.min(stats.stopped.unwrap_or(f64::INFINITY)));
-        observer.recorder.finish(stats)
+        let mut summary = observer.recorder.finish(stats)?;
+        if let Some(mut watch) = observer.crossings {
+            // A step cut short by a terminal event or a cancel was checked to its end.
+            let end = stats.stopped.unwrap_or(f64::INFINITY);
+            watch.crossings.retain(|c| c.t <= end);
+            summary.singular_crossings = watch.crossings;
+        }
+        Ok(summary)
     }
 
     /// The checked initial state, its dependent coordinates re-solved when projecting.
@@ -333,8 +358,10 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
 
 /// What the integrator reports to, for one run: the recorder, the events and the progress.
 struct Driver<'a, 's, 'e, S: HamelSystem, F> {
+    system: &'s S,
     recorder: Recorder<'a, 's, S, F>,
     watch: Watch<'e, 's, S>,
+    crossings: Option<CrossingWatch>,
     watching_events: bool,
     progress: Option<&'a (dyn Fn(&Progress) -> ControlFlow<()> + 's)>,
     started: Instant,
@@ -381,12 +408,18 @@ where
     }
 
     fn watches_steps(&self) -> bool {
-        self.driver.watching_events || self.driver.progress.is_some()
+        self.driver.watching_events
+            || self.driver.progress.is_some()
+            || self.driver.crossings.is_some()
     }
 
     fn step(&mut self, view: &StepView<'_, V>) -> Result<Control, Error> {
         let driver = &mut *self.driver;
         driver.steps += 1;
+        if let Some(crossings) = &mut driver.crossings {
+            let split = &self.split;
+            crossings.step(driver.system, view, |v| split(v).0);
+        }
         if driver.watching_events {
             let split = &self.split;
             for event in driver.watch.step(view, |v| split(v).0)? {

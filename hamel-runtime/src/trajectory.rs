@@ -5,6 +5,7 @@ use core::fmt;
 use std::io::Write;
 use std::path::Path;
 
+use crate::crossing::SingularCrossing;
 use crate::error::{Error, Num};
 use crate::events::EventRecord;
 use crate::sink::Sink;
@@ -48,6 +49,9 @@ pub struct Summary {
     pub relative_energy_balance: f64,
     /// Why the run ended before its end time, if it did.
     pub stopped: Option<Stopped>,
+    /// The configurations where A(q, t) is singular that the run crossed: after the first,
+    /// the results are unreliable although the run returned `Ok`.
+    pub singular_crossings: Vec<SingularCrossing>,
 }
 
 /// Why a run ended before its end time.
@@ -87,6 +91,7 @@ impl Summary {
             max_energy_balance: 0.0,
             relative_energy_balance: 0.0,
             stopped: None,
+            singular_crossings: Vec::new(),
         }
     }
 }
@@ -131,6 +136,9 @@ impl fmt::Display for Summary {
         }
         if let Some(stopped) = &self.stopped {
             write!(f, "\nstopped                  {stopped}")?;
+        }
+        for crossing in &self.singular_crossings {
+            write!(f, "\nwarning: {crossing}")?;
         }
         Ok(())
     }
@@ -316,6 +324,7 @@ mod tests {
             max_energy_balance: 3e-12,
             relative_energy_balance: 1.2e-12,
             stopped: None,
+            singular_crossings: Vec::new(),
         }
     }
 

@@ -4,9 +4,10 @@
 //! A [`Figure`] is a grid of [`Panel`]s; a panel has a title, axis labels, a linear or
 //! logarithmic y axis and any number of named [`Series`] (solid or dashed lines, or dots),
 //! with a legend when there is more than one. [`Figure::save`] picks the format from the
-//! path's extension. For a [`crate::Trajectory`], [`time_series`], [`xy`] and
-//! [`energy_drift`] write the usual figures in one call, and [`Panel::time_series`],
-//! [`Panel::xy`] and [`Panel::energy_drift`] give the same panels to combine into one figure.
+//! path's extension. For a [`crate::Trajectory`], [`time_series`], [`xy`], [`energy_drift`]
+//! and [`constraint_residual`] write the usual figures in one call, and
+//! [`Panel::time_series`], [`Panel::xy`], [`Panel::energy_drift`] and
+//! [`Panel::constraint_residual`] give the same panels to combine into one figure.
 //!
 //! Eigenvalues of a linearization against a parameter, real parts solid and imaginary
 //! parts dashed in the same colour, in the manner of Meijaard et al. (2007), Figure 3:
@@ -76,7 +77,7 @@ mod trajectory;
 
 pub use error::{ErrorKind, PlotError};
 pub use figure::{Figure, Format, Legend, PALETTE, PANEL_SIZE, Panel, Rgb, Scale, Series, Style};
-pub use trajectory::{energy_drift, time_series, xy};
+pub use trajectory::{constraint_residual, energy_drift, time_series, xy};
 
 #[cfg(test)]
 mod tests;

@@ -384,6 +384,35 @@ fn energy_drift_shows_the_energy_balance_when_forces_work() {
     );
 }
 
+#[test]
+fn constraint_residual_at_the_rounding_level() {
+    let robot = MobileRobot::default();
+    let q = [0.0, 0.0, 0.3, 0.0, 0.0];
+    let x0 = robot.state_from_speeds(0.0, &q, &[0.0, 0.5, 0.4]).unwrap();
+    let run = Simulation::new(&robot, x0)
+        .end_time(2.0)
+        .sample_interval(0.05)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.1, -0.1])
+        .unwrap();
+    let panel = Panel::constraint_residual(&robot, &run).unwrap();
+    let names: Vec<&str> = panel.series_list().iter().map(|s| s.name()).collect();
+    assert_eq!(names, ["max |A_c q̇ + a_c|", "ε·max(1, |q̇|)"]);
+    let dir = scratch("residual");
+    constraint_residual(&robot, &run, dir.join("residual.svg")).unwrap();
+    let svg = std::fs::read_to_string(dir.join("residual.svg")).unwrap();
+    check_svg(&svg);
+    assert!(texts(&svg).contains(&"constraint residual"));
+    constraint_residual(&robot, &run, dir.join("residual.png")).unwrap();
+    assert_eq!(
+        png_size(&std::fs::read(dir.join("residual.png")).unwrap()),
+        PANEL_SIZE
+    );
+    // A trajectory of another system lacks the state's columns: an error naming one.
+    let err = Panel::constraint_residual(&robot, &knife_edge_run()).unwrap_err();
+    assert!(matches!(err.kind(), ErrorKind::UnknownColumn { name, .. } if name == "alpha"));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// Values that stress the layout: huge, tiny, of both signs, non-finite.
 fn awkward(seed: &mut u64) -> f64 {
     // A 64-bit LCG (Knuth's MMIX constants): reproducible, with no dependency.

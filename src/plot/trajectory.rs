@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{ErrorKind, PlotError};
 use super::figure::{Figure, Panel};
-use crate::Trajectory;
+use crate::{HamelSystem, Trajectory, Vector};
 
 /// The column called `name`, or an error that lists the trajectory's columns.
 fn column<'a>(trajectory: &'a Trajectory, name: &str) -> Result<&'a [f64], PlotError> {
@@ -90,6 +90,79 @@ impl Panel {
     }
 }
 
+impl Panel {
+    /// The constraint residual against time on a logarithmic axis: at each sample, the
+    /// largest |A_c(q, t) q̇ + a_c(q, t)| over the constraint rows, with q̇ from the recorded
+    /// state (and, for a system with holonomic constraints, the largest |f(t, q)|), beside the
+    /// rounding level ε·max(1, max|q̇|) as a dashed line. Hamel's reduced state satisfies the
+    /// velocity constraints by construction, so the residual stays at that level for a sound
+    /// model; samples where it is exactly 0 cannot be shown on the axis and are left out.
+    ///
+    /// The trajectory must have `system`'s state columns (a run of it).
+    ///
+    /// ```
+    /// use hamel::models::KnifeEdge;
+    /// use hamel::plot::Panel;
+    /// use hamel::{DormandPrince, HamelSystem, Simulation};
+    ///
+    /// let skate = KnifeEdge::default();
+    /// let x0 = skate.state_from_speeds(0.0, &[0.0, 0.0, 0.0], &[1.0, 0.5])?;
+    /// let run = Simulation::new(&skate, x0)
+    ///     .end_time(2.0)
+    ///     .run_constant(&DormandPrince::new(1e-8, 1e-10), [])?;
+    /// let panel = Panel::constraint_residual(&skate, &run)?;
+    /// assert_eq!(panel.series_list().len(), 2); // the residual and the rounding level
+    /// # Ok::<(), hamel::Error>(())
+    /// ```
+    pub fn constraint_residual<S: HamelSystem>(
+        system: &S,
+        trajectory: &Trajectory,
+    ) -> Result<Panel, PlotError> {
+        let columns = S::STATE
+            .iter()
+            .map(|name| column(trajectory, name))
+            .collect::<Result<Vec<_>, _>>()?;
+        let t = trajectory.times();
+        let (mut residual, mut holonomic, mut rounding) = (Vec::new(), Vec::new(), Vec::new());
+        let mut x = S::State::zeros();
+        for (i, &ti) in t.iter().enumerate() {
+            for (xj, c) in x.as_mut().iter_mut().zip(&columns) {
+                *xj = c[i];
+            }
+            let q = S::coordinates_of(&x);
+            // A state where the velocities cannot be formed is left out (NaN), as the run
+            // that recorded it would have stopped there.
+            let (r, scale) = match system.generalized_velocities(ti, &x) {
+                Ok(qd) => (
+                    max_abs(system.constraint_residual(ti, &q, &qd).as_ref()),
+                    max_abs(qd.as_ref()).max(1.0),
+                ),
+                Err(_) => (f64::NAN, f64::NAN),
+            };
+            residual.push(r);
+            rounding.push(f64::EPSILON * scale);
+            holonomic.push(max_abs(system.holonomic_residual(ti, &q).as_ref()));
+        }
+        let time = time_name(trajectory);
+        let mut panel = Panel::new("constraint residual")
+            .x_label(time)
+            .y_label("residual")
+            .log_y()
+            .line("max |A_c q̇ + a_c|", t, &residual);
+        if S::K > 0 {
+            panel = panel.line("max |f(t, q)|", t, &holonomic);
+        }
+        Ok(panel.dashed("ε·max(1, |q̇|)", t, &rounding))
+    }
+}
+
+fn max_abs(values: &[f64]) -> f64 {
+    values.iter().fold(
+        0.0,
+        |m, v| if v.is_nan() { f64::NAN } else { m.max(v.abs()) },
+    )
+}
+
 /// Writes the columns `names` against time ([`Panel::time_series`]) to `path`, `.svg` or
 /// `.png`.
 ///
@@ -139,5 +212,24 @@ pub fn xy(
 pub fn energy_drift(trajectory: &Trajectory, path: impl AsRef<Path>) -> Result<(), PlotError> {
     let path = path.as_ref();
     let panel = Panel::energy_drift(trajectory).map_err(|e| e.at(path))?;
+    Figure::from(panel).save(path)
+}
+
+/// Writes the constraint residual ([`Panel::constraint_residual`]) to `path`, `.svg` or
+/// `.png`.
+///
+/// ```no_run
+/// # fn demo(robot: &hamel::models::MobileRobot, run: &hamel::Trajectory) -> Result<(), hamel::Error> {
+/// hamel::plot::constraint_residual(robot, run, "residual.svg")?;
+/// # Ok(())
+/// # }
+/// ```
+pub fn constraint_residual<S: HamelSystem>(
+    system: &S,
+    trajectory: &Trajectory,
+    path: impl AsRef<Path>,
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    let panel = Panel::constraint_residual(system, trajectory).map_err(|e| e.at(path))?;
     Figure::from(panel).save(path)
 }
