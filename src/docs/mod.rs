@@ -2,12 +2,17 @@
 //!
 //! * [`model`] — writing a model: every role and its signature, the names, the state layout,
 //!   inputs and forces, the errors, and a worked example of each input form.
+//! * [`running`] — running a simulation: the recorded columns, events, streaming, progress
+//!   and cancelling, the limits that end every run, and what the summary flags.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
 
 #[doc = include_str!("model.md")]
 pub mod model {}
+
+#[doc = include_str!("running.md")]
+pub mod running {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
