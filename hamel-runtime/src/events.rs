@@ -30,11 +30,14 @@ pub enum Direction {
 /// The default time tolerance of event location, relative to the step it falls in.
 pub const EVENT_TOLERANCE: f64 = 1e-12;
 
+/// An event function g(t, x).
+type EventFn<'s, S> = Box<dyn Fn(f64, &<S as HamelSystem>::State) -> f64 + 's>;
+
 /// A named event function g(t, x) of the state, with the direction that counts and whether it
 /// ends the run.
 pub struct Event<'s, S: HamelSystem> {
     name: String,
-    g: Box<dyn Fn(f64, &S::State) -> f64 + 's>,
+    g: EventFn<'s, S>,
     direction: Direction,
     terminal: bool,
 }

@@ -537,7 +537,7 @@ fn complete<O: Ode, T: SampleTimes + ?Sized>(
     step: &Step<O::State>,
     samples: &mut Samples<'_, T, O::State>,
     stats: &mut Stats,
-) -> Result<Option<(O::State, O::State)>, Error> {
+) -> Result<Option<Next<O::State>>, Error> {
     check_state(ode, t1, &step.y1)?;
     stats.steps += 1;
     let mut y1 = step.y1;
@@ -571,6 +571,9 @@ fn complete<O: Ode, T: SampleTimes + ?Sized>(
     }
     Ok(Some((y1, f1)))
 }
+
+/// The state an accepted step ends at and the derivative there, where the next step starts.
+type Next<V> = (V, V);
 
 /// Where the steps start: the initial point and the derivative there.
 struct Start<V> {
