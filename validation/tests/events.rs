@@ -472,6 +472,7 @@ fn terminal_events_end_the_run_at_their_exact_time() {
             .state_from_speeds(0.0, &[0.1, -0.4, theta0], &[v0, w0])
             .unwrap();
         let limit = f.limit;
+        let t_stop = f.speed_time(0.9);
         let run = Simulation::new(&sys, x0)
             .end_time(f.speed_time(0.999))
             .sample_interval(0.1)
@@ -482,11 +483,13 @@ fn terminal_events_end_the_run_at_their_exact_time() {
                     .terminal(),
             )
             .event(Event::new("later", move |_, x: &[f64; 5]| x[3] - 0.99 * limit).rising())
+            // A zero 1e-9 s after the terminal one, in the same step: found, then dropped,
+            // for it did not happen.
+            .event(Event::new("just_after", move |t, _: &[f64; 5]| t - t_stop - 1e-9).rising())
             .run_constant(&tight(), [])
             .unwrap();
         let what = format!("sleigh {start:?}");
         let stop = check_terminal::<ChaplyginSleigh>(&run, "ninety", &what);
-        let t_stop = f.speed_time(0.9);
         worst_t = worst_t.max(compare_times(&what, &[stop.t], &[t_stop], EVENT_TIME_TOL));
         let x = state_of::<ChaplyginSleigh>(&stop);
         for (xi, ei) in
@@ -499,6 +502,7 @@ fn terminal_events_end_the_run_at_their_exact_time() {
         }
         assert_eq!(run.event_times("half").len(), 1, "{what}");
         assert!(run.event_times("later").is_empty(), "{what}");
+        assert!(run.event_times("just_after").is_empty(), "{what}");
     }
     println!(
         "terminal events: worst |t_stop − t*| = {worst_t:.2e} s; worst state error there \

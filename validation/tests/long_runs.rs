@@ -6,7 +6,9 @@
 //!    1e-300, an RK4 step of 1e-9 over 10 s) return an `Err` naming t, h and the state, at
 //!    once; so do a run that reaches its step limit and one whose step falls below the floor.
 //!    The one timing assertion of the suite, < 1 s of wall time for the call, is about a hang,
-//!    not about speed: each of these calls does at most a few hundred steps.
+//!    not about speed: each of these calls does at most a few hundred steps. The calls run on
+//!    a thread of their own, so that a hang that comes back fails the test after 10 s with a
+//!    message instead of never ending (removing the fixed-step refusal did exactly that).
 //! 2. Progress: increasing times, fractions in [0, 1], a final call; `Break` cancels, and the
 //!    run returns what it recorded up to there with `Summary::stopped` saying so.
 //! 3. Extra outputs: the input, output and λ columns against the functions that define them,
@@ -18,6 +20,8 @@ mod planar_closed_forms;
 
 use std::cell::RefCell;
 use std::ops::ControlFlow;
+use std::sync::mpsc;
+use std::thread;
 use std::time::{Duration, Instant};
 
 use hamel::models::{KnifeEdge, MobileRobot};
@@ -57,11 +61,25 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
     (out, started.elapsed())
 }
 
-/// A 10 s knife-edge run with `integrator`: its result and the call's wall time.
-fn ten_seconds<I: Integrator>(integrator: &I) -> (Result<Trajectory, Error>, Duration) {
-    let (sys, _, x0) = level_knife();
-    let sim = Simulation::new(&sys, x0).end_time(10.0);
-    timed(|| sim.run_constant(integrator, []))
+/// How long to wait for a run on its own thread before calling it a hang: a failure with a
+/// message rather than a test that never ends (the thread is left to the process's exit).
+const HANG_WAIT: Duration = Duration::from_secs(10);
+
+/// A 10 s knife-edge run with `integrator`, on a thread of its own: its result and the wall
+/// time of the call itself (the thread's start and the channel excluded).
+fn ten_seconds<I: Integrator + Send + 'static>(
+    integrator: I,
+) -> (Result<Trajectory, Error>, Duration) {
+    let (send, receive) = mpsc::channel();
+    thread::spawn(move || {
+        let (sys, _, x0) = level_knife();
+        let sim = Simulation::new(&sys, x0).end_time(10.0);
+        // The receiver is gone only after a timeout, which has failed the test already.
+        let _ = send.send(timed(|| sim.run_constant(&integrator, [])));
+    });
+    receive
+        .recv_timeout(HANG_WAIT)
+        .unwrap_or_else(|_| panic!("no result after {HANG_WAIT:?}: the run hangs"))
 }
 
 /// The state named in an error is the model's, by name.
@@ -81,19 +99,19 @@ fn former_hangs_return_errors_at_once() {
     let cases = [
         (
             "DormandPrince::with_max_step(1e-300)",
-            ten_seconds(&DormandPrince::new(1e-8, 1e-8).with_max_step(1e-300)),
+            ten_seconds(DormandPrince::new(1e-8, 1e-8).with_max_step(1e-300)),
             1e-300,
             1e301,
         ),
         (
             "DormandPrince::with_fixed_step(1e-300)",
-            ten_seconds(&DormandPrince::new(1e-8, 1e-8).with_fixed_step(1e-300)),
+            ten_seconds(DormandPrince::new(1e-8, 1e-8).with_fixed_step(1e-300)),
             1e-300,
             1e301,
         ),
         (
             "Rk4::new(1e-9)",
-            ten_seconds(&Rk4::new(1e-9)),
+            ten_seconds(Rk4::new(1e-9)),
             1e-9,
             1e10_f64,
         ),
@@ -139,10 +157,10 @@ fn former_hangs_return_errors_at_once() {
 fn step_limits_end_runs_with_the_state_reached() {
     let (_, s, _) = level_knife();
     let adaptive = DormandPrince::new(1e-12, 1e-12).with_max_steps(100);
-    let (result, elapsed) = ten_seconds(&adaptive);
+    let (result, elapsed) = ten_seconds(adaptive);
     assert!(elapsed < HANG_LIMIT, "{elapsed:?}");
     // How many steps the run needs without the limit.
-    let needed = ten_seconds(&DormandPrince::new(1e-12, 1e-12))
+    let needed = ten_seconds(DormandPrince::new(1e-12, 1e-12))
         .0
         .unwrap()
         .summary()
@@ -169,7 +187,7 @@ fn step_limits_end_runs_with_the_state_reached() {
         other => panic!("expected TooManySteps, got {other:?}"),
     }
 
-    let (result, elapsed) = ten_seconds(&Rk4::new(0.01).with_max_steps(100));
+    let (result, elapsed) = ten_seconds(Rk4::new(0.01).with_max_steps(100));
     assert!(elapsed < HANG_LIMIT, "{elapsed:?}");
     match result {
         Err(Error::TooManySteps { t, steps, h, .. }) => {
