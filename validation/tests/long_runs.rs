@@ -125,10 +125,12 @@ fn former_hangs_return_errors_at_once() {
                     t,
                     steps,
                     h,
+                    planned,
                     ref state,
                 },
             ) => {
                 assert_eq!((t, h), (0.0, step), "{what}: {e}");
+                assert!(planned, "{what}: refused before the first step");
                 // The steps it would need (saturated at usize::MAX for 1e301).
                 assert!(
                     steps as f64 >= needed.min(usize::MAX as f64) * (1.0 - 1e-9),
@@ -139,7 +141,9 @@ fn former_hangs_return_errors_at_once() {
                 assert_eq!(values, x0, "{what}: the state named is the initial one");
                 let message = e.to_string();
                 assert!(
-                    message.contains("t = 0") && message.contains("phi = 0.4"),
+                    message.contains("t = 0")
+                        && message.contains("phi = 0.4")
+                        && message.contains("more than the limit"),
                     "{what}: {message}"
                 );
             }
@@ -167,7 +171,9 @@ fn step_limits_end_runs_with_the_state_reached() {
         .steps;
     assert!(needed > 200, "{needed} steps");
     match result {
-        Err(Error::TooManySteps { t, steps, h, state }) => {
+        Err(Error::TooManySteps {
+            t, steps, h, state, ..
+        }) => {
             assert_eq!(steps, 100);
             assert!(
                 t > 0.0 && t < 10.0 && h > 0.0 && h < 10.0,
