@@ -16,6 +16,9 @@ use crate::roots::brent;
 use crate::system::HamelSystem;
 use crate::vector::Vector;
 
+/// A scalar function of time and state, boxed: an event function or an output column.
+pub(crate) type StateFunction<'s, S> = Box<dyn Fn(f64, &<S as HamelSystem>::State) -> f64 + 's>;
+
 /// Which sign changes of an event function count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Direction {
@@ -34,7 +37,7 @@ pub const EVENT_TOLERANCE: f64 = 1e-12;
 /// ends the run.
 pub struct Event<'s, S: HamelSystem> {
     name: String,
-    g: Box<dyn Fn(f64, &S::State) -> f64 + 's>,
+    g: StateFunction<'s, S>,
     direction: Direction,
     terminal: bool,
 }

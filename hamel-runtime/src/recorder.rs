@@ -4,7 +4,7 @@
 use std::cell::RefCell;
 
 use crate::error::{Error, Singularity};
-use crate::events::EventRecord;
+use crate::events::{EventRecord, StateFunction};
 use crate::integrate::Stats;
 use crate::sink::Sink;
 use crate::system::HamelSystem;
@@ -13,7 +13,7 @@ use crate::trajectory::{Stopped, Summary};
 /// A named output column computed from the time and state (a contact point's position).
 pub struct Output<'s, S: HamelSystem> {
     pub(crate) name: String,
-    pub(crate) f: Box<dyn Fn(f64, &S::State) -> f64 + 's>,
+    pub(crate) f: StateFunction<'s, S>,
 }
 
 /// What a simulation records besides the time and the state.

@@ -525,6 +525,9 @@ impl Integrator for DormandPrince {
     }
 }
 
+/// A state and its derivative there.
+type StateAndSlope<V> = (V, V);
+
 /// Completes an accepted step from (t, y) to t1: checks its result, projects it
 /// (`Ode::project`), reports it (if the observer watches steps) and the samples it covers,
 /// and returns the state the next step starts from with its derivative: the step's last
@@ -537,7 +540,7 @@ fn complete<O: Ode, T: SampleTimes + ?Sized>(
     step: &Step<O::State>,
     samples: &mut Samples<'_, T, O::State>,
     stats: &mut Stats,
-) -> Result<Option<(O::State, O::State)>, Error> {
+) -> Result<Option<StateAndSlope<O::State>>, Error> {
     check_state(ode, t1, &step.y1)?;
     stats.steps += 1;
     let mut y1 = step.y1;
