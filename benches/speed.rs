@@ -15,7 +15,8 @@
 //!   `MobileRobotPaper` (L̃ given with B, the paper's input form) is timed beside them.
 //! * The N-trailer (`hamel::n_trailer!`) for N = 1, 2, 4, 8, 16, 24 over 64 seeded states
 //!   each: ns per right-hand side, its ratio to N = 1, and the growth exponent, the
-//!   least-squares slope of log t against log N, each taken per round.
+//!   least-squares slope of log t against log N, taken per round (median, p10–p90) and of
+//!   the median times (the steadier figure when some rounds are disturbed).
 
 use hamel::models::{MobileRobot, MobileRobotPaper, NTrailer1, NTrailer2, NTrailer8, NTrailer24};
 use hamel::{HamelSystem, Vector, hamel_system};
@@ -376,11 +377,19 @@ fn n_trailer() {
             .collect();
         Spread::of(&per_round)
     };
+    let medians: Vec<f64> = (0..ns.len())
+        .map(|v| seconds(&rounds, v).median.ln())
+        .collect();
     for (from, label) in [(0, "N = 1…24"), (2, "N = 4…24")] {
         let e = exponent(from);
+        let x: Vec<f64> = ns[from..].iter().map(|n| n.ln()).collect();
         println!(
-            "  growth exponent (slope of log t on log N), {label}: {:.3} (p10–p90 {:.3}–{:.3})",
-            e.median, e.p10, e.p90
+            "  growth exponent (slope of log t on log N), {label}: per round {:.3} \
+             (p10–p90 {:.3}–{:.3}); of the median times {:.3}",
+            e.median,
+            e.p10,
+            e.p90,
+            slope(&x, &medians[from..])
         );
     }
 }
