@@ -25,7 +25,7 @@ pub fn quasi<'a>(
             let lt = *lower(lowerer, spec, f, t, vec![array(q), array(omega)])?.first()?;
             (lt, *f)
         }
-        (_, Transformation::Closed { b, q0 }) => {
+        (_, Transformation::Closed { b, q0, .. }) => {
             let g = &mut *lowerer.graph;
             let velocities: Vec<NodeId> = b
                 .iter()
