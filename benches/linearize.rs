@@ -5,49 +5,12 @@
 //!
 //! Measured interleaved: short batches of each alternate, and the figure is the median of
 //! the per-round ratios (p10–p90 beside it), so that the machine's drifting speed cancels.
-//! `cargo bench -p hamel-benches --bench linearize`.
+//! `cargo bench -p hamel-benches --bench linearize` (`HAMEL_BENCH_ROUNDS=21` for a quick run).
 
 use hamel::HamelSystem;
 use hamel::models::{MobileRobot, WhippleBicycle};
+use hamel_benches::interleave::{Spread, interleaved};
 use std::hint::black_box;
-use std::time::Instant;
-
-/// Rounds of interleaved batches.
-const ROUNDS: usize = 201;
-/// Seconds a batch should take, about.
-const BATCH_SECONDS: f64 = 1e-3;
-
-/// Mean seconds per call of `f` over a batch of `calls`.
-fn batch(calls: usize, f: &mut dyn FnMut()) -> f64 {
-    let start = Instant::now();
-    for _ in 0..calls {
-        f();
-    }
-    start.elapsed().as_secs_f64() / calls as f64
-}
-
-/// How many calls of `f` take about `BATCH_SECONDS`.
-fn calibrate(f: &mut dyn FnMut()) -> usize {
-    let once = batch(100, f).max(1e-9);
-    ((BATCH_SECONDS / once) as usize).max(1)
-}
-
-/// The median and the 10th and 90th percentiles of the per-round ratio a/b.
-fn interleaved(a: &mut dyn FnMut(), b: &mut dyn FnMut()) -> (f64, f64, f64, f64) {
-    let (na, nb) = (calibrate(a), calibrate(b));
-    let mut ratios = Vec::with_capacity(ROUNDS);
-    let mut seconds_b = Vec::with_capacity(ROUNDS);
-    for _ in 0..ROUNDS {
-        let ta = batch(na, a);
-        let tb = batch(nb, b);
-        ratios.push(ta / tb);
-        seconds_b.push(tb);
-    }
-    ratios.sort_by(f64::total_cmp);
-    seconds_b.sort_by(f64::total_cmp);
-    let at = |p: f64| ratios[((ROUNDS - 1) as f64 * p).round() as usize];
-    (at(0.5), at(0.1), at(0.9), seconds_b[ROUNDS / 2])
-}
 
 fn report<S: HamelSystem>(name: &str, system: &S, x: S::State, u: S::Inputs) {
     let mut jacobian = || {
@@ -58,7 +21,12 @@ fn report<S: HamelSystem>(name: &str, system: &S, x: S::State, u: S::Inputs) {
         black_box(system.rhs(0.0, black_box(&x), &u, &mut dx).ok());
         black_box(dx);
     };
-    let (median, p10, p90, rhs_seconds) = interleaved(&mut jacobian, &mut rhs);
+    let (
+        Spread {
+            median, p10, p90, ..
+        },
+        rhs_seconds,
+    ) = interleaved(&mut jacobian, &mut rhs);
     println!(
         "{name}: jacobian / rhs = {median:.1} (p10–p90 {p10:.1}–{p90:.1}), rhs {:.3} µs",
         rhs_seconds * 1e6
