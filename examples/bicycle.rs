@@ -7,7 +7,8 @@
 //!    the style of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`);
 //! 2. the weave and capsize speeds, where the largest real part crosses zero;
 //! 3. two nonlinear simulations: at 4.6 m/s, inside the self-stable range, a push in roll
-//!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave.
+//!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave (a
+//!    simulation that takes more than a second shows a progress bar on a terminal).
 //!
 //! ```text
 //! cargo run --release --example bicycle
@@ -20,6 +21,9 @@ use hamel::roots::brent;
 use hamel::{Linearization, Mode};
 use std::fmt::Write as _;
 use std::process::ExitCode;
+
+#[path = "support/progress.rs"]
+mod progress;
 
 /// The lateral states of the benchmark's linear equations.
 const LATERAL: [&str; 4] = ["phi", "delta", "roll_rate", "steer_rate"];
@@ -122,10 +126,12 @@ fn ride(
         .set("roll_rate", roll_rate)
         .set("rear_wheel_rate", -v / bike.r_r)
         .build()?;
+    let bar = progress::Bar::default();
     Simulation::new(bike, x)
         .end_time(seconds)
         .sample_interval(every)
         .project_holonomic(true)
+        .on_progress(|p| bar.update(p))
         .run_constant(&DormandPrince::new(1e-10, 1e-12), [0.0, 0.0])
 }
 

@@ -9,11 +9,18 @@
 //! The model is `hamel::models::MobileRobot` (src/models/mobile_robot.rs): kinetic and
 //! potential energy of the body and the wheels, two rolling constraints, three
 //! quasi-velocities, the motor torques. It prints a summary and writes one CSV row per
-//! sample: `t,x,y,alpha,phi1,phi2,w3,w4,w5,energy,energy_balance`.
+//! sample, `t,x,y,alpha,phi1,phi2,w3,w4,w5,tau1,tau2,energy,energy_balance`, and (feature
+//! `plot`, on by default) a figure beside it with the same stem, `mobile_robot.svg`: the path
+//! y against x, the pitch α against time and the energy drift against time. A run that takes
+//! more than a second shows a progress bar on a terminal.
 
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, HamelSystem, Parameters, Simulation};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+#[path = "support/progress.rs"]
+mod progress;
 
 /// Everything the command line can set, with the defaults documented in `--help`.
 struct Settings {
@@ -61,7 +68,8 @@ fn help() -> String {
         "\nInputs (constant motor torques, N m):\n  --tau1     [{}]\n  --tau2     [{}]\n\n\
          Integration (Dormand–Prince 5(4), adaptive):\n  --t-end    end time, s [{}]\n  \
          --dt-out   sample interval, s [{}]\n  --rtol     relative tolerance [{}]\n  \
-         --atol     absolute tolerance [{}]\n  --out      CSV file [{}]\n  --help     this text\n",
+         --atol     absolute tolerance [{}]\n  --out      CSV file, the figure beside it as .svg [{}]\n  \
+         --help     this text\n",
         d.torques[0], d.torques[1], d.t_end, d.dt_out, d.rtol, d.atol, d.out
     );
     text
@@ -86,6 +94,12 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
         };
         i += 2;
         if name == "out" {
+            if figure_path(raw) == Path::new(raw) {
+                return Err(format!(
+                    "option `--out`: `{raw}` is the name of the figure written beside the CSV \
+                     (the CSV's name with the extension svg); give the CSV another extension"
+                ));
+            }
             s.out = raw.clone();
             continue;
         }
@@ -131,10 +145,13 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
         "integrator: Dormand–Prince 5(4), rtol = {:e}, atol = {:e}; t = 0 … {} s, samples every {} s\n",
         s.rtol, s.atol, s.t_end, s.dt_out
     );
+    let bar = progress::Bar::default();
     let trajectory = Simulation::new(robot, x0)
         .end_time(s.t_end)
         .sample_interval(s.dt_out)
+        .on_progress(|p| bar.update(p))
         .run_constant(&DormandPrince::new(s.rtol, s.atol), s.torques)?;
+    bar.clear();
     println!("{}", trajectory.summary());
     if let Some(last) = trajectory.row(trajectory.len() - 1) {
         let state = &last[1..=MobileRobot::STATE.len()];
@@ -151,7 +168,27 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
         s.out,
         trajectory.names().join(",")
     );
+    #[cfg(feature = "plot")]
+    {
+        use hamel::plot::{Figure, Panel};
+        let path = figure_path(&s.out);
+        Figure::new()
+            .columns(3)
+            .panel(Panel::xy(&trajectory, "x", "y")?)
+            .panel(Panel::time_series(&trajectory, &["alpha"])?)
+            .panel(Panel::energy_drift(&trajectory)?)
+            .save(&path)?;
+        println!(
+            "wrote {} (the path, the pitch alpha and the energy drift)",
+            path.display()
+        );
+    }
     Ok(())
+}
+
+/// The figure's file: the CSV's path with the extension `svg`.
+fn figure_path(csv: &str) -> PathBuf {
+    Path::new(csv).with_extension("svg")
 }
 
 fn main() -> ExitCode {

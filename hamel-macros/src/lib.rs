@@ -21,9 +21,12 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 ///
 /// Goes on two items. On the parameter struct (no arguments): every field is a named `f64`,
 /// and the struct gets an implementation of `hamel::Parameters` (get and set by name). On the
-/// model's inherent impl block, `#[hamel_system(coordinates(..), speeds(..), inputs(..))]`
-/// names the coordinates (required), the free quasi-velocities (default `w{p+1}`…`w{n}`) and
-/// the inputs (default none), and role attributes mark the functions:
+/// model's inherent impl block,
+/// `#[hamel_system(coordinates(..), speeds(..), inputs(..), constraints(..))]` names the
+/// coordinates (required), the free quasi-velocities (default `w{p+1}`…`w{n}`), the inputs
+/// (default none) and the constraint rows, those of `#[constraints]` then those of
+/// `#[holonomic]` (default `blade[0]`: the function's name and the row), and role attributes
+/// mark the functions:
 ///
 /// * the energy, in one of three forms: `#[lagrangian]` L(q, q̇), or `#[kinetic_energy]`
 ///   T(q, q̇) with an optional `#[potential_energy]` V(q), or `#[quasi_lagrangian]` L̃(q, ω);

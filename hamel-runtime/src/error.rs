@@ -236,17 +236,16 @@ pub enum Error {
     )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
-    /// An adaptive integration used up its steps (`DormandPrince::max_steps`) before the end.
-    #[error(
-        "the integration took {steps} steps and got only to t = {}, with steps of {}: the \
-         solution may have a singularity near there, or the tolerance be too tight for the span; loosen the tolerance, shorten the run or raise the limit with \
-         `with_max_steps`; state: {state}",
-        Num(*t), Num(*h)
-    )]
+    /// An integration used up its steps (`with_max_steps`) before the end, or — `planned` —
+    /// its fixed or largest step would need more of them than the limit allows for the span,
+    /// which is refused before the first step (then `steps` is the number needed, saturated
+    /// at `usize::MAX`).
+    #[error("{}", Error::too_many_steps_message(*t, *steps, *h, *planned, state))]
     TooManySteps {
         t: f64,
         steps: usize,
         h: f64,
+        planned: bool,
         state: NamedValues,
     },
 
@@ -493,6 +492,33 @@ pub enum Error {
 }
 
 impl Error {
+    /// The message of [`Error::TooManySteps`], for `Display`.
+    fn too_many_steps_message(
+        t: f64,
+        steps: usize,
+        h: f64,
+        planned: bool,
+        state: &NamedValues,
+    ) -> String {
+        if planned {
+            return format!(
+                "steps of {} from t = {} would need {} steps to the end, more than the limit \
+                 (`with_max_steps`); use a larger step or raise the limit; state: {state}",
+                Num(h),
+                Num(t),
+                Num(steps as f64)
+            );
+        }
+        format!(
+            "the integration took {steps} steps and got only to t = {}, with steps of {}: the \
+             solution may have a singularity near there, or the tolerance be too tight for the \
+             span; loosen the tolerance, shorten the run or raise the limit with \
+             `with_max_steps`; state: {state}",
+            Num(t),
+            Num(h)
+        )
+    }
+
     /// The message of [`Error::NonFiniteDynamics`], for `Display`.
     fn non_finite_message(t: f64, speed: Option<&str>, state: &NamedValues) -> String {
         let place = match speed {

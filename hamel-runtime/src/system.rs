@@ -110,8 +110,9 @@ pub trait HamelSystem: Parameters {
     const COORDINATES: &'static [&'static str];
     /// Names of the free quasi-velocities.
     const SPEEDS: &'static [&'static str];
-    /// Names of the constraints: the rows of the constraint function (`blade[0]`), then
-    /// those of the holonomic function (`contact[0]`).
+    /// Names of the constraints: the rows of the constraint function, then those of the
+    /// holonomic function, as named in `#[hamel_system(constraints(..))]` (`blade`), or by
+    /// default after the functions (`blade[0]`, `contact[0]`).
     const CONSTRAINTS: &'static [&'static str];
     /// Names of the inputs.
     const INPUTS: &'static [&'static str];

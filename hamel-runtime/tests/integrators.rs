@@ -802,7 +802,10 @@ fn an_integration_that_would_not_end_runs_out_of_steps() {
         Err(e @ Error::TooManySteps { .. }) => {
             let message = e.to_string();
             println!("{message}");
-            let Error::TooManySteps { t, steps, h, state } = e else {
+            let Error::TooManySteps {
+                t, steps, h, state, ..
+            } = e
+            else {
                 unreachable!()
             };
             assert_eq!(steps, 1000);

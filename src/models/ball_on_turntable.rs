@@ -45,7 +45,11 @@ impl Default for BallOnTurntable {
     }
 }
 
-#[hamel_system(coordinates(x, y, phi, theta, psi), speeds(omega_x, omega_y, omega_z))]
+#[hamel_system(
+    coordinates(x, y, phi, theta, psi),
+    speeds(omega_x, omega_y, omega_z),
+    constraints(contact_x, contact_y)
+)]
 impl BallOnTurntable {
     /// The ball's angular velocity in the inertial frame from the ZXZ Euler angles' rates.
     fn angular_velocity(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {

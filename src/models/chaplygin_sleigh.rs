@@ -31,7 +31,7 @@ impl Default for ChaplyginSleigh {
     }
 }
 
-#[hamel_system(coordinates(x, y, theta), speeds(v, omega))]
+#[hamel_system(coordinates(x, y, theta), speeds(v, omega), constraints(blade))]
 impl ChaplyginSleigh {
     #[kinetic_energy]
     pub fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {

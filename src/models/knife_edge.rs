@@ -33,7 +33,7 @@ impl Default for KnifeEdge {
     }
 }
 
-#[hamel_system(coordinates(x, y, phi), speeds(v, omega))]
+#[hamel_system(coordinates(x, y, phi), speeds(v, omega), constraints(blade))]
 impl KnifeEdge {
     #[lagrangian]
     pub fn lagrangian(&self, q: &[f64; 3], qd: &[f64; 3]) -> f64 {

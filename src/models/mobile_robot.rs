@@ -56,7 +56,8 @@ impl Default for MobileRobot {
 #[hamel_system(
     coordinates(x, y, alpha, phi1, phi2),
     speeds(w3, w4, w5),
-    inputs(tau1, tau2)
+    inputs(tau1, tau2),
+    constraints(no_side_slip, no_slip)
 )]
 impl MobileRobot {
     /// T of the body and the wheels. The body's centre of gravity sits l·(sin α e_f + cos α e_z)
@@ -173,7 +174,8 @@ impl Default for MobileRobotPaper {
 #[hamel_system(
     coordinates(x, y, alpha, phi1, phi2),
     speeds(w3, w4, w5),
-    inputs(tau1, tau2)
+    inputs(tau1, tau2),
+    constraints(no_side_slip, no_slip)
 )]
 impl MobileRobotPaper {
     /// The paper's eq. (12), ω indexed from 0 here (`w[0]` is ω¹), with its terms in ω²

@@ -98,7 +98,8 @@
 ///   through the axle centres (kg m²), `d` the distances from each trailer's hitch to its axle
 ///   centre (m) — `d[0]` is unused, kept so that `d[i]` is trailer i's; a trailer's must not be
 ///   0, or nothing determines its heading rate (`Error::SingularTransformation`);
-/// * the constraints `rolling[0] … rolling[N]`: the sideways velocity of each axle centre;
+/// * constraints `axle0 … axleN`: the sideways velocity of each axle centre (`Self::AXLE + i`
+///   is the index of axle i's; its constraint force is the column `lambda_axle<i>`);
 /// * no `#[velocities]`: B(q) comes from the LU factorization of A(q) (see the module
 ///   documentation for why);
 /// * an associated constant `TRAILERS` = N.
@@ -146,7 +147,8 @@ macro_rules! n_trailer {
         #[$crate::hamel_system(
             coordinates(x, y, theta[$axles]),
             speeds(v, omega),
-            inputs(drive, steer)
+            inputs(drive, steer),
+            constraints(axle[$axles])
         )]
         impl $name {
             /// The velocities of the axle centres: Ṗ₀ = (ẋ, ẏ), and differentiating

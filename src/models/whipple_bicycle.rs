@@ -125,7 +125,8 @@ impl Default for WhippleBicycle {
 #[hamel_system(
     coordinates(x, y, psi, phi, theta, delta, theta_r, theta_f),
     speeds(roll_rate, steer_rate, rear_wheel_rate),
-    inputs(roll_torque, steer_torque)
+    inputs(roll_torque, steer_torque),
+    constraints(rear_x, rear_y, front_x, front_y, front_z)
 )]
 impl WhippleBicycle {
     fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -449,8 +449,8 @@ fn sleigh_lateral_force_equals_newton_euler() {
 //
 //   Δλ₁ = Δp₂ γ²_{5,1} ω⁵ = −2 m_w ω⁴ ω⁵,     Δλ₂ = d/dt Δp₂ = −2 m_w ω̇⁴.
 //
-// `CorrectedPaperRobot` below is the paper's form with the bodies' ω² terms: it agrees with
-// the reference and with `MobileRobot`.
+// The catalogue's `MobileRobotPaper` is the paper's form with the bodies' ω² terms: it agrees
+// with the reference and with `MobileRobot`.
 
 /// The robot as the multiplier formulation sees it: the Lagrangian from the bodies' 3D
 /// motion and the rows of A(q), both from `common/robot_projected_lagrange.rs` (not the
@@ -470,123 +470,6 @@ impl Mechanism<5> for RobotMechanism<'_> {
 
     fn forces(&self, _t: f64, _q: &[f64; 5], _qd: &[f64; 5], u: &[f64]) -> [f64; 5] {
         robot_projected_lagrange::generalized_forces(&[u[0], u[1]]).into()
-    }
-}
-
-/// The catalogue's `MobileRobotPaper` with one change: the ω² terms of L̃ are the bodies'
-/// ½ m_w (ω²)² + m_w ω²ω⁴ instead of eq. (12)'s m_w (ω²)² − m_w ω²ω⁴.
-#[hamel_system]
-#[derive(Clone, Debug)]
-pub struct CorrectedPaperRobot {
-    /// mass of the body (kg)
-    pub m0: f64,
-    /// mass of one wheel (kg)
-    pub mw: f64,
-    /// body's principal moment of inertia about its x axis (kg m²)
-    pub jx: f64,
-    /// body's principal moment of inertia about its y axis (the axle) (kg m²)
-    pub jy: f64,
-    /// body's principal moment of inertia about its z axis (kg m²)
-    pub jz: f64,
-    /// wheel radius (m)
-    pub r: f64,
-    /// axle length (m)
-    pub b: f64,
-    /// distance of the body's centre of gravity from the axle (m)
-    pub l: f64,
-    /// gravitational acceleration (m/s²)
-    pub g: f64,
-}
-
-impl From<&MobileRobot> for CorrectedPaperRobot {
-    fn from(p: &MobileRobot) -> Self {
-        let MobileRobot {
-            m0,
-            mw,
-            jx,
-            jy,
-            jz,
-            r,
-            b,
-            l,
-            g,
-        } = *p;
-        CorrectedPaperRobot {
-            m0,
-            mw,
-            jx,
-            jy,
-            jz,
-            r,
-            b,
-            l,
-            g,
-        }
-    }
-}
-
-#[hamel_system(
-    coordinates(x, y, alpha, phi1, phi2),
-    speeds(w3, w4, w5),
-    inputs(tau1, tau2)
-)]
-impl CorrectedPaperRobot {
-    #[quasi_lagrangian]
-    fn lagrangian(&self, q: &[f64; 5], w: &[f64; 5]) -> f64 {
-        let (sa, ca) = q[2].sin_cos();
-        let ml2 = self.m0 * self.l * self.l;
-        let j5 = (self.jx + ml2) * sa * sa
-            + self.jz * ca * ca
-            + 0.75 * self.mw * self.b * self.b
-            + 0.5 * self.mw * self.r * self.r;
-        0.5 * (self.m0 + 2.0 * self.mw) * w[0] * w[0]
-            + 0.5 * self.mw * w[1] * w[1]
-            + 0.5 * (self.jy + ml2) * w[2] * w[2]
-            + 0.5 * (self.m0 + 3.0 * self.mw) * w[3] * w[3]
-            + 0.5 * j5 * w[4] * w[4]
-            + self.m0 * self.l * (w[2] * w[3] * ca - w[0] * w[4] * sa)
-            + self.mw * w[1] * w[3]
-            - self.m0 * self.l * self.g * ca
-    }
-
-    #[constraints]
-    fn no_slip(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 2] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        let (s, c) = theta.sin_cos();
-        [
-            qd[0] * s - qd[1] * c,
-            self.r * qd[2] + 0.5 * self.r * (qd[3] + qd[4]) - (qd[0] * c + qd[1] * s),
-        ]
-    }
-
-    #[quasi_velocities]
-    fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        [
-            qd[2],
-            qd[0] * theta.cos() + qd[1] * theta.sin(),
-            self.r / self.b * (qd[3] - qd[4]),
-        ]
-    }
-
-    #[velocities]
-    fn velocities(&self, q: &[f64; 5], w: &[f64; 5]) -> [f64; 5] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        let (s, c) = theta.sin_cos();
-        let roll = (w[1] + w[3]) / self.r - w[2];
-        let turn = 0.5 * self.b / self.r * w[4];
-        [
-            w[0] * s + w[3] * c,
-            -w[0] * c + w[3] * s,
-            w[2],
-            roll + turn,
-            roll - turn,
-        ]
-    }
-
-    #[forces]
-    fn torques(&self, _t: f64, _q: &[f64; 5], _qd: &[f64; 5], u: &[f64; 2]) -> [f64; 5] {
-        [0.0, 0.0, 0.0, u[0], u[1]]
     }
 }
 
@@ -642,7 +525,7 @@ fn normwise_error(a: &[f64], b: &[f64]) -> f64 {
 /// smaller than any modelling error (the ω² slip of the paper's L̃ is ~10⁻²).
 const ROBOT: f64 = 1e-10;
 
-/// λ of `MobileRobot` and of the corrected paper form against the index-1 multiplier system
+/// λ of `MobileRobot` and of `MobileRobotPaper` (the paper's form, its ω² terms corrected) against the index-1 multiplier system
 /// at random states and torques, norm-wise relative to max|λ|, and the two forms against
 /// each other (same rows, so the same λ).
 #[test]
@@ -651,7 +534,7 @@ fn robot_multipliers_equal_the_index_one_multiplier_system() {
     let (mut worst_everyday, mut worst_paper, mut worst_between) = (0.0f64, 0.0f64, 0.0f64);
     let mut scale_ratio = 0.0f64;
     for robot in robots() {
-        let paper = CorrectedPaperRobot::from(&robot);
+        let paper = MobileRobotPaper::from(&robot);
         let mechanism = RobotMechanism(&robot);
         for _ in 0..RANDOM_POINTS {
             let (x, u) = robot_sample(&mut rng);
@@ -665,7 +548,7 @@ fn robot_multipliers_equal_the_index_one_multiplier_system() {
             let expected = r.lambda.as_slice();
             for (name, got, worst) in [
                 ("MobileRobot", everyday, &mut worst_everyday),
-                ("CorrectedPaperRobot", corrected, &mut worst_paper),
+                ("MobileRobotPaper", corrected, &mut worst_paper),
             ] {
                 let err = normwise_error(&got, expected);
                 assert!(
@@ -735,7 +618,7 @@ fn robot_multipliers_are_newtons_law_for_the_whole_robot() {
     let mut rng = XorShift::new(0xf04c_e008);
     let mut worst = [0.0f64; 2];
     for robot in robots() {
-        let paper = CorrectedPaperRobot::from(&robot);
+        let paper = MobileRobotPaper::from(&robot);
         for _ in 0..RANDOM_POINTS {
             let (x, u) = robot_sample(&mut rng);
             let (expected, scale) = robot_lambda_by_newton(&robot, &x, &u);

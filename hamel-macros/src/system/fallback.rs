@@ -25,6 +25,8 @@ pub struct Sketch {
     coordinates: Vec<String>,
     speeds: Vec<String>,
     inputs: Vec<String>,
+    /// The names in `constraints(..)`, if given.
+    constraints: Option<Vec<String>>,
     constraint_fn: String,
     /// The holonomic function's name and written length.
     holonomic: Option<(String, usize)>,
@@ -36,8 +38,9 @@ impl Sketch {
             l.as_ref().map(|(_, l)| l.clone()).unwrap_or_default()
         };
         let (coordinates, speeds) = (list(&names.coordinates), list(&names.speeds));
+        let constraints = list(&names.constraints);
         let mut index_consts = Vec::new();
-        for (list, groups) in [&coordinates, &speeds, &names.inputs]
+        for (list, groups) in [&coordinates, &speeds, &names.inputs, &constraints]
             .into_iter()
             .zip(&names.groups)
         {
@@ -72,6 +75,7 @@ impl Sketch {
             coordinates: plain(&coordinates),
             speeds,
             inputs: plain(&names.inputs),
+            constraints: names.constraints.as_ref().map(|_| plain(&constraints)),
             constraint_fn,
             holonomic,
         }
@@ -85,6 +89,7 @@ impl Sketch {
             coordinates: Vec::new(),
             speeds: Vec::new(),
             inputs: Vec::new(),
+            constraints: None,
             constraint_fn: String::new(),
             holonomic: None,
         }
@@ -225,12 +230,20 @@ fn inherent_items(
 fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize)) -> TokenStream {
     let (n, p, m) = dims;
     let k = sketch.holonomic.as_ref().map_or(0, |(_, k)| *k).min(p);
-    let mut constraints: Vec<String> = (0..p - k)
-        .map(|i| format!("{}[{i}]", sketch.constraint_fn))
-        .collect();
-    if let Some((name, _)) = &sketch.holonomic {
-        constraints.extend((0..k).map(|i| format!("{name}[{i}]")));
-    }
+    // The names as the model would have them: those of `constraints(..)`, when there are as
+    // many as rows, or else the functions' (`blade[0]`).
+    let constraints = match &sketch.constraints {
+        Some(names) if names.len() == p => names.clone(),
+        _ => {
+            let mut rows: Vec<String> = (0..p - k)
+                .map(|i| format!("{}[{i}]", sketch.constraint_fn))
+                .collect();
+            if let Some((name, _)) = &sketch.holonomic {
+                rows.extend((0..k).map(|i| format!("{name}[{i}]")));
+            }
+            rows
+        }
+    };
     let header = Header {
         imp,
         dims: Dims { n, p, m, k },

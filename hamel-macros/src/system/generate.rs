@@ -258,10 +258,17 @@ pub fn generate(
             .map(|i| format!("{}[{i}]", f.sig.ident.unraw()))
             .collect()
     };
-    let mut constraints = row_names(spec.constraints, spec.dims.nonholonomic());
-    if let Some(h) = &spec.holonomic {
-        constraints.extend(row_names(h.f, k));
-    }
+    // Named in `constraints(..)`, or after the functions: `blade[0]`, then `contact[0]`.
+    let constraints = match &spec.constraint_names {
+        Some(names) => plain(names),
+        None => {
+            let mut rows = row_names(spec.constraints, spec.dims.nonholonomic());
+            if let Some(h) = &spec.holonomic {
+                rows.extend(row_names(h.f, k));
+            }
+            rows
+        }
+    };
     let header = Header {
         imp,
         dims,
@@ -433,12 +440,18 @@ fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
 }
 
 /// Index constants: `Model::ALPHA` is the index of `alpha` in q; an indexed group `theta[3]`
-/// also gives `Model::THETA`, the index of its first member.
+/// also gives `Model::THETA`, the index of its first member. Named constraints have them
+/// too: `Model::BLADE` is the index of `blade` among the constraint rows.
 fn index_consts(spec: &Spec<'_>) -> Vec<TokenStream> {
+    let none = Vec::new();
     let lists = [
         (&spec.coordinates, "coordinates"),
         (&spec.speeds, "speeds"),
         (&spec.inputs, "inputs"),
+        (
+            spec.constraint_names.as_ref().unwrap_or(&none),
+            "constraints",
+        ),
     ];
     let mut out = Vec::new();
     for ((idents, what), groups) in lists.into_iter().zip(&spec.groups) {

@@ -107,14 +107,17 @@ pub struct Group {
     pub len: usize,
 }
 
-/// Names given in `#[hamel_system(coordinates(..), speeds(..), inputs(..))]`.
+/// Names given in `#[hamel_system(coordinates(..), speeds(..), inputs(..), constraints(..))]`.
 #[derive(Default)]
 pub struct Names {
-    /// The indexed groups of each list: coordinates, speeds, inputs.
-    pub groups: [Vec<Group>; 3],
+    /// The indexed groups of each list: coordinates, speeds, inputs, constraints.
+    pub groups: [Vec<Group>; 4],
     pub coordinates: Option<(Span, Vec<syn::Ident>)>,
     pub speeds: Option<(Span, Vec<syn::Ident>)>,
     pub inputs: Vec<syn::Ident>,
+    /// The constraint rows' names: those of `#[constraints]`, then those of `#[holonomic]`
+    /// (`None`: `blade[0]`, the function's name and the row).
+    pub constraints: Option<(Span, Vec<syn::Ident>)>,
     /// `inputs(..)` as written, for errors about the inputs as a whole.
     pub inputs_written: Option<TokenStream>,
     /// A list could not be read (its error is reported): that it holds no names, or none
@@ -122,9 +125,15 @@ pub struct Names {
     pub garbled: bool,
 }
 
-pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)` and `inputs(..)`";
+pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)`, `inputs(..)` and `constraints(..)`";
 
-const KEYS: [&str; 4] = ["coordinates", "speeds", "quasi_velocities", "inputs"];
+const KEYS: [&str; 5] = [
+    "coordinates",
+    "speeds",
+    "quasi_velocities",
+    "inputs",
+    "constraints",
+];
 
 /// Parse the attribute's arguments, collecting every mistake.
 pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
@@ -148,6 +157,10 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
             "speeds" | "quasi_velocities" => {
                 names.groups[1] = groups;
                 &mut names.speeds
+            }
+            "constraints" => {
+                names.groups[3] = groups;
+                &mut names.constraints
             }
             _ => {
                 names.groups[2] = groups;
@@ -497,5 +510,31 @@ mod tests {
         let names = parse_names(quote!(coordinates = 3), &mut errors);
         assert_eq!(errors.len(), 1);
         assert!(names.garbled);
+    }
+
+    #[test]
+    fn constraint_names_are_a_list_like_the_others() {
+        let mut errors = Vec::new();
+        let names = parse_names(
+            quote!(coordinates(x, y, theta), constraints(blade, contact[2])),
+            &mut errors,
+        );
+        assert!(errors.is_empty());
+        let list: Vec<String> = names
+            .constraints
+            .map(|(_, l)| l.iter().map(ToString::to_string).collect())
+            .unwrap_or_default();
+        assert_eq!(list, ["blade", "contact0", "contact1"]);
+        assert_eq!(names.groups[3].len(), 1);
+        assert_eq!(names.groups[3][0].start, 1);
+
+        let mut errors = Vec::new();
+        parse_names(quote!(constraint(blade)), &mut errors);
+        assert_eq!(errors.len(), 1);
+        assert!(
+            errors[0]
+                .to_string()
+                .contains("did you mean `constraints(..)`")
+        );
     }
 }

@@ -1,7 +1,9 @@
 //! Names a model's coordinates, speeds and inputs may not have: they are already taken by the
 //! columns a trajectory adds to the state's, or, upper-cased into index constants
 //! (`Model::THETA`), by the constants of `HamelSystem` and `Parameters`, which `Model::N`
-//! would then hide. The one table of them.
+//! would then hide. The one table of them. A constraint's name has an index constant too,
+//! but its column is `lambda_<name>`, which no other column can be (the prefix is reserved
+//! to them): only the constants restrict it.
 
 /// Columns of a trajectory beside the state's, and columns that upcoming features add.
 const COLUMNS: [(&str, &str); 3] = [
@@ -10,7 +12,7 @@ const COLUMNS: [(&str, &str); 3] = [
     ("energy_balance", "the energy balance"),
 ];
 
-/// Prefixes of columns that upcoming features add, one per constraint.
+/// Prefixes of columns that trajectories add, one per constraint.
 const COLUMN_PREFIXES: [(&str, &str); 1] = [("lambda_", "the constraint forces")];
 
 /// Associated constants of `HamelSystem` and `Parameters`.
@@ -37,9 +39,15 @@ pub fn clash(name: &str) -> Option<String> {
     }
     if let Some((prefix, what)) = COLUMN_PREFIXES.iter().find(|(p, _)| name.starts_with(p)) {
         return Some(format!(
-            "trajectories will have columns `{prefix}..` ({what}) beside the state's"
+            "trajectories have columns `{prefix}..` ({what}) beside the state's"
         ));
     }
+    constant_clash(name)
+}
+
+/// Why `name` (as written, without `r#`) cannot name a constraint, if it cannot: its index
+/// constant would hide a constant of the traits.
+pub fn constant_clash(name: &str) -> Option<String> {
     let upper = name.to_uppercase();
     CONSTANTS
         .iter()
@@ -53,7 +61,7 @@ pub fn clash(name: &str) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::clash;
+    use super::{clash, constant_clash};
 
     #[test]
     fn reserved_names() {
@@ -71,6 +79,12 @@ mod tests {
         }
         for name in ["x", "theta", "T", "energy2", "lambda", "omega", "p1"] {
             assert!(clash(name).is_none(), "{name}");
+        }
+        for name in ["t", "energy", "lambda_1", "blade"] {
+            assert!(constant_clash(name).is_none(), "{name}");
+        }
+        for name in ["n", "Constraints", "docs"] {
+            assert!(constant_clash(name).is_some(), "{name}");
         }
     }
 }

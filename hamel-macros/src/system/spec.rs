@@ -58,8 +58,11 @@ pub struct Spec<'a> {
     pub coordinates: Vec<syn::Ident>,
     pub speeds: Vec<syn::Ident>,
     pub inputs: Vec<syn::Ident>,
-    /// The indexed groups of names (coordinates, speeds, inputs).
-    pub groups: [Vec<Group>; 3],
+    /// The constraint rows' names, when `constraints(..)` gives them (otherwise each row is
+    /// named after its function, `blade[0]`).
+    pub constraint_names: Option<Vec<syn::Ident>>,
+    /// The indexed groups of names (coordinates, speeds, inputs, constraints).
+    pub groups: [Vec<Group>; 4],
     pub energy: Energy<'a>,
     pub constraints: &'a syn::ImplItemFn,
     pub quasi_velocities: &'a syn::ImplItemFn,
@@ -142,8 +145,22 @@ pub fn check<'a>(
     }
 
     let speeds = speed_names(names.speeds.clone(), names.garbled, n, p, lowerer);
-    check_names(&coordinates, &speeds, &names.inputs, lowerer, &mut ok);
-    check_group_names(&names.groups, &coordinates, &speeds, &names.inputs, lowerer);
+    // (A failed `#[holonomic]` leaves k unknown: the rows cannot be counted.)
+    let rows = p.filter(|_| holonomic.is_none() || k > 0).map(|p| Rows {
+        constraints: constraints.map(|c| c.f),
+        nonholonomic: p - k,
+        holonomic: holonomic.map(|h| h.f),
+        k,
+    });
+    let constraint_names = constraint_names(&names, rows, lowerer);
+    let lists = [
+        &coordinates[..],
+        &speeds,
+        &names.inputs,
+        constraint_names.as_deref().unwrap_or_default(),
+    ];
+    check_names(lists, lowerer, &mut ok);
+    check_group_names(&names.groups, lists, lowerer);
     check_inputs_are_read(&names, roles, n, lowerer);
 
     if !ok {
@@ -154,6 +171,7 @@ pub fn check<'a>(
         coordinates,
         speeds,
         inputs: names.inputs,
+        constraint_names,
         groups: names.groups,
         energy: energy?,
         constraints: constraints?.f,
@@ -473,6 +491,64 @@ fn speed_names(
     }
 }
 
+/// The constraint rows of a model, for the message about naming them.
+struct Rows<'a> {
+    constraints: Option<&'a syn::ImplItemFn>,
+    nonholonomic: usize,
+    holonomic: Option<&'a syn::ImplItemFn>,
+    k: usize,
+}
+
+/// Names of the constraint rows, when `constraints(..)` gives them: one per row (`rows`, when
+/// the rows could be counted), the nonholonomic ones first. A wrong count is reported, but
+/// does not stop the model from being checked.
+fn constraint_names(
+    names: &Names,
+    rows: Option<Rows<'_>>,
+    lowerer: &mut Lowerer<'_, '_>,
+) -> Option<Vec<syn::Ident>> {
+    let (span, list) = names.constraints.clone()?;
+    let Some(rows) = rows else {
+        return Some(list);
+    };
+    let p = rows.nonholonomic + rows.k;
+    // A list that could not be read is reported already, and its length means nothing.
+    if list.len() != p && !names.garbled {
+        let rows_of = |f: Option<&syn::ImplItemFn>, role: Role, rows: usize| {
+            let what = count(rows, "row");
+            match f {
+                Some(f) => format!(
+                    "`{}` (`#[{}]`) returns {what}",
+                    f.sig.ident,
+                    role.attribute()
+                ),
+                None => format!("`#[{}]` returns {what}", role.attribute()),
+            }
+        };
+        let constraints = rows_of(rows.constraints, Role::Constraints, rows.nonholonomic);
+        let first = rows.constraints.map_or_else(
+            || "`#[constraints]`".to_string(),
+            |f| format!("`{}`", f.sig.ident),
+        );
+        let given = match rows.holonomic {
+            Some(h) => format!(
+                "{constraints} and {}; name one per row, in order, those of {first} first",
+                rows_of(Some(h), Role::Holonomic, rows.k)
+            ),
+            None => format!("{constraints}; name one per row, in order"),
+        };
+        lowerer.push_error(syn::Error::new(
+            span,
+            format!(
+                "{} for {}: {given}",
+                count(list.len(), "constraint name"),
+                count(p, "constraint row"),
+            ),
+        ));
+    }
+    Some(list)
+}
+
 /// The coordinates' names; an error when there are none (unless the list could not be read,
 /// which is reported already).
 fn coordinate_names(
@@ -499,17 +575,21 @@ fn coordinate_names(
     Vec::new()
 }
 
+/// What each list of names holds, in the order of the lists given to `check_names`.
+const KINDS: [&str; 4] = ["coordinate", "speed", "input", "constraint"];
+
 /// Each name must have an upper-case form that is an identifier (its index constant), be
-/// distinct from the others, and not be reserved.
-fn check_names(
-    coordinates: &[syn::Ident],
-    speeds: &[syn::Ident],
-    inputs: &[syn::Ident],
-    lowerer: &mut Lowerer<'_, '_>,
-    ok: &mut bool,
-) {
-    let mut seen: HashMap<String, &syn::Ident> = HashMap::new();
-    for ident in coordinates.iter().chain(speeds).chain(inputs) {
+/// distinct from the others, and not be reserved. `lists`: the coordinates, speeds, inputs
+/// and constraints. A constraint's column is `lambda_<name>`, which no other column can be
+/// (the `lambda_` prefix is reserved): its name need only be distinct, and not hide a
+/// constant.
+fn check_names(lists: [&[syn::Ident]; 4], lowerer: &mut Lowerer<'_, '_>, ok: &mut bool) {
+    let mut seen: HashMap<String, (&syn::Ident, &str)> = HashMap::new();
+    let named = lists
+        .into_iter()
+        .zip(KINDS)
+        .flat_map(|(list, kind)| list.iter().map(move |ident| (ident, kind)));
+    for (ident, kind) in named {
         let upper = ident.unraw().to_string().to_uppercase();
         if syn::parse_str::<syn::Ident>(&upper).is_err() {
             fail(
@@ -524,47 +604,68 @@ fn check_names(
                 ),
             );
         }
-        if let Some(why) = reserved::clash(&ident.unraw().to_string()) {
+        let plain = ident.unraw().to_string();
+        let reserved = if kind == "constraint" {
+            reserved::constant_clash(&plain)
+        } else {
+            reserved::clash(&plain)
+        };
+        if let Some(why) = reserved {
             lowerer.push_error(syn::Error::new(
                 ident.span(),
                 format!("the name `{ident}` is reserved: {why}; choose another name"),
             ));
         }
-        if seen
-            .insert(ident.unraw().to_string().to_uppercase(), ident)
-            .is_some()
-        {
+        if let Some((first, first_kind)) = seen.insert(upper.clone(), (ident, kind)) {
+            let already = if first.unraw() == ident.unraw() {
+                format!("already the name of {}", a(first_kind))
+            } else {
+                format!("`{first}`, {}, has the same upper case", a(first_kind))
+            };
             lowerer.push_error(syn::Error::new(
                 ident.span(),
                 format!(
-                    "duplicate name `{ident}`: coordinates, speeds and inputs need distinct names \
-                     (also in upper case, which names their index constants, `Self::{}`)",
-                    ident.unraw().to_string().to_uppercase()
+                    "duplicate name `{ident}` ({already}): coordinates, speeds, inputs and \
+                     constraints need distinct names (also in upper case, which names their \
+                     index constants, `Self::{upper}`)"
                 ),
             ));
         }
     }
 }
 
+/// "a coordinate", "an input".
+fn a(kind: &str) -> String {
+    if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        format!("an {kind}")
+    } else {
+        format!("a {kind}")
+    }
+}
+
 /// The base name of an indexed group names a constant too (`Self::THETA`, its first index):
-/// it must clash with no other name's constant and not be reserved.
+/// it must clash with no other name's constant and not be reserved. (`lists` as for
+/// `check_names`.)
 fn check_group_names(
-    groups: &[Vec<Group>; 3],
-    coordinates: &[syn::Ident],
-    speeds: &[syn::Ident],
-    inputs: &[syn::Ident],
+    groups: &[Vec<Group>; 4],
+    lists: [&[syn::Ident]; 4],
     lowerer: &mut Lowerer<'_, '_>,
 ) {
     let upper = |i: &syn::Ident| i.unraw().to_string().to_uppercase();
-    let mut taken: HashSet<String> = coordinates
+    let mut taken: HashSet<String> = lists.iter().copied().flatten().map(upper).collect();
+    for (group, kind) in groups
         .iter()
-        .chain(speeds)
-        .chain(inputs)
-        .map(upper)
-        .collect();
-    for group in groups.iter().flatten() {
+        .zip(KINDS)
+        .flat_map(|(groups, kind)| groups.iter().map(move |g| (g, kind)))
+    {
         let name = upper(&group.base);
-        if let Some(why) = reserved::clash(&group.base.unraw().to_string()) {
+        let base = group.base.unraw().to_string();
+        let reserved = if kind == "constraint" {
+            reserved::constant_clash(&base)
+        } else {
+            reserved::clash(&base)
+        };
+        if let Some(why) = reserved {
             lowerer.push_error(syn::Error::new(
                 group.base.span(),
                 format!(

@@ -6,7 +6,7 @@
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::{
     Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps,
-    too_many_steps,
+    too_many_steps, too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -500,13 +500,7 @@ impl Integrator for DormandPrince {
         let smallest = self.fixed_step.unwrap_or(self.max_step);
         let needed = ((t_end - t0) / smallest).ceil();
         if needed > self.max_steps as f64 {
-            return Err(too_many_steps(
-                ode,
-                t0,
-                smallest,
-                x0,
-                needed.min(usize::MAX as f64) as usize,
-            ));
+            return Err(too_many_steps_planned(ode, t0, smallest, x0, needed));
         }
 
         let mut f0 = O::State::zeros();

@@ -131,7 +131,26 @@ pub(crate) fn too_many_steps<O: Ode>(ode: &O, t: f64, h: f64, x: &O::State, step
         t,
         steps,
         h,
+        planned: false,
         state: ode.describe(x),
+    }
+}
+
+/// A fixed or largest step that would need `needed` steps for the span, beyond the limit:
+/// refused before the first step.
+pub(crate) fn too_many_steps_planned<O: Ode>(
+    ode: &O,
+    t0: f64,
+    h: f64,
+    x0: &O::State,
+    needed: f64,
+) -> Error {
+    Error::TooManySteps {
+        t: t0,
+        steps: needed.min(usize::MAX as f64) as usize,
+        h,
+        planned: true,
+        state: ode.describe(x0),
     }
 }
 

@@ -5,7 +5,7 @@
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::{
     Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps,
-    too_many_steps,
+    too_many_steps, too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -59,8 +59,13 @@ impl Integrator for Rk4 {
         // Each sample interval adds at most one step to span/step.
         let span = samples.last() - t0;
         if samples.count() > 0 && span / self.step > self.max_steps as f64 {
-            let needed = (span / self.step).min(usize::MAX as f64) as usize;
-            return Err(too_many_steps(ode, t0, self.step, x0, needed));
+            return Err(too_many_steps_planned(
+                ode,
+                t0,
+                self.step,
+                x0,
+                span / self.step,
+            ));
         }
         let mut run = Run {
             ode,
