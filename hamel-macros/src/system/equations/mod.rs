@@ -217,10 +217,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         Some(lt) => hamel::assemble(lowerer.graph, lt, &omega, &vectors, p),
         None => {
             let l = lagrangian::lagrangian(lowerer, spec, t, q, v)?;
-            let Transformation::Numeric(lu) = &transformation else {
-                return None;
-            };
-            projected::assemble(lowerer.graph, l, lu, &vectors)
+            projected::assemble(lowerer.graph, l, &transformation, &vectors)
         }
     };
     let energy = match lagrangian::split_energy(lowerer, spec, t, q, v, &qd)? {

@@ -6,7 +6,7 @@ use super::rows::{Rows, check_affine, coefficients};
 use super::{PivotCheck, array, dot, inverse, lower};
 use crate::engine::graph::{Func, Graph, NodeId};
 use crate::engine::lower::Lowerer;
-use crate::system::sparse_lu::SparseLu;
+use crate::system::sparse_lu::{BlockSolver, SparseLu};
 use crate::system::spec::Spec;
 
 /// How B is known.
@@ -18,12 +18,30 @@ pub enum Transformation {
         b: Vec<Vec<NodeId>>,
         q0: Vec<NodeId>,
         checks: Vec<PivotCheck>,
+        /// Whether Hamel's route composes L̃ = L(q, Bω + Q₀) (the user's inverse), or takes
+        /// the projected route with B as given here (one derived from A: composing a B that
+        /// fills in, such as the N-trailer's, made its right-hand side 3× slower).
+        compose: bool,
+        /// For a B derived from A: solves by substitution with the blocks' inverses.
+        solver: Option<BlockSolver>,
     },
     /// Through the LU of A at run time.
     Numeric(SparseLu),
 }
 
 impl Transformation {
+    /// x = B·r: the solution of A x = r, by the LU or with the closed form.
+    pub fn solve(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
+        match self {
+            Transformation::Closed {
+                solver: Some(solver),
+                ..
+            } => solver.solve(g, r),
+            Transformation::Closed { b, .. } => b.iter().map(|row| dot(g, row, r)).collect(),
+            Transformation::Numeric(lu) => lu.solve(g, r).0,
+        }
+    }
+
     /// Every column of B, and what to check before using them: the LU's pivots (against
     /// A's scale) or the closed form's determinants. The LU's columns share one
     /// factorization: the graph is hash-consed, and each solve is built from the same nodes.
@@ -90,26 +108,25 @@ pub fn build<'a>(
     let (b, q0) = coefficients(lowerer.graph, &out, omega);
     let defect = inverse::check(lowerer, spec, f, rows, &b, &q0)?;
     let checks = Vec::new();
-    Some((Transformation::Closed { b, q0, checks }, Some(defect)))
+    let compose = true;
+    Some((
+        Transformation::Closed {
+            b,
+            q0,
+            checks,
+            compose,
+            solver: None,
+        },
+        Some(defect),
+    ))
 }
-
-/// The most nonzero entries a closed-form B may have, relative to A's.
-const MAX_FILL: usize = 2;
 
 /// B derived from the rows: in closed form if A's blocks allow it, else by the LU.
 fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
     let Some(inverse) = rows.structure.closed_inverse(g, varying) else {
         return Transformation::Numeric(rows.structure.clone());
     };
-    // A closed-form B pays where it stays sparse (the robot's: a rotation and two small
-    // blocks); where it fills in (the N-trailer's chain of axles makes B dense lower
-    // triangular, n²/2 entries against A's 3n), composing L(q, Bω) costs more than the LU's
-    // sparse solves on the projected route: measured 2.8× slower at N = 24.
-    let nonzero =
-        |m: &[Vec<NodeId>], g: &Graph| m.iter().flatten().filter(|&&e| !g.is_zero(e)).count();
-    if nonzero(&inverse.b, g) > MAX_FILL * nonzero(&rows.a, g) {
-        return Transformation::Numeric(rows.structure.clone());
-    }
+
     // Q₀ = −B a.
     let q0 = inverse
         .b
@@ -132,5 +149,7 @@ fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
         b: inverse.b,
         q0,
         checks,
+        compose: false,
+        solver: Some(inverse.solver),
     }
 }
