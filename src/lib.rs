@@ -19,11 +19,13 @@
 //! gradient of L̃(q, ω) by a reverse sweep, the reduced mass matrix and (∂²L̃/∂ω∂q)·q̇ by
 //! tangent sweeps over it, and the γ terms as two bidirectional second derivatives of
 //! Φ(q, v) = pᵀA(q)v per free direction, never the n³ tensor. With a closed-form inverse B the
-//! Lagrangian in quasi-velocities is composed as L̃ = L(q, B(q)ω); without one, B comes from an
-//! LU factorization of A(q) with partial pivoting, unrolled into the generated code after a
-//! block-triangular permutation found from A's sparsity pattern, and Lagrange's equations are
-//! projected on the admissible directions instead. The reduced mass matrix is factored by an
-//! unrolled LDLᵀ; its pivots, and the LU's, are checked before any result is used.
+//! Lagrangian in quasi-velocities is composed as L̃ = L(q, B(q)ω); without one, B is derived
+//! from A(q) after a block-triangular permutation found from A's sparsity pattern — small
+//! diagonal blocks inverted in closed form by their adjugates, larger ones by an LU
+//! factorization with partial pivoting unrolled into the generated code — and Lagrange's
+//! equations are projected on the admissible directions instead. The reduced mass matrix is
+//! factored by an unrolled LDLᵀ; its pivots, and B's determinants or pivots, are checked
+//! before any result is used.
 //!
 //! The constraint rows may be affine in the velocities and depend on the time,
 //! A(q, t) q̇ + a(q, t) = 0 (a ball on a turntable, a wheel on a moving belt): the macro reads

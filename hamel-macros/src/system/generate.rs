@@ -116,8 +116,7 @@ impl<'g> Context<'g> {
             .as_ref()
             .filter(|_| checks.transformation);
         if let Some(t) = transformation {
-            all.extend(t.pivots.iter().map(|(p, _)| *p));
-            all.extend(&t.entries);
+            all.extend(t.checks.iter().flat_map(|c| [c.value, c.scale]));
         }
         let diagonal: Vec<NodeId> = (0..self.eq.mass.len())
             .map(|k| self.eq.mass[k][k])
@@ -151,22 +150,17 @@ impl<'g> Context<'g> {
         t: &TransformationPivots,
         re: &dyn Fn(NodeId) -> TokenStream,
     ) -> TokenStream {
-        // The matrix's scale as a sum of magnitudes: a plain sum, where a NaN-aware `max`
-        // chain would cost more than the factorization it guards.
-        let scale = t.entries.iter().map(|&e| {
-            let v = re(e);
-            quote!(+ #v.abs())
-        });
         let tolerance = (self.n as f64) * f64::EPSILON;
-        // A NaN or infinite entry fails the first pivot's test (NaN compares false, an
-        // infinite scale is beyond every pivot): told apart there, off the hot path.
-        let pivots = t.pivots.iter().map(|&(p, coordinate)| {
-            let v = re(p);
-            let c = lit(coordinate);
+        // A NaN or infinite entry fails its pivot's test (NaN compares false, an infinite
+        // scale is beyond every pivot): told apart there, off the hot path.
+        let checks = t.checks.iter().map(|check| {
+            let (v, scale) = (re(check.value), re(check.scale));
+            let c = lit(check.coordinate);
             quote! {
                 let pivot = #v;
-                if !(pivot.abs() > #tolerance * scale_a) {
-                    return ::core::result::Result::Err(if scale_a.is_finite() && pivot.is_finite() {
+                let scale = #scale;
+                if !(pivot.abs() > #tolerance * scale) {
+                    return ::core::result::Result::Err(if scale.is_finite() && pivot.is_finite() {
                         ::hamel::Singularity::Transformation { coordinate: #c, value: pivot }
                     } else {
                         ::hamel::Singularity::NonFinite { speed: ::core::option::Option::None }
@@ -175,8 +169,7 @@ impl<'g> Context<'g> {
             }
         });
         quote! {
-            let scale_a = 0.0f64 #(#scale)*;
-            #(#pivots)*
+            #(#checks)*
         }
     }
 
@@ -429,7 +422,7 @@ fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
     let eq = cx.eq;
     let mut roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
     if let Some(t) = &eq.transformation {
-        roots.extend(t.pivots.iter().map(|(p, _)| *p));
+        roots.extend(t.checks.iter().map(|c| c.value));
     }
     let live: std::collections::HashSet<NodeId> = cx.graph.live_set(&roots).into_iter().collect();
     let inputs = &eq.inputs;

@@ -363,3 +363,214 @@ mod tests {
         assert!(p.iter().all(|p| p.abs() > 0.5), "{p:?}");
     }
 }
+
+/// The largest diagonal block inverted in closed form, by its adjugate: the cofactors of a
+/// 3 × 3 block are 2 × 2 determinants, and beyond that the expressions grow faster than the
+/// elimination they replace.
+pub const MAX_CLOSED_BLOCK: usize = 3;
+
+/// B = A⁻¹ as expressions, from the closed-form inverses of A's diagonal blocks, with the
+/// determinants to check at run time.
+pub struct ClosedInverse {
+    /// B row by row (row i: the velocity of coordinate i per unit of each row of ω = A q̇).
+    pub b: Vec<Vec<NodeId>>,
+    /// Each diagonal block's determinant that is not a constant, with the scale it must
+    /// exceed n·ε times ([`SparseLu::determinant_checks`]) and the first coordinate the
+    /// block determines.
+    pub checks: Vec<(NodeId, NodeId, usize)>,
+    /// Solves with the same block inverses, for other right-hand sides.
+    pub solver: BlockSolver,
+}
+
+impl SparseLu {
+    /// B = A⁻¹ in closed form when every diagonal block of the block-triangular form has at
+    /// most [`MAX_CLOSED_BLOCK`] rows: each block inverted as adj(M)/det(M), the blocks
+    /// solved in order. No pivot is chosen, so B is exact wherever A is invertible
+    /// (det A is the product of the blocks' determinants), and the graph's normal form sees
+    /// what cancels through it (sin² + cos² of a rotation block, r/b·b/r).
+    ///
+    /// Only where it replaces pivoting at run time: when every block is a single row, A is
+    /// triangular up to permutation and the LU is already plain substitution with no pivot
+    /// to choose.
+    pub fn closed_inverse(&self, g: &mut Graph, varying: &[NodeId]) -> Option<ClosedInverse> {
+        let largest = self.blocks.iter().map(|(rows, _)| rows.len()).max()?;
+        if !(2..=MAX_CLOSED_BLOCK).contains(&largest) {
+            return None;
+        }
+        let n = self.a.len();
+        let blocks: Vec<Vec<Vec<NodeId>>> = self
+            .blocks
+            .iter()
+            .map(|(rows, columns)| {
+                rows.iter()
+                    .map(|&r| columns.iter().map(|&c| self.a[r][c]).collect())
+                    .collect()
+            })
+            .collect();
+        let determinants: Vec<NodeId> = blocks.iter().map(|m| determinant(g, m)).collect();
+        let checks = self.determinant_checks(g, varying, &blocks, &determinants);
+        let mut inverses = Vec::with_capacity(blocks.len());
+        for (m, &det) in blocks.iter().zip(&determinants) {
+            let one = g.one();
+            let reciprocal = g.div(one, det);
+            // inverse[j][i] = C_ij / det: the adjugate is the cofactors transposed.
+            let s = m.len();
+            let mut inverse = vec![vec![g.zero(); s]; s];
+            for i in 0..s {
+                for (j, inverse_row) in inverse.iter_mut().enumerate() {
+                    let cofactor = cofactor(g, m, i, j);
+                    inverse_row[i] = g.mul(cofactor, reciprocal);
+                }
+            }
+            inverses.push(inverse);
+        }
+        let solver = BlockSolver {
+            lu: self.clone(),
+            inverses,
+        };
+        // Column k of B solves A x = e_k.
+        let (zero, one) = (g.zero(), g.one());
+        let columns: Vec<Vec<NodeId>> = (0..n)
+            .map(|k| {
+                let unit: Vec<NodeId> = (0..n).map(|i| if i == k { one } else { zero }).collect();
+                solver.solve(g, &unit)
+            })
+            .collect();
+        let b = (0..n)
+            .map(|i| {
+                columns
+                    .iter()
+                    .map(|column: &Vec<NodeId>| column[i])
+                    .collect()
+            })
+            .collect();
+        Some(ClosedInverse { b, checks, solver })
+    }
+}
+
+/// Solves A x = r block by block with the blocks' closed-form inverses: as sparse as the LU's
+/// substitution (a dense B·r would cost n² where A's rows are sparse).
+#[derive(Clone)]
+pub struct BlockSolver {
+    lu: SparseLu,
+    /// Each block's inverse, `inverses[b][j][i]`: column j of the block per unit of row i.
+    inverses: Vec<Vec<Vec<NodeId>>>,
+}
+
+impl BlockSolver {
+    pub fn solve(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
+        let n = self.lu.a.len();
+        let mut x: Vec<Option<NodeId>> = vec![None; n];
+        for ((rows, columns), inverse) in self.lu.blocks.iter().zip(&self.inverses) {
+            let rhs: Vec<NodeId> = rows
+                .iter()
+                .map(|&row| {
+                    let mut acc = r[row];
+                    for (c, xc) in x.iter().enumerate() {
+                        if let Some(xc) = xc
+                            && !columns.contains(&c)
+                        {
+                            let t = g.mul(self.lu.a[row][c], *xc);
+                            acc = g.sub(acc, t);
+                        }
+                    }
+                    acc
+                })
+                .collect();
+            for (j, &c) in columns.iter().enumerate() {
+                let terms: Vec<NodeId> = inverse[j]
+                    .iter()
+                    .zip(&rhs)
+                    .map(|(&m, &v)| g.mul(m, v))
+                    .collect();
+                x[c] = Some(g.sum(&terms));
+            }
+        }
+        let zero = g.zero();
+        x.into_iter().map(|v| v.unwrap_or(zero)).collect()
+    }
+}
+
+impl SparseLu {
+    /// What to check of each block's determinant before B is used: nothing for a constant
+    /// (nonzero: A is never singular, or the rank check would have refused the model); that
+    /// it is not zero for one that depends on the parameters only; and for one that varies
+    /// with q or t, |det| > n·ε·S^k with S = Σ|A_ij| (the LU's scale) for a k × k block.
+    /// The first coordinate each block determines names it.
+    fn determinant_checks(
+        &self,
+        g: &mut Graph,
+        varying: &[NodeId],
+        blocks: &[Vec<Vec<NodeId>>],
+        determinants: &[NodeId],
+    ) -> Vec<(NodeId, NodeId, usize)> {
+        let active = g.depends_on(varying);
+        let mut scale = None;
+        let mut checks = Vec::new();
+        for ((m, &det), (_, columns)) in blocks.iter().zip(determinants).zip(&self.blocks) {
+            if g.const_value(det).is_some() {
+                continue;
+            }
+            let bound = if active[det.index()] {
+                let s = *scale.get_or_insert_with(|| {
+                    let entries: Vec<NodeId> = self
+                        .a
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .filter(|&e| !g.is_zero(e))
+                        .collect();
+                    let magnitudes: Vec<NodeId> =
+                        entries.into_iter().map(|e| g.unary(Func::Abs, e)).collect();
+                    g.sum(&magnitudes)
+                });
+                let mut power = s;
+                for _ in 1..m.len() {
+                    power = g.mul(power, s);
+                }
+                power
+            } else {
+                g.zero()
+            };
+            checks.push((det, bound, columns[0]));
+        }
+        checks
+    }
+}
+
+/// det M by expansion along the first row (M has at most [`MAX_CLOSED_BLOCK`] rows).
+fn determinant(g: &mut Graph, m: &[Vec<NodeId>]) -> NodeId {
+    match m.len() {
+        0 => g.one(),
+        1 => m[0][0],
+        _ => {
+            let mut terms = Vec::with_capacity(m.len());
+            for j in 0..m.len() {
+                if g.is_zero(m[0][j]) {
+                    continue;
+                }
+                let c = cofactor(g, m, 0, j);
+                terms.push(g.mul(m[0][j], c));
+            }
+            g.sum(&terms)
+        }
+    }
+}
+
+/// The cofactor C_ij = (−1)^{i+j} det(M without row i and column j).
+fn cofactor(g: &mut Graph, m: &[Vec<NodeId>], i: usize, j: usize) -> NodeId {
+    let minor: Vec<Vec<NodeId>> = m
+        .iter()
+        .enumerate()
+        .filter(|&(r, _)| r != i)
+        .map(|(_, row)| {
+            row.iter()
+                .enumerate()
+                .filter(|&(c, _)| c != j)
+                .map(|(_, &e)| e)
+                .collect()
+        })
+        .collect();
+    let d = determinant(g, &minor);
+    if (i + j) % 2 == 1 { g.neg(d) } else { d }
+}

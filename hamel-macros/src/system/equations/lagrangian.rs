@@ -25,7 +25,15 @@ pub fn quasi<'a>(
             let lt = *lower(lowerer, spec, f, t, vec![array(q), array(omega)])?.first()?;
             (lt, *f)
         }
-        (_, Transformation::Closed { b, q0 }) => {
+        (
+            _,
+            Transformation::Closed {
+                b,
+                q0,
+                compose: true,
+                ..
+            },
+        ) => {
             let g = &mut *lowerer.graph;
             let velocities: Vec<NodeId> = b
                 .iter()
@@ -37,7 +45,7 @@ pub fn quasi<'a>(
                 .collect();
             written(lowerer, spec, t, q, &velocities)?
         }
-        (_, Transformation::Numeric(_)) => return Some(None),
+        (_, Transformation::Closed { .. } | Transformation::Numeric(_)) => return Some(None),
     };
     requires_velocities(lowerer, f, lt, omega, "the Lagrangian").then_some(Some(lt))
 }

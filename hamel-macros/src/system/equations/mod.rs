@@ -52,12 +52,20 @@ pub struct Inputs {
     pub v: Vec<NodeId>,
 }
 
-/// Pivots of the run-time LU factorization of A(q) (when no inverse is given), with the
-/// entries of A that set their scale: a generated method that uses B checks them first.
+/// What a generated method that uses B checks first (when B is not the user's): the pivots
+/// of the run-time LU factorization of A(q), or the determinants of the diagonal blocks
+/// inverted in closed form, each against its scale.
 pub struct TransformationPivots {
-    /// Each pivot with the coordinate whose velocity it determines.
-    pub pivots: Vec<(NodeId, usize)>,
-    pub entries: Vec<NodeId>,
+    pub checks: Vec<PivotCheck>,
+}
+
+/// |value| must exceed n·ε·scale.
+#[derive(Clone, Copy)]
+pub struct PivotCheck {
+    pub value: NodeId,
+    pub scale: NodeId,
+    /// The coordinate whose velocity the pivot determines.
+    pub coordinate: usize,
 }
 
 /// The holonomic constraints f(t, q) and their Jacobian ∂f/∂q (row-major, k × n).
@@ -190,21 +198,9 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let rows = rows::build(lowerer, spec, t, q, v)?;
     let (transformation, inverse_defect) =
         transformation::build(lowerer, spec, &rows, t, q, &omega)?;
-    let (b, pivots) = transformation.columns(lowerer.graph, n);
+    let (b, checks) = transformation.columns(lowerer.graph, &rows.a);
     let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b, &inputs.w, p);
-    let transformation_pivots = match &transformation {
-        Transformation::Numeric(_) => Some(TransformationPivots {
-            pivots,
-            entries: rows
-                .a
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|&e| !lowerer.graph.is_zero(e))
-                .collect(),
-        }),
-        Transformation::Closed { .. } => None,
-    };
+    let transformation_pivots = (!checks.is_empty()).then_some(TransformationPivots { checks });
     let forces = forces(lowerer, spec, &inputs, &qd)?;
     let vectors = Vectors {
         t,
@@ -221,10 +217,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         Some(lt) => hamel::assemble(lowerer.graph, lt, &omega, &vectors, p),
         None => {
             let l = lagrangian::lagrangian(lowerer, spec, t, q, v)?;
-            let Transformation::Numeric(lu) = &transformation else {
-                return None;
-            };
-            projected::assemble(lowerer.graph, l, lu, &vectors)
+            projected::assemble(lowerer.graph, l, &transformation, &vectors)
         }
     };
     let energy = match lagrangian::split_energy(lowerer, spec, t, q, v, &qd)? {

@@ -1,5 +1,6 @@
-//! Lagrange's equations projected on the columns of B, for a B known only numerically (the
-//! LU of A at run time), where L̃ cannot be differentiated in q:
+//! Lagrange's equations projected on the columns of B, for a B derived from A (by the LU at
+//! run time, where L̃ cannot be differentiated in q, or in closed form, where composing
+//! L(q, Bω) would cost more):
 //!
 //! ```text
 //! Σ_{l>p} (B_kᵀ H_vv B_l) ω̇_l − B_kᵀ (f + ∇_q L − H_vq q̇ − ∂_t∇_v L − H_vv c) = λ_k or 0,
@@ -8,13 +9,18 @@
 //!
 //! from differentiating ω = r(t, q, q̇) along the motion (the constrained ω stay zero).
 
+use super::transformation::Transformation;
 use super::{Assembled, Vectors, dot, fresh, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
-use crate::system::sparse_lu::SparseLu;
 
 /// `l` is L(t, q, v) in the velocity symbols of `x.v`.
-pub fn assemble(g: &mut Graph, l: NodeId, lu: &SparseLu, x: &Vectors<'_>) -> Assembled {
+pub fn assemble(
+    g: &mut Graph,
+    l: NodeId,
+    transformation: &Transformation,
+    x: &Vectors<'_>,
+) -> Assembled {
     let (t, q, qd, v, b) = (x.t, x.q, x.qd, x.v, x.b);
     let n = q.len();
     let p = n - x.w.len();
@@ -45,7 +51,7 @@ pub fn assemble(g: &mut Graph, l: NodeId, lu: &SparseLu, x: &Vectors<'_>) -> Ass
     let mut at_qd = pairs(v, qd);
     at_qd.extend(pairs(&a_sym, qd));
     let along = subst(g, &along, &at_qd);
-    let (solved, _) = lu.solve(g, &along);
+    let solved = transformation.solve(g, &along);
     let c: Vec<NodeId> = solved.into_iter().map(|d| g.neg(d)).collect();
 
     // d/dt ∂L/∂q̇ − H_vv·(B_free ω̇) = H_vq q̇ + H_vv c + ∂_t∇_v L: one tangent.

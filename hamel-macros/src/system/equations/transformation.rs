@@ -3,30 +3,52 @@
 //! factorization of A with partial pivoting unrolled into the generated code.
 
 use super::rows::{Rows, check_affine, coefficients};
-use super::{array, inverse, lower};
-use crate::engine::graph::{Graph, NodeId};
+use super::{PivotCheck, array, dot, inverse, lower};
+use crate::engine::graph::{Func, Graph, NodeId};
 use crate::engine::lower::Lowerer;
-use crate::system::sparse_lu::SparseLu;
+use crate::system::sparse_lu::{BlockSolver, SparseLu};
 use crate::system::spec::Spec;
 
 /// How B is known.
 pub enum Transformation {
-    /// In closed form: B row by row, and Q₀ = Q(t, q, 0) = −B a.
+    /// In closed form: B row by row, Q₀ = Q(t, q, 0) = −B a, and the determinants to check
+    /// before B is used (none for the user's own inverse, which is checked against A
+    /// instead).
     Closed {
         b: Vec<Vec<NodeId>>,
         q0: Vec<NodeId>,
+        checks: Vec<PivotCheck>,
+        /// Whether Hamel's route composes L̃ = L(q, Bω + Q₀) (the user's inverse), or takes
+        /// the projected route with B as given here (one derived from A: composing a B that
+        /// fills in, such as the N-trailer's, made its right-hand side 3× slower).
+        compose: bool,
+        /// For a B derived from A: solves by substitution with the blocks' inverses.
+        solver: Option<BlockSolver>,
     },
     /// Through the LU of A at run time.
     Numeric(SparseLu),
 }
 
 impl Transformation {
-    /// Every column of B, and (for the LU) the pivots the solves divide by, each with the
-    /// coordinate it solves for. The columns share one factorization: the graph is
-    /// hash-consed, and each solve is built from the same nodes.
-    pub fn columns(&self, g: &mut Graph, n: usize) -> (Vec<Vec<NodeId>>, Vec<(NodeId, usize)>) {
+    /// x = B·r: the solution of A x = r, by the LU or with the closed form.
+    pub fn solve(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
         match self {
-            Transformation::Closed { b, .. } => (super::columns(b), Vec::new()),
+            Transformation::Closed {
+                solver: Some(solver),
+                ..
+            } => solver.solve(g, r),
+            Transformation::Closed { b, .. } => b.iter().map(|row| dot(g, row, r)).collect(),
+            Transformation::Numeric(lu) => lu.solve(g, r).0,
+        }
+    }
+
+    /// Every column of B, and what to check before using them: the LU's pivots (against
+    /// A's scale) or the closed form's determinants. The LU's columns share one
+    /// factorization: the graph is hash-consed, and each solve is built from the same nodes.
+    pub fn columns(&self, g: &mut Graph, a: &[Vec<NodeId>]) -> (Vec<Vec<NodeId>>, Vec<PivotCheck>) {
+        let n = a.len();
+        match self {
+            Transformation::Closed { b, checks, .. } => (super::columns(b), checks.clone()),
             Transformation::Numeric(lu) => {
                 let (zero, one) = (g.zero(), g.one());
                 let mut pivots = Vec::new();
@@ -39,13 +61,34 @@ impl Transformation {
                         x
                     })
                     .collect();
-                (columns, pivots)
+                // A's scale as a plain sum of magnitudes, where a NaN-aware `max` chain would
+                // cost more than the factorization it guards.
+                let entries: Vec<NodeId> = a
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .filter(|&e| !g.is_zero(e))
+                    .collect();
+                let magnitudes: Vec<NodeId> =
+                    entries.into_iter().map(|e| g.unary(Func::Abs, e)).collect();
+                let scale = g.sum(&magnitudes);
+                let checks = pivots
+                    .into_iter()
+                    .map(|(value, coordinate)| PivotCheck {
+                        value,
+                        scale,
+                        coordinate,
+                    })
+                    .collect();
+                (columns, checks)
             }
         }
     }
 }
 
-/// The transformation, and for a closed-form one the defect that checks it at run time.
+/// The transformation, and for the user's closed-form one the defect that checks it at run
+/// time. Without one, B is derived in closed form when A's diagonal blocks are small
+/// ([`SparseLu::closed_inverse`]), and otherwise left to the LU at run time.
 pub fn build<'a>(
     lowerer: &mut Lowerer<'a, '_>,
     spec: &Spec<'a>,
@@ -55,7 +98,8 @@ pub fn build<'a>(
     omega: &[NodeId],
 ) -> Option<(Transformation, Option<Vec<NodeId>>)> {
     let Some(f) = spec.velocities else {
-        return Some((Transformation::Numeric(rows.structure.clone()), None));
+        let varying: Vec<NodeId> = std::iter::once(t).chain(q.iter().copied()).collect();
+        return Some((derived(lowerer.graph, rows, &varying), None));
     };
     let out = lower(lowerer, spec, f, t, vec![array(q), array(omega)])?;
     if !check_affine(lowerer, f, &out, omega, "velocity", "w") {
@@ -63,5 +107,49 @@ pub fn build<'a>(
     }
     let (b, q0) = coefficients(lowerer.graph, &out, omega);
     let defect = inverse::check(lowerer, spec, f, rows, &b, &q0)?;
-    Some((Transformation::Closed { b, q0 }, Some(defect)))
+    let checks = Vec::new();
+    let compose = true;
+    Some((
+        Transformation::Closed {
+            b,
+            q0,
+            checks,
+            compose,
+            solver: None,
+        },
+        Some(defect),
+    ))
+}
+
+/// B derived from the rows: in closed form if A's blocks allow it, else by the LU.
+fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
+    let Some(inverse) = rows.structure.closed_inverse(g, varying) else {
+        return Transformation::Numeric(rows.structure.clone());
+    };
+
+    // Q₀ = −B a.
+    let q0 = inverse
+        .b
+        .iter()
+        .map(|row| {
+            let drift = dot(g, row, &rows.offset);
+            g.neg(drift)
+        })
+        .collect();
+    let checks = inverse
+        .checks
+        .into_iter()
+        .map(|(value, scale, coordinate)| PivotCheck {
+            value,
+            scale,
+            coordinate,
+        })
+        .collect();
+    Transformation::Closed {
+        b: inverse.b,
+        q0,
+        checks,
+        compose: false,
+        solver: Some(inverse.solver),
+    }
 }
