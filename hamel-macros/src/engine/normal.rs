@@ -39,6 +39,9 @@ impl Term {
 
 impl Graph {
     /// `a + sign·b` in normal form when flattening finds something to simplify, else `None`.
+    /// When the flat terms show nothing, the terms that are a factor times a short sum
+    /// (`m·(a + b) − m·(a − b)`, `s·(s·m₀ + 2 s·m_w) + c·(c·m₀ + …)`) are distributed once and
+    /// looked at again; the sum is rebuilt only if that finds a cancellation.
     pub(super) fn normal_sum(&mut self, a: NodeId, b: NodeId, sign: f64) -> Option<NodeId> {
         let mut raw = Vec::new();
         let mut constants = Vec::new();
@@ -47,9 +50,64 @@ impl Graph {
         {
             return None;
         }
+        if let Some(sum) = self.normalized(&raw, &constants) {
+            return Some(sum);
+        }
+        let expanded = self.distributed(&raw)?;
+        self.normalized(&expanded, &constants)
+    }
+
+    /// The raw terms with every `x·(p ± q)` (either side a short sum) written as
+    /// `x·p ± x·q`; `None` if there is none, or the result would be too long.
+    fn distributed(&mut self, raw: &[(f64, NodeId)]) -> Option<Vec<(f64, NodeId)>> {
+        let mut out = Vec::with_capacity(raw.len() * 2);
+        let mut any = false;
+        for &(c, node) in raw {
+            let split = match self.node(node) {
+                Node::Mul(x, y) => {
+                    let mut inner = Vec::new();
+                    let mut ignored = Vec::new();
+                    if self.is_sum(y) && self.collect_terms(y, 1.0, &mut inner, &mut ignored) {
+                        Some((x, inner, ignored))
+                    } else if self.is_sum(x) && self.collect_terms(x, 1.0, &mut inner, &mut ignored)
+                    {
+                        Some((y, inner, ignored))
+                    } else {
+                        None
+                    }
+                }
+                _ => None,
+            };
+            match split {
+                Some((factor, inner, inner_constants)) => {
+                    any = true;
+                    for (ci, t) in inner {
+                        let product = self.mul(factor, t);
+                        out.push((c * ci, product));
+                    }
+                    for k in inner_constants {
+                        out.push((c * k, factor));
+                    }
+                }
+                None => out.push((c, node)),
+            }
+            if out.len() > MAX_TERMS {
+                return None;
+            }
+        }
+        any.then_some(out)
+    }
+
+    fn is_sum(&self, id: NodeId) -> bool {
+        matches!(self.node(id), Node::Add(..) | Node::Sub(..))
+    }
+
+    /// The sum of `raw` and `constants` in normal form, if merging, cancelling, folding
+    /// constants or sin² + cos² simplified anything.
+    fn normalized(&mut self, raw: &[(f64, NodeId)], constants: &[f64]) -> Option<NodeId> {
         let count = raw.len();
         let mut terms: Vec<Term> = Vec::with_capacity(count);
-        for (coefficient, node) in raw {
+        for &(coefficient, node) in raw {
             let mut factors = Vec::new();
             let mut scale = 1.0;
             if !self.factors(node, &mut factors, &mut scale) {
@@ -341,7 +399,7 @@ impl Graph {
 
 #[cfg(test)]
 mod tests {
-    use crate::engine::graph::{Func, Graph};
+    use crate::engine::graph::{Func, Graph, Node, NodeId};
 
     #[test]
     fn terms_meet_whatever_the_association_of_their_products() {
@@ -402,6 +460,53 @@ mod tests {
         // Different weights stay.
         let other = g.add(ms2, c2);
         assert!(g.const_value(other).is_none());
+    }
+
+    /// What only distributing a factor over a short sum shows: m·(a + b) − m·(a − b) = 2·m·b,
+    /// and sin x·(sin x·m + 2·sin x·w) + cos x·(cos x·m + 2·cos x·w) = m + 2·w, the robot's
+    /// composed kinetic energy; a product with nothing to cancel keeps its shape.
+    #[test]
+    fn distributing_a_factor_finds_cancellations() {
+        let mut g = Graph::new();
+        let (x, m, w) = (g.new_input("x"), g.new_input("m"), g.new_input("w"));
+        let (a, b) = (g.new_input("a"), g.new_input("b"));
+        let (sum, difference) = (g.add(a, b), g.sub(a, b));
+        let (left, right) = (g.mul(m, sum), g.mul(m, difference));
+        let total = g.sub(left, right);
+        let values = [0.3, 1.7, -0.4, 2.5, 0.9];
+        let got = g.evaluate(&[total], &values)[0];
+        assert!((got - 2.0 * 1.7 * 0.9).abs() < 1e-15, "{got}");
+        assert!(!matches!(g.node(total), Node::Sub(..)), "not reduced");
+
+        let (s, c) = (g.unary(Func::Sin, x), g.unary(Func::Cos, x));
+        let two = g.constant(2.0);
+        let inner = |g: &mut Graph, f: NodeId| {
+            let fm = g.mul(f, m);
+            let fw = g.mul(f, w);
+            let twice = g.mul(two, fw);
+            let sum = g.add(fm, twice);
+            g.mul(f, sum)
+        };
+        let (ps, pc) = (inner(&mut g, s), inner(&mut g, c));
+        let kinetic = g.add(ps, pc);
+        let expected = {
+            let twice = g.mul(two, w);
+            g.add(m, twice)
+        };
+        let (got, want) = {
+            let v = g.evaluate(&[kinetic, expected], &values);
+            (v[0], v[1])
+        };
+        assert!((got - want).abs() < 1e-15);
+        let ops = crate::engine::ops::count(&g, &[kinetic]).total();
+        assert!(ops <= 3, "m + 2·w takes {ops} operations");
+
+        // (a + b)·w + m: nothing cancels, the product stays as written.
+        let product = g.mul(sum, w);
+        let plain = g.add(product, m);
+        assert!(
+            matches!(g.node(plain), Node::Add(p, q) if [p, q] == [product, m] || [p, q] == [m, product])
+        );
     }
 
     #[test]
