@@ -30,7 +30,7 @@ pub fn quasi<'a>(
             Transformation::Closed {
                 b,
                 q0,
-                compose: true,
+                solver: None,
                 ..
             },
         ) => {

@@ -18,11 +18,10 @@ pub enum Transformation {
         b: Vec<Vec<NodeId>>,
         q0: Vec<NodeId>,
         checks: Vec<PivotCheck>,
-        /// Whether Hamel's route composes L̃ = L(q, Bω + Q₀) (the user's inverse), or takes
-        /// the projected route with B as given here (one derived from A: composing a B that
-        /// fills in, such as the N-trailer's, made its right-hand side 3× slower).
-        compose: bool,
-        /// For a B derived from A: solves by substitution with the blocks' inverses.
+        /// `None` for the user's inverse, which Hamel's route composes into
+        /// L̃ = L(q, Bω + Q₀). For a B derived from A, the solves by substitution with the
+        /// blocks' inverses, and the projected route (composing a B that fills in, such as
+        /// the N-trailer's, made its right-hand side 3× slower).
         solver: Option<BlockSolver>,
     },
     /// Through the LU of A at run time.
@@ -108,14 +107,13 @@ pub fn build<'a>(
     let (b, q0) = coefficients(lowerer.graph, &out, omega);
     let defect = inverse::check(lowerer, spec, f, rows, &b, &q0)?;
     let checks = Vec::new();
-    let compose = true;
+    let solver = None;
     Some((
         Transformation::Closed {
             b,
             q0,
             checks,
-            compose,
-            solver: None,
+            solver,
         },
         Some(defect),
     ))
@@ -149,7 +147,6 @@ fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
         b: inverse.b,
         q0,
         checks,
-        compose: false,
         solver: Some(inverse.solver),
     }
 }
