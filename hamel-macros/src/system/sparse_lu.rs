@@ -492,6 +492,21 @@ impl BlockSolver {
 }
 
 impl SparseLu {
+    /// A's scale S = Σ|A_ij| that pivots and determinants are checked against: a plain sum
+    /// of magnitudes, where a NaN-aware `max` chain would cost more than the factorization
+    /// it guards.
+    pub fn scale(&self, g: &mut Graph) -> NodeId {
+        let entries: Vec<NodeId> = self
+            .a
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&e| !g.is_zero(e))
+            .collect();
+        let magnitudes: Vec<NodeId> = entries.into_iter().map(|e| g.unary(Func::Abs, e)).collect();
+        g.sum(&magnitudes)
+    }
+
     /// What to check of each block's determinant before B is used: nothing for a constant
     /// (nonzero: A is never singular, or the rank check would have refused the model); that
     /// it is not zero for one that depends on the parameters only; and for one that varies
@@ -512,18 +527,7 @@ impl SparseLu {
                 continue;
             }
             let bound = if active[det.index()] {
-                let s = *scale.get_or_insert_with(|| {
-                    let entries: Vec<NodeId> = self
-                        .a
-                        .iter()
-                        .flatten()
-                        .copied()
-                        .filter(|&e| !g.is_zero(e))
-                        .collect();
-                    let magnitudes: Vec<NodeId> =
-                        entries.into_iter().map(|e| g.unary(Func::Abs, e)).collect();
-                    g.sum(&magnitudes)
-                });
+                let s = *scale.get_or_insert_with(|| self.scale(g));
                 let mut power = s;
                 for _ in 1..m.len() {
                     power = g.mul(power, s);

@@ -198,7 +198,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let rows = rows::build(lowerer, spec, t, q, v)?;
     let (transformation, inverse_defect) =
         transformation::build(lowerer, spec, &rows, t, q, &omega)?;
-    let (b, checks) = transformation.columns(lowerer.graph, &rows.a);
+    let (b, checks) = transformation.columns(lowerer.graph, n);
     let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b, &inputs.w, p);
     let transformation_pivots = (!checks.is_empty()).then_some(TransformationPivots { checks });
     let forces = forces(lowerer, spec, &inputs, &qd)?;

@@ -4,7 +4,7 @@
 
 use super::rows::{Rows, check_affine, coefficients};
 use super::{PivotCheck, array, dot, inverse, lower};
-use crate::engine::graph::{Func, Graph, NodeId};
+use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::Lowerer;
 use crate::system::sparse_lu::{BlockSolver, SparseLu};
 use crate::system::spec::Spec;
@@ -44,8 +44,7 @@ impl Transformation {
     /// Every column of B, and what to check before using them: the LU's pivots (against
     /// A's scale) or the closed form's determinants. The LU's columns share one
     /// factorization: the graph is hash-consed, and each solve is built from the same nodes.
-    pub fn columns(&self, g: &mut Graph, a: &[Vec<NodeId>]) -> (Vec<Vec<NodeId>>, Vec<PivotCheck>) {
-        let n = a.len();
+    pub fn columns(&self, g: &mut Graph, n: usize) -> (Vec<Vec<NodeId>>, Vec<PivotCheck>) {
         match self {
             Transformation::Closed { b, checks, .. } => (super::columns(b), checks.clone()),
             Transformation::Numeric(lu) => {
@@ -60,17 +59,7 @@ impl Transformation {
                         x
                     })
                     .collect();
-                // A's scale as a plain sum of magnitudes, where a NaN-aware `max` chain would
-                // cost more than the factorization it guards.
-                let entries: Vec<NodeId> = a
-                    .iter()
-                    .flatten()
-                    .copied()
-                    .filter(|&e| !g.is_zero(e))
-                    .collect();
-                let magnitudes: Vec<NodeId> =
-                    entries.into_iter().map(|e| g.unary(Func::Abs, e)).collect();
-                let scale = g.sum(&magnitudes);
+                let scale = lu.scale(g);
                 let checks = pivots
                     .into_iter()
                     .map(|(value, coordinate)| PivotCheck {
