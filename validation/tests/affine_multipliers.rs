@@ -2,7 +2,7 @@
 //! equations with multipliers, reduced to their index-1 linear system
 //! (`common/affine_multipliers.rs`), at seeded random states and times.
 //!
-//! Two mechanisms, each re-derived here for the reference (nothing of the models' role
+//! Four mechanisms, each re-derived here for the reference (nothing of the models' role
 //! functions is called):
 //!
 //! * `hamel::models::BallOnTurntable`: the rows A(q, t) q̇ + a(q, t) carry the table's rate
@@ -17,6 +17,10 @@
 //!   and a quasi-velocity carry parts a(q, t) without velocities; the platform moves, so the
 //!   kinetic and potential energies depend on t (and T is not a quadratic form in q̇); a
 //!   torque input and drags give forces that depend on t.
+//! * Two models whose λ comes from one solve with Aᵀ (B derived from A): the catalogue's
+//!   `NTrailer2` (a closed-form 2 × 2 block for the tractor, then one row per trailer, B
+//!   filling in along the train), and Bloch's nonholonomic particle with a second coordinate
+//!   chained to it (A triangular up to permutation, B by the run-time LU).
 //!
 //! Compared, norm-wise relative (max|a − b| over the vector's own max|b|): q̇ and ẇ of `rhs`;
 //! the multipliers λ of `constraint_forces` (same sign convention, d/dt ∂L/∂q̇ − ∂L/∂q =
@@ -33,7 +37,7 @@ mod affine_multipliers;
 mod xorshift;
 
 use affine_multipliers::{Mechanism, Real, Reference, reference};
-use hamel::models::BallOnTurntable;
+use hamel::models::{BallOnTurntable, NTrailer2};
 use hamel::{HamelSystem, Singularity, Vector, hamel_system};
 use std::f64::consts::PI;
 use xorshift::XorShift;
@@ -688,6 +692,180 @@ where
 }
 
 // ---------------------------------------------------------------------------------------
+// λ by one solve with Aᵀ: the N-trailer and a triangular A
+// ---------------------------------------------------------------------------------------
+//
+// Where B is derived from A, hamel takes λ = B_cᵀR (R Lagrange's residual in q) from one
+// solve with Aᵀ, block by block in reverse order. Two models whose A exercises both kinds of
+// blocks: the N-trailer (a 2 × 2 rotation block for the tractor, inverted in closed form,
+// then one row per trailer, and columns of B that fill in along the train), and Bloch's
+// nonholonomic particle (ż = y ẋ; A triangular up to permutation, so B by the run-time LU).
+
+/// `hamel::models::NTrailer2` re-derived: axle centres P₀ = (x, y) and
+/// Pᵢ = Pᵢ₋₁ − dᵢ (cos θᵢ, sin θᵢ), point masses and moments at the axles, each axle rolling
+/// (Ṗᵢ · (−sin θᵢ, cos θᵢ) = 0), the free speeds v = Ṗ₀ · (cos θ₀, sin θ₀) and ω = θ̇₀, a drive
+/// force along the tractor's heading and a steering torque.
+struct Train<'p> {
+    p: &'p NTrailer2,
+}
+
+impl Train<'_> {
+    /// Ṗᵢ, from differentiating Pᵢ = Pᵢ₋₁ − dᵢ (cos θᵢ, sin θᵢ).
+    fn axle_velocities<T: Real>(&self, q: &[T; 5], qd: &[T; 5]) -> [[T; 2]; 3] {
+        let mut p = [[qd[0], qd[1]]; 3];
+        for i in 1..3 {
+            let (s, c) = q[2 + i].sin_cos();
+            p[i][0] = p[i - 1][0] + qd[2 + i] * s * self.p.d[i];
+            p[i][1] = p[i - 1][1] - qd[2 + i] * c * self.p.d[i];
+        }
+        p
+    }
+}
+
+impl Mechanism<5> for Train<'_> {
+    const P: usize = 3;
+
+    fn lagrangian<T: Real>(&self, _t: T, q: &[T; 5], qd: &[T; 5]) -> T {
+        let p = self.axle_velocities(q, qd);
+        (0..3).fold(T::zero(), |sum, i| {
+            let speed2 = p[i][0] * p[i][0] + p[i][1] * p[i][1];
+            sum + speed2 * (0.5 * self.p.m[i]) + qd[2 + i] * qd[2 + i] * (0.5 * self.p.inertia[i])
+        })
+    }
+
+    fn rows<T: Real>(&self, _t: T, q: &[T; 5], qd: &[T; 5]) -> [T; 5] {
+        let p = self.axle_velocities(q, qd);
+        let across = |i: usize| {
+            let (s, c) = q[2 + i].sin_cos();
+            -p[i][0] * s + p[i][1] * c
+        };
+        let (s, c) = q[2].sin_cos();
+        [
+            across(0),
+            across(1),
+            across(2),
+            qd[0] * c + qd[1] * s,
+            qd[2],
+        ]
+    }
+
+    fn forces(&self, _t: f64, q: &[f64; 5], _qd: &[f64; 5], u: &[f64]) -> [f64; 5] {
+        let (s, c) = q[2].sin_cos();
+        [u[0] * c, u[0] * s, u[1], 0.0, 0.0]
+    }
+}
+
+/// Headings within 1 rad of each other (a train in any pose short of jackknifing), speeds
+/// of order 1–2, drive and steering of order 1.
+fn train_sample(rng: &mut XorShift) -> Sample<5> {
+    let theta0 = rng.uniform(-PI, PI);
+    let q = [
+        rng.uniform(-2.0, 2.0),
+        rng.uniform(-2.0, 2.0),
+        theta0,
+        theta0 + rng.uniform(-1.0, 1.0),
+        theta0 + rng.uniform(-1.0, 1.0),
+    ];
+    Sample {
+        t: 0.0,
+        q,
+        w: vec![rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)],
+        u: vec![rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)],
+    }
+}
+
+/// The catalogue's default train and one with every mass, moment and length different.
+fn trains() -> Vec<NTrailer2> {
+    vec![
+        NTrailer2::default(),
+        NTrailer2 {
+            m: [3.0, 0.7, 1.6],
+            inertia: [0.4, 0.02, 0.3],
+            d: [0.0, 1.3, 0.35],
+        },
+    ]
+}
+
+/// Bloch's nonholonomic particle (Bloch, *Nonholonomic Mechanics and Control*, §1.4: the
+/// constraint ż = y ẋ), its row scaled by 1 + x², with a second coordinate s chained to it
+/// by ṡ = x ż, in a spring's potential, under gravity along z and pushed in x and y: unit
+/// masses, L = ½(ẋ² + ẏ² + ż² + ṡ²) − ½k(x² + y²) − g z. The rows (1 + x²)(ż − y ẋ),
+/// ṡ − x ż, ẋ, ẏ give an A that is triangular up to permutation (B by the run-time LU), and
+/// λ₁ needs what λ₂ contributes to the z column of Aᵀ.
+#[hamel_system]
+#[derive(Clone, Debug)]
+pub struct NonholonomicParticle {
+    /// spring stiffness (N/m per kg)
+    pub k: f64,
+    /// gravity along z (m/s²)
+    pub g: f64,
+}
+
+#[hamel_system(coordinates(x, y, z, s), speeds(vx, vy), inputs(fx, fy))]
+impl NonholonomicParticle {
+    #[kinetic_energy]
+    fn kinetic_energy(&self, _q: &[f64; 4], qd: &[f64; 4]) -> f64 {
+        0.5 * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2] + qd[3] * qd[3])
+    }
+
+    #[potential_energy]
+    fn potential_energy(&self, q: &[f64; 4]) -> f64 {
+        0.5 * self.k * (q[0] * q[0] + q[1] * q[1]) + self.g * q[2]
+    }
+
+    #[constraints]
+    fn chained(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 2] {
+        [
+            (1.0 + q[0] * q[0]) * (qd[2] - q[1] * qd[0]),
+            qd[3] - q[0] * qd[2],
+        ]
+    }
+
+    #[quasi_velocities]
+    fn speeds(&self, _q: &[f64; 4], qd: &[f64; 4]) -> [f64; 2] {
+        [qd[0], qd[1]]
+    }
+
+    #[forces]
+    fn push(&self, _t: f64, _q: &[f64; 4], _qd: &[f64; 4], u: &[f64; 2]) -> [f64; 4] {
+        [u[0], u[1], 0.0, 0.0]
+    }
+}
+
+impl Mechanism<4> for NonholonomicParticle {
+    const P: usize = 2;
+
+    fn lagrangian<T: Real>(&self, _t: T, q: &[T; 4], qd: &[T; 4]) -> T {
+        let kinetic = qd.iter().fold(T::zero(), |sum, &v| sum + v * v) * 0.5;
+        kinetic - (q[0] * q[0] + q[1] * q[1]) * (0.5 * self.k) - q[2] * self.g
+    }
+
+    fn rows<T: Real>(&self, _t: T, q: &[T; 4], qd: &[T; 4]) -> [T; 4] {
+        let scale = q[0] * q[0] + 1.0;
+        [
+            (qd[2] - q[1] * qd[0]) * scale,
+            qd[3] - q[0] * qd[2],
+            qd[0],
+            qd[1],
+        ]
+    }
+
+    fn forces(&self, _t: f64, _q: &[f64; 4], _qd: &[f64; 4], u: &[f64]) -> [f64; 4] {
+        [u[0], u[1], 0.0, 0.0]
+    }
+}
+
+/// Anywhere within 2 of the origin, speeds of order 1–2, forces of order 1.
+fn particle_sample(rng: &mut XorShift) -> Sample<4> {
+    Sample {
+        t: 0.0,
+        q: [0; 4].map(|_| rng.uniform(-2.0, 2.0)),
+        w: vec![rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)],
+        u: vec![rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)],
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Samples and parameter sets
 // ---------------------------------------------------------------------------------------
 
@@ -831,6 +1009,28 @@ fn steered_sleigh_by_lu_equals_the_multiplier_equations() {
         let by_lu = SteeredSleighByLu::from(sleigh);
         let name = format!("SteeredSleighByLu #{i} (LU)");
         worst_differences(&name, &by_lu, &mechanism, || sleigh_sample(&mut rng));
+    }
+}
+
+#[test]
+fn n_trailer_equals_the_multiplier_equations() {
+    let mut rng = XorShift::new(0xda3_0005);
+    for (i, train) in trains().iter().enumerate() {
+        let mechanism = Train { p: train };
+        let name = format!("NTrailer2 #{i} (B in closed form, λ by Aᵀ block by block)");
+        worst_differences(&name, train, &mechanism, || train_sample(&mut rng));
+    }
+}
+
+#[test]
+fn nonholonomic_particle_equals_the_multiplier_equations() {
+    let mut rng = XorShift::new(0xda3_0006);
+    for particle in [
+        NonholonomicParticle { k: 1.0, g: 9.81 },
+        NonholonomicParticle { k: 0.3, g: -2.0 },
+    ] {
+        let name = format!("{particle:?} (run-time LU, λ by Aᵀ)");
+        worst_differences(&name, &particle, &particle, || particle_sample(&mut rng));
     }
 }
 

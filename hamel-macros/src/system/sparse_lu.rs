@@ -95,6 +95,55 @@ impl SparseLu {
     }
 }
 
+impl SparseLu {
+    /// The solution y of Aᵀ y = r, one entry per row of A. Column c of A meets only the rows
+    /// of its own block and of later ones, so the blocks are solved in reverse order, each
+    /// transposed and eliminated with partial pivoting like the forward solve (its pivots
+    /// are nonzero wherever the forward ones are: the block is the same matrix).
+    pub fn solve_transposed(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
+        let mut y: Vec<Option<NodeId>> = vec![None; self.a.len()];
+        for (rows, columns) in self.blocks.iter().rev() {
+            let mut augmented: Vec<Vec<NodeId>> = columns
+                .iter()
+                .map(|&c| {
+                    let rhs = self.transposed_rhs(g, r, &y, rows, c);
+                    let mut row: Vec<NodeId> = rows.iter().map(|&i| self.a[i][c]).collect();
+                    row.push(rhs);
+                    row
+                })
+                .collect();
+            let solved = eliminate(g, &mut augmented, &mut Vec::new());
+            for (&i, v) in rows.iter().zip(solved) {
+                y[i] = Some(v);
+            }
+        }
+        let zero = g.zero();
+        y.into_iter().map(|v| v.unwrap_or(zero)).collect()
+    }
+
+    /// r_c minus what the rows already solved (those of later blocks) contribute to
+    /// column c of Aᵀ y = r.
+    fn transposed_rhs(
+        &self,
+        g: &mut Graph,
+        r: &[NodeId],
+        y: &[Option<NodeId>],
+        rows: &[usize],
+        c: usize,
+    ) -> NodeId {
+        let mut acc = r[c];
+        for (i, yi) in y.iter().enumerate() {
+            if let Some(yi) = yi
+                && !rows.contains(&i)
+            {
+                let t = g.mul(self.a[i][c], *yi);
+                acc = g.sub(acc, t);
+            }
+        }
+        acc
+    }
+}
+
 /// Gaussian elimination with partial pivoting on an augmented block [M | r], unrolled.
 fn eliminate(g: &mut Graph, rows: &mut [Vec<NodeId>], pivots: &mut Vec<NodeId>) -> Vec<NodeId> {
     let s = rows.len();
@@ -488,6 +537,31 @@ impl BlockSolver {
         }
         let zero = g.zero();
         x.into_iter().map(|v| v.unwrap_or(zero)).collect()
+    }
+}
+
+impl BlockSolver {
+    /// The solution y of Aᵀ y = r (one entry per row of A) with the same block inverses,
+    /// the blocks in reverse order ([`SparseLu::solve_transposed`]).
+    pub fn solve_transposed(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
+        let mut y: Vec<Option<NodeId>> = vec![None; self.lu.a.len()];
+        for ((rows, columns), inverse) in self.lu.blocks.iter().zip(&self.inverses).rev() {
+            let rhs: Vec<NodeId> = columns
+                .iter()
+                .map(|&c| self.lu.transposed_rhs(g, r, &y, rows, c))
+                .collect();
+            // (M⁻ᵀ)_{ij} = (M⁻¹)_{ji} = inverse[j][i].
+            for (i, &row) in rows.iter().enumerate() {
+                let terms: Vec<NodeId> = inverse
+                    .iter()
+                    .zip(&rhs)
+                    .map(|(column, &v)| g.mul(column[i], v))
+                    .collect();
+                y[row] = Some(g.sum(&terms));
+            }
+        }
+        let zero = g.zero();
+        y.into_iter().map(|v| v.unwrap_or(zero)).collect()
     }
 }
 

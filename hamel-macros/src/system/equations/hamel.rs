@@ -11,7 +11,7 @@
 //! tensor: it is two bidirectional second derivatives of Φ per column. With homogeneous
 //! rows that do not depend on t the last two terms vanish (the graph folds them away).
 
-use super::{Assembled, Vectors, dot, fresh, pairs, subst};
+use super::{Assembled, Constrained, Vectors, dot, fresh, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 
@@ -85,11 +85,14 @@ pub fn assemble(
     let free = n - p;
     let (mass_flat, rest) = done.split_at(free * n);
     let by_column: Vec<&[NodeId]> = mass_flat.chunks(n).collect();
+    let mut mass: Vec<Vec<NodeId>> = (0..n)
+        .map(|k| by_column.iter().map(|c| c[k]).collect())
+        .collect();
+    let mut rhs = rest[..n].to_vec();
     Assembled {
-        mass: (0..n)
-            .map(|k| by_column.iter().map(|c| c[k]).collect())
-            .collect(),
-        rhs: rest[..n].to_vec(),
+        mass: mass.split_off(p),
+        rhs: rhs.split_off(p),
+        constrained: Constrained::Rows { mass, rhs },
         energy: rest[n],
         lagrangian_rate: rest[n + 1],
     }

@@ -156,14 +156,32 @@ pub(super) fn columns(m: &[Vec<NodeId>]) -> Vec<Vec<NodeId>> {
         .collect()
 }
 
-/// What both assemblies give, for every column B_k of B (k = 0 … n − 1): the row k of the
-/// mass coupling to the free accelerations, Σ_l mass[k][l] ω̇_l, and the rest, rhs[k]; the
-/// energy; and ∂L/∂t along the motion.
+/// What both assemblies give: for the free columns B_k of B (k = p … n − 1), the mass
+/// coupling to the free accelerations, Σ_l mass[k − p][l] ω̇_l, and the rest, rhs[k − p];
+/// what gives the multipliers; the energy; and ∂L/∂t along the motion.
 pub(super) struct Assembled {
     pub mass: Vec<Vec<NodeId>>,
     pub rhs: Vec<NodeId>,
+    pub constrained: Constrained,
     pub energy: NodeId,
     pub lagrangian_rate: NodeId,
+}
+
+/// How the constrained columns give λ once ω̇ is known.
+pub(super) enum Constrained {
+    /// Hamel's rows k < p: λ_k = Σ_l mass[k][l] ω̇_l − rhs[k].
+    Rows {
+        mass: Vec<Vec<NodeId>>,
+        rhs: Vec<NodeId>,
+    },
+    /// Lagrange's equations in q before projection: the residual R = Σ_l coupling[l] ω̇_l −
+    /// terms (coupling[l] = H_vv B_l), and λ_k = B_kᵀ R, the first p entries of A⁻ᵀR. One
+    /// transposed solve is as sparse as A, where the p dense columns of a B that fills in
+    /// (the N-trailer's) would cost p·n.
+    Residual {
+        coupling: Vec<Vec<NodeId>>,
+        terms: Vec<NodeId>,
+    },
 }
 
 /// The vectors both assemblies read.
@@ -225,7 +243,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         None => assembled.energy,
     };
     let g = &mut *lowerer.graph;
-    let motion = solve(g, &assembled, &vectors, p);
+    let motion = solve(g, &assembled, &transformation, &vectors, p);
     let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
     let conservative =
         spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
@@ -311,15 +329,15 @@ struct Motion {
     power: NodeId,
 }
 
-fn solve(g: &mut Graph, assembled: &Assembled, x: &Vectors<'_>, p: usize) -> Motion {
-    let mass: Vec<Vec<NodeId>> = assembled.mass[p..].to_vec();
-    let solution = ldlt::solve(g, &mass, &assembled.rhs[p..]);
-    let multipliers: Vec<NodeId> = (0..p)
-        .map(|k| {
-            let coupled = dot(g, &assembled.mass[k], &solution.x);
-            g.sub(coupled, assembled.rhs[k])
-        })
-        .collect();
+fn solve(
+    g: &mut Graph,
+    assembled: &Assembled,
+    transformation: &Transformation,
+    x: &Vectors<'_>,
+    p: usize,
+) -> Motion {
+    let solution = ldlt::solve(g, &assembled.mass, &assembled.rhs);
+    let multipliers = multipliers(g, &assembled.constrained, transformation, &solution.x, p);
     let power = power(
         g,
         x.forces,
@@ -329,11 +347,45 @@ fn solve(g: &mut Graph, assembled: &Assembled, x: &Vectors<'_>, p: usize) -> Mot
         assembled.lagrangian_rate,
     );
     Motion {
-        mass,
+        mass: assembled.mass.clone(),
         wdot: solution.x,
         pivots: solution.pivots,
         multipliers,
         power,
+    }
+}
+
+/// λ from the constrained columns, with the free accelerations `wdot` solved.
+fn multipliers(
+    g: &mut Graph,
+    constrained: &Constrained,
+    transformation: &Transformation,
+    wdot: &[NodeId],
+    p: usize,
+) -> Vec<NodeId> {
+    match constrained {
+        Constrained::Rows { mass, rhs } => mass
+            .iter()
+            .zip(rhs)
+            .map(|(row, &r)| {
+                let coupled = dot(g, row, wdot);
+                g.sub(coupled, r)
+            })
+            .collect(),
+        Constrained::Residual { coupling, terms } => {
+            let residual: Vec<NodeId> = terms
+                .iter()
+                .enumerate()
+                .map(|(i, &term)| {
+                    let along: Vec<NodeId> = coupling.iter().map(|c| c[i]).collect();
+                    let coupled = dot(g, &along, wdot);
+                    g.sub(coupled, term)
+                })
+                .collect();
+            let mut mu = transformation.solve_transposed(g, &residual);
+            mu.truncate(p);
+            mu
+        }
     }
 }
 

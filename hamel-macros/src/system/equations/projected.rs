@@ -8,9 +8,11 @@
 //! ```
 //!
 //! from differentiating ω = r(t, q, q̇) along the motion (the constrained ω stay zero).
+//! Only the free columns are projected here; λ is B_cᵀ R for Lagrange's residual R in q,
+//! found by one solve with Aᵀ (`Constrained::Residual`).
 
 use super::transformation::Transformation;
-use super::{Assembled, Vectors, dot, fresh, pairs, subst};
+use super::{Assembled, Constrained, Vectors, dot, fresh, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 
@@ -34,7 +36,7 @@ pub fn assemble(
         .iter()
         .map(|bl| diff::tangent(g, grad_v, &pairs(v, bl)))
         .collect();
-    let mass: Vec<Vec<NodeId>> = b
+    let mass: Vec<Vec<NodeId>> = b[p..]
         .iter()
         .map(|bk| h_b.iter().map(|hl| dot(g, bk, hl)).collect())
         .collect();
@@ -66,7 +68,7 @@ pub fn assemble(
             g.sub(s, drift[i])
         })
         .collect();
-    let rhs: Vec<NodeId> = b.iter().map(|bk| dot(g, bk, &terms)).collect();
+    let rhs: Vec<NodeId> = b[p..].iter().map(|bk| dot(g, bk, &terms)).collect();
     let legendre = dot(g, grad_v, v);
     let energy = g.sub(legendre, l);
     let lagrangian_rate = diff::tangent(g, &[l], &[(t, one)])[0];
@@ -76,15 +78,24 @@ pub fn assemble(
     all.extend(pairs(&c_sym, &c));
     let free = n - p;
     let mut roots: Vec<NodeId> = mass.iter().flatten().copied().collect();
+    roots.extend(h_b.iter().flatten());
     roots.extend(&rhs);
+    roots.extend(&terms);
     roots.push(energy);
     roots.push(lagrangian_rate);
     let done = subst(g, &roots, &all);
-    let (mass_flat, rest) = done.split_at(n * free);
+    let (mass_flat, rest) = done.split_at(free * free);
+    let (coupling, rest) = rest.split_at(free * n);
+    let (rhs, rest) = rest.split_at(free);
+    let (terms, rest) = rest.split_at(n);
     Assembled {
         mass: mass_flat.chunks(free).map(<[NodeId]>::to_vec).collect(),
-        rhs: rest[..n].to_vec(),
-        energy: rest[n],
-        lagrangian_rate: rest[n + 1],
+        rhs: rhs.to_vec(),
+        constrained: Constrained::Residual {
+            coupling: coupling.chunks(n).map(<[NodeId]>::to_vec).collect(),
+            terms: terms.to_vec(),
+        },
+        energy: rest[0],
+        lagrangian_rate: rest[1],
     }
 }

@@ -41,6 +41,21 @@ impl Transformation {
         }
     }
 
+    /// y = Bᵀ·r: the solution of Aᵀ y = r (y per row of A), by the blocks in reverse order.
+    pub fn solve_transposed(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
+        match self {
+            Transformation::Closed {
+                solver: Some(solver),
+                ..
+            } => solver.solve_transposed(g, r),
+            Transformation::Closed { b, .. } => super::columns(b)
+                .iter()
+                .map(|column| dot(g, column, r))
+                .collect(),
+            Transformation::Numeric(lu) => lu.solve_transposed(g, r),
+        }
+    }
+
     /// Every column of B, and what to check before using them: the LU's pivots (against
     /// A's scale) or the closed form's determinants. The LU's columns share one
     /// factorization: the graph is hash-consed, and each solve is built from the same nodes.
