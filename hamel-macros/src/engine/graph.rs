@@ -701,20 +701,20 @@ impl Graph {
     }
 
     /// Every node reachable from `roots`, in increasing id order (a topological order).
+    /// Beyond clearing one flag per node, the cost is that of the cone, not of the graph:
+    /// the macro asks for many small cones of a graph of up to millions of nodes.
     pub fn live_set(&self, roots: &[NodeId]) -> Vec<NodeId> {
         let mut seen = vec![false; self.nodes.len()];
+        let mut live = Vec::new();
         let mut stack: Vec<NodeId> = roots.to_vec();
         while let Some(id) = stack.pop() {
-            if std::mem::replace(&mut seen[id.index()], true) {
-                continue;
+            if !std::mem::replace(&mut seen[id.index()], true) {
+                live.push(id);
+                stack.extend_from_slice(self.node(id).operands().as_slice());
             }
-            stack.extend_from_slice(self.node(id).operands().as_slice());
         }
-        seen.iter()
-            .enumerate()
-            .filter(|(_, s)| **s)
-            .map(|(i, _)| NodeId(i as u32))
-            .collect()
+        live.sort_unstable();
+        live
     }
 
     /// For every node, whether it depends on any of the given input nodes.

@@ -33,6 +33,11 @@ pub struct SparseLu {
 }
 
 impl SparseLu {
+    /// n, the number of rows and columns of A.
+    pub fn len(&self) -> usize {
+        self.a.len()
+    }
+
     pub fn new(g: &Graph, a: &[Vec<NodeId>]) -> Result<SparseLu, StructurallySingular> {
         let n = a.len();
         let nonzero: Vec<Vec<bool>> = a
@@ -418,11 +423,9 @@ mod tests {
 /// elimination they replace.
 pub const MAX_CLOSED_BLOCK: usize = 3;
 
-/// B = A⁻¹ as expressions, from the closed-form inverses of A's diagonal blocks, with the
+/// A⁻¹ in closed form: the closed-form inverses of A's diagonal blocks, to solve with, and the
 /// determinants to check at run time.
 pub struct ClosedInverse {
-    /// B row by row (row i: the velocity of coordinate i per unit of each row of ω = A q̇).
-    pub b: Vec<Vec<NodeId>>,
     /// Each diagonal block's determinant that is not a constant, with the scale it must
     /// exceed n·ε times ([`SparseLu::determinant_checks`]) and the first coordinate the
     /// block determines.
@@ -446,7 +449,6 @@ impl SparseLu {
         if !(2..=MAX_CLOSED_BLOCK).contains(&largest) {
             return None;
         }
-        let n = self.a.len();
         let blocks: Vec<Vec<Vec<NodeId>>> = self
             .blocks
             .iter()
@@ -477,23 +479,7 @@ impl SparseLu {
             lu: self.clone(),
             inverses,
         };
-        // Column k of B solves A x = e_k.
-        let (zero, one) = (g.zero(), g.one());
-        let columns: Vec<Vec<NodeId>> = (0..n)
-            .map(|k| {
-                let unit: Vec<NodeId> = (0..n).map(|i| if i == k { one } else { zero }).collect();
-                solver.solve(g, &unit)
-            })
-            .collect();
-        let b = (0..n)
-            .map(|i| {
-                columns
-                    .iter()
-                    .map(|column: &Vec<NodeId>| column[i])
-                    .collect()
-            })
-            .collect();
-        Some(ClosedInverse { b, checks, solver })
+        Some(ClosedInverse { checks, solver })
     }
 }
 
@@ -507,6 +493,11 @@ pub struct BlockSolver {
 }
 
 impl BlockSolver {
+    /// n, the number of rows and columns of A.
+    pub fn len(&self) -> usize {
+        self.lu.len()
+    }
+
     pub fn solve(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
         let n = self.lu.a.len();
         let mut x: Vec<Option<NodeId>> = vec![None; n];

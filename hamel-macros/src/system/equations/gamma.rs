@@ -19,24 +19,22 @@ pub fn gamma(
     let dv = fresh(g, "gamma_v_direction", n);
     let second = diff::bidirectional(g, rows, &pairs(q, &dq), &pairs(v, &dv));
     let directions: Vec<NodeId> = dq.iter().chain(&dv).copied().collect();
-    second
-        .iter()
-        .map(|&d| {
-            b_free
-                .iter()
-                .map(|bl| {
-                    b_free
-                        .iter()
-                        .map(|bk| {
-                            let lk: Vec<NodeId> = bl.iter().chain(bk).copied().collect();
-                            let kl: Vec<NodeId> = bk.iter().chain(bl).copied().collect();
-                            let x = subst(g, &[d], &pairs(&directions, &lk))[0];
-                            let y = subst(g, &[d], &pairs(&directions, &kl))[0];
-                            g.sub(x, y)
-                        })
-                        .collect()
-                })
-                .collect()
-        })
-        .collect()
+    // Aⱼ''[a, c] for every row j at once: one substitution per ordered pair of columns, each
+    // rebuilding the cone of all the rows (substituting row by row rebuilt it n times).
+    let along = |g: &mut Graph, a: &[NodeId], c: &[NodeId]| -> Vec<NodeId> {
+        let ac: Vec<NodeId> = a.iter().chain(c).copied().collect();
+        subst(g, &second, &pairs(&directions, &ac))
+    };
+    let free = b_free.len();
+    let mut gamma = vec![vec![vec![g.zero(); free]; free]; rows.len()];
+    for (l, bl) in b_free.iter().enumerate() {
+        for (k, bk) in b_free.iter().enumerate() {
+            let lk = along(g, bl, bk);
+            let kl = along(g, bk, bl);
+            for (j, (&x, &y)) in lk.iter().zip(&kl).enumerate() {
+                gamma[j][l][k] = g.sub(x, y);
+            }
+        }
+    }
+    gamma
 }

@@ -15,15 +15,17 @@ use super::{Assembled, Constrained, Vectors, dot, fresh, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 
-/// `omega` are the velocity symbols of `lt`; `p` the number of constraints.
+/// `omega` are the velocity symbols of `lt`; `b` every column of B; `p` the number of
+/// constraints.
 pub fn assemble(
     g: &mut Graph,
     lt: NodeId,
     omega: &[NodeId],
+    b: &[Vec<NodeId>],
     x: &Vectors<'_>,
     p: usize,
 ) -> Assembled {
-    let (t, q, qd, b) = (x.t, x.q, x.qd, x.b);
+    let (t, q, qd) = (x.t, x.q, x.qd);
     let n = q.len();
     let one = g.one();
     let zero = g.zero();

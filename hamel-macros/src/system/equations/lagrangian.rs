@@ -25,15 +25,7 @@ pub fn quasi<'a>(
             let lt = *lower(lowerer, spec, f, t, vec![array(q), array(omega)])?.first()?;
             (lt, *f)
         }
-        (
-            _,
-            Transformation::Closed {
-                b,
-                q0,
-                solver: None,
-                ..
-            },
-        ) => {
+        (_, Transformation::Given { b, q0 }) => {
             let g = &mut *lowerer.graph;
             let velocities: Vec<NodeId> = b
                 .iter()
@@ -45,7 +37,7 @@ pub fn quasi<'a>(
                 .collect();
             written(lowerer, spec, t, q, &velocities)?
         }
-        (_, Transformation::Closed { .. } | Transformation::Numeric(_)) => return Some(None),
+        (_, Transformation::Blocks { .. } | Transformation::Numeric(_)) => return Some(None),
     };
     requires_velocities(lowerer, f, lt, omega, "the Lagrangian").then_some(Some(lt))
 }

@@ -191,8 +191,8 @@ pub(super) struct Vectors<'v> {
     pub w: &'v [NodeId],
     /// The admissible velocity q̇ = B(ω − a).
     pub qd: &'v [NodeId],
-    /// Every column of B.
-    pub b: &'v [Vec<NodeId>],
+    /// The free columns of B, B_p … B_{n−1}.
+    pub b_free: &'v [Vec<NodeId>],
     /// The rows r(t, q, v), in the velocity symbols `v`, and their parts without velocity.
     pub rows: &'v [NodeId],
     pub offset: &'v [NodeId],
@@ -216,8 +216,8 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let rows = rows::build(lowerer, spec, t, q, v)?;
     let (transformation, inverse_defect) =
         transformation::build(lowerer, spec, &rows, t, q, &omega)?;
-    let (b, checks) = transformation.columns(lowerer.graph, n);
-    let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b, &inputs.w, p);
+    let (b_free, checks) = transformation.columns(lowerer.graph, p);
+    let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b_free, &inputs.w);
     let transformation_pivots = (!checks.is_empty()).then_some(TransformationPivots { checks });
     let forces = forces(lowerer, spec, &inputs, &qd)?;
     let vectors = Vectors {
@@ -225,14 +225,17 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         q,
         w: &inputs.w,
         qd: &qd,
-        b: &b,
+        b_free: &b_free,
         rows: &rows.all,
         offset: &rows.offset,
         v,
         forces: &forces,
     };
     let assembled = match lagrangian::quasi(lowerer, spec, &transformation, t, q, &omega)? {
-        Some(lt) => hamel::assemble(lowerer.graph, lt, &omega, &vectors, p),
+        Some(lt) => {
+            let (b, _) = transformation.columns(lowerer.graph, 0);
+            hamel::assemble(lowerer.graph, lt, &omega, &b, &vectors, p)
+        }
         None => {
             let l = lagrangian::lagrangian(lowerer, spec, t, q, v)?;
             projected::assemble(lowerer.graph, l, &transformation, &vectors)
@@ -247,7 +250,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
     let conservative =
         spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
-    let gamma = gamma::gamma(g, &rows.all, q, v, &b[p..]);
+    let gamma = gamma::gamma(g, &rows.all, q, v, &b_free);
     Some(Equations {
         transformation: transformation_pivots,
         constraint_rows: rows.all[..p].to_vec(),
@@ -267,29 +270,18 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     })
 }
 
-/// q̇ = Σ_{l≥p} B_l w_l + Q₀, with Q₀ = −B a the drift that affine rows impose: the user's
-/// own Q₀ with a closed-form inverse, one more LU solve without.
+/// q̇ = Σ_{l≥p} B_l w_l + Q₀, with Q₀ = −B a the drift that affine rows impose.
 fn admissible_velocity(
     g: &mut Graph,
     transformation: &Transformation,
     rows: &rows::Rows,
-    b: &[Vec<NodeId>],
+    b_free: &[Vec<NodeId>],
     w: &[NodeId],
-    p: usize,
 ) -> Vec<NodeId> {
-    let n = b.len();
-    let zero = g.zero();
-    let drift: Vec<NodeId> = match transformation {
-        Transformation::Closed { q0, .. } => q0.clone(),
-        Transformation::Numeric(_) if rows.offset.iter().all(|&a| g.is_zero(a)) => vec![zero; n],
-        Transformation::Numeric(lu) => {
-            let (solved, _) = lu.solve(g, &rows.offset);
-            solved.into_iter().map(|x| g.neg(x)).collect()
-        }
-    };
-    (0..n)
+    let drift = transformation.drift(g, &rows.offset);
+    (0..drift.len())
         .map(|i| {
-            let row: Vec<NodeId> = b[p..].iter().map(|col| col[i]).collect();
+            let row: Vec<NodeId> = b_free.iter().map(|col| col[i]).collect();
             let s = dot(g, &row, w);
             g.add(s, drift[i])
         })

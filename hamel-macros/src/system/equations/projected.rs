@@ -23,7 +23,7 @@ pub fn assemble(
     transformation: &Transformation,
     x: &Vectors<'_>,
 ) -> Assembled {
-    let (t, q, qd, v, b) = (x.t, x.q, x.qd, x.v, x.b);
+    let (t, q, qd, v, b_free) = (x.t, x.q, x.qd, x.v, x.b_free);
     let n = q.len();
     let p = n - x.w.len();
     let one = g.one();
@@ -32,11 +32,11 @@ pub fn assemble(
     let (grad_q, grad_v) = gradient.split_at(n);
 
     // B_kᵀ H_vv B_l: one tangent of ∇_v L per free direction (B entries are inputs here).
-    let h_b: Vec<Vec<NodeId>> = b[p..]
+    let h_b: Vec<Vec<NodeId>> = b_free
         .iter()
         .map(|bl| diff::tangent(g, grad_v, &pairs(v, bl)))
         .collect();
-    let mass: Vec<Vec<NodeId>> = b[p..]
+    let mass: Vec<Vec<NodeId>> = b_free
         .iter()
         .map(|bk| h_b.iter().map(|hl| dot(g, bk, hl)).collect())
         .collect();
@@ -68,7 +68,7 @@ pub fn assemble(
             g.sub(s, drift[i])
         })
         .collect();
-    let rhs: Vec<NodeId> = b[p..].iter().map(|bk| dot(g, bk, &terms)).collect();
+    let rhs: Vec<NodeId> = b_free.iter().map(|bk| dot(g, bk, &terms)).collect();
     let legendre = dot(g, grad_v, v);
     let energy = g.sub(legendre, l);
     let lagrangian_rate = diff::tangent(g, &[l], &[(t, one)])[0];

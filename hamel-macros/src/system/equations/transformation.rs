@@ -11,32 +11,31 @@ use crate::system::spec::Spec;
 
 /// How B is known.
 pub enum Transformation {
-    /// In closed form: B row by row, Q₀ = Q(t, q, 0) = −B a, and the determinants to check
-    /// before B is used (none for the user's own inverse, which is checked against A
-    /// instead).
-    Closed {
+    /// The user's closed-form inverse: B row by row and Q₀ = Q(t, q, 0) = −B a, composed
+    /// into L̃ = L(q, Bω + Q₀) by Hamel's route (and checked against A instead of having
+    /// determinants checked).
+    Given {
         b: Vec<Vec<NodeId>>,
         q0: Vec<NodeId>,
+    },
+    /// Derived from A with its diagonal blocks inverted in closed form, solved block by
+    /// block; the blocks' determinants to check before use. The projected route takes it
+    /// (composing a B that fills in, such as the N-trailer's, made its right-hand side 3×
+    /// slower).
+    Blocks {
         checks: Vec<PivotCheck>,
-        /// `None` for the user's inverse, which Hamel's route composes into
-        /// L̃ = L(q, Bω + Q₀). For a B derived from A, the solves by substitution with the
-        /// blocks' inverses, and the projected route (composing a B that fills in, such as
-        /// the N-trailer's, made its right-hand side 3× slower).
-        solver: Option<BlockSolver>,
+        solver: BlockSolver,
     },
     /// Through the LU of A at run time.
     Numeric(SparseLu),
 }
 
 impl Transformation {
-    /// x = B·r: the solution of A x = r, by the LU or with the closed form.
+    /// x = B·r: the solution of A x = r.
     pub fn solve(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
         match self {
-            Transformation::Closed {
-                solver: Some(solver),
-                ..
-            } => solver.solve(g, r),
-            Transformation::Closed { b, .. } => b.iter().map(|row| dot(g, row, r)).collect(),
+            Transformation::Given { b, .. } => b.iter().map(|row| dot(g, row, r)).collect(),
+            Transformation::Blocks { solver, .. } => solver.solve(g, r),
             Transformation::Numeric(lu) => lu.solve(g, r).0,
         }
     }
@@ -44,32 +43,53 @@ impl Transformation {
     /// y = Bᵀ·r: the solution of Aᵀ y = r (y per row of A), by the blocks in reverse order.
     pub fn solve_transposed(&self, g: &mut Graph, r: &[NodeId]) -> Vec<NodeId> {
         match self {
-            Transformation::Closed {
-                solver: Some(solver),
-                ..
-            } => solver.solve_transposed(g, r),
-            Transformation::Closed { b, .. } => super::columns(b)
+            Transformation::Given { b, .. } => super::columns(b)
                 .iter()
                 .map(|column| dot(g, column, r))
                 .collect(),
+            Transformation::Blocks { solver, .. } => solver.solve_transposed(g, r),
             Transformation::Numeric(lu) => lu.solve_transposed(g, r),
         }
     }
 
-    /// Every column of B, and what to check before using them: the LU's pivots (against
-    /// A's scale) or the closed form's determinants. The LU's columns share one
-    /// factorization: the graph is hash-consed, and each solve is built from the same nodes.
-    pub fn columns(&self, g: &mut Graph, n: usize) -> (Vec<Vec<NodeId>>, Vec<PivotCheck>) {
+    /// Q₀ = −B a, the velocity that affine rows impose: the user's own, or one more solve.
+    pub fn drift(&self, g: &mut Graph, offset: &[NodeId]) -> Vec<NodeId> {
         match self {
-            Transformation::Closed { b, checks, .. } => (super::columns(b), checks.clone()),
+            Transformation::Given { q0, .. } => q0.clone(),
+            _ if offset.iter().all(|&a| g.is_zero(a)) => vec![g.zero(); offset.len()],
+            _ => {
+                let solved = self.solve(g, offset);
+                solved.into_iter().map(|x| g.neg(x)).collect()
+            }
+        }
+    }
+
+    /// The columns B_k for k = `from` … n − 1, and what to check before using them: the
+    /// LU's pivots (against A's scale) or the closed-form blocks' determinants. Each column
+    /// solves A x = e_k; the solves share one factorization, because the graph is
+    /// hash-consed and each is built from the same nodes. Only the columns asked for are
+    /// built: the projected route needs the free ones, and a B that fills in has p·n
+    /// entries in the constrained ones.
+    pub fn columns(&self, g: &mut Graph, from: usize) -> (Vec<Vec<NodeId>>, Vec<PivotCheck>) {
+        let n = match self {
+            Transformation::Given { b, .. } => b.len(),
+            Transformation::Blocks { solver, .. } => solver.len(),
+            Transformation::Numeric(lu) => lu.len(),
+        };
+        let (zero, one) = (g.zero(), g.one());
+        let unit =
+            |k: usize| -> Vec<NodeId> { (0..n).map(|i| if i == k { one } else { zero }).collect() };
+        match self {
+            Transformation::Given { b, .. } => (super::columns(b).split_off(from), Vec::new()),
+            Transformation::Blocks { checks, solver } => {
+                let columns = (from..n).map(|k| solver.solve(g, &unit(k))).collect();
+                (columns, checks.clone())
+            }
             Transformation::Numeric(lu) => {
-                let (zero, one) = (g.zero(), g.one());
                 let mut pivots = Vec::new();
-                let columns = (0..n)
+                let columns = (from..n)
                     .map(|k| {
-                        let unit: Vec<NodeId> =
-                            (0..n).map(|i| if i == k { one } else { zero }).collect();
-                        let (x, used) = lu.solve(g, &unit);
+                        let (x, used) = lu.solve(g, &unit(k));
                         pivots = used;
                         x
                     })
@@ -110,17 +130,7 @@ pub fn build<'a>(
     }
     let (b, q0) = coefficients(lowerer.graph, &out, omega);
     let defect = inverse::check(lowerer, spec, f, rows, &b, &q0)?;
-    let checks = Vec::new();
-    let solver = None;
-    Some((
-        Transformation::Closed {
-            b,
-            q0,
-            checks,
-            solver,
-        },
-        Some(defect),
-    ))
+    Some((Transformation::Given { b, q0 }, Some(defect)))
 }
 
 /// B derived from the rows: in closed form if A's blocks allow it, else by the LU.
@@ -128,16 +138,6 @@ fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
     let Some(inverse) = rows.structure.closed_inverse(g, varying) else {
         return Transformation::Numeric(rows.structure.clone());
     };
-
-    // Q₀ = −B a.
-    let q0 = inverse
-        .b
-        .iter()
-        .map(|row| {
-            let drift = dot(g, row, &rows.offset);
-            g.neg(drift)
-        })
-        .collect();
     let checks = inverse
         .checks
         .into_iter()
@@ -147,10 +147,8 @@ fn derived(g: &mut Graph, rows: &Rows, varying: &[NodeId]) -> Transformation {
             coordinate,
         })
         .collect();
-    Transformation::Closed {
-        b: inverse.b,
-        q0,
+    Transformation::Blocks {
         checks,
-        solver: Some(inverse.solver),
+        solver: inverse.solver,
     }
 }
