@@ -6,6 +6,11 @@
 //! each variant alternate round-robin, and each figure is the median over the rounds of a
 //! per-round figure, p10–p90 beside it.
 //!
+//! The generated right-hand sides are timed as a simulation calls them: `rhs_prepared`, with
+//! the values that depend on the parameters alone computed once beforehand (`prepare`); the
+//! robot's two generated variants are also timed through `rhs`, which computes those values
+//! at every call, as the hand-written closed form does.
+//!
 //! * The everyday robot (`MobileRobot`: energies, constraints, quasi-velocities) over the
 //!   same 64 seeded states and inputs as `rhs.rs`, in three variants: (c) the hand-written
 //!   closed form (`validation/tests/common/robot_closed_form.rs`), (b) generated, B = A⁻¹ by
@@ -186,8 +191,31 @@ fn generated<S: HamelSystem<State = [f64; 8], Inputs = [f64; 2]>>(
     dx
 }
 
-/// One call per sample of a generated right-hand side.
+/// One call per sample of a generated right-hand side as a simulation calls it: with the
+/// parameter-only values prepared once (`HamelSystem::rhs_prepared`).
 fn sweep<S: HamelSystem>(system: &S, samples: &[(S::State, S::Inputs)]) -> impl FnMut() {
+    let mut prepared = vec![0.0; S::PREPARED_LEN];
+    system.prepare(&mut prepared);
+    move || {
+        let mut dx = S::State::zeros();
+        for (x, u) in samples {
+            let ok = system
+                .rhs_prepared(
+                    black_box(&prepared),
+                    0.0,
+                    black_box(x),
+                    black_box(u),
+                    &mut dx,
+                )
+                .is_ok();
+            black_box((ok, &dx));
+        }
+    }
+}
+
+/// One call per sample of `HamelSystem::rhs`, which computes the parameter-only values
+/// every time.
+fn sweep_unprepared<S: HamelSystem>(system: &S, samples: &[(S::State, S::Inputs)]) -> impl FnMut() {
     move || {
         let mut dx = S::State::zeros();
         for (x, u) in samples {
@@ -233,11 +261,13 @@ fn robot() {
     let mut b = sweep(&everyday, &samples);
     let mut a = sweep(&with_inverse, &samples);
     let mut p = sweep(&paper, &samples);
-    let rounds = round_robin(&mut [&mut c, &mut b, &mut a, &mut p]);
+    let mut b_plain = sweep_unprepared(&everyday, &samples);
+    let mut a_plain = sweep_unprepared(&with_inverse, &samples);
+    let rounds = round_robin(&mut [&mut c, &mut b, &mut a, &mut p, &mut b_plain, &mut a_plain]);
     let per_call = 1e9 / samples.len() as f64;
 
     println!(
-        "Robot right-hand side, {} rounds over {} states ({} rounds × 4 batches of ~1 ms)",
+        "Robot right-hand side, {} rounds over {} states ({} rounds × 6 batches of ~1 ms)",
         rounds.len(),
         samples.len(),
         rounds.len()
@@ -254,6 +284,8 @@ fn robot() {
         "(b) generated, no inverse (MobileRobot)",
         "(a) generated, inverse given (#[velocities])",
         "    MobileRobotPaper (L̃ and B given)",
+        "(b) unprepared: rhs, parameters every call",
+        "(a) unprepared: rhs, parameters every call",
     ];
     for (v, name) in names.iter().enumerate() {
         let r = ratio(&rounds, v, 0);

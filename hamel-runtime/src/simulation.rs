@@ -14,7 +14,7 @@ use crate::integrate::{Control, Grid, Integrator, Observer, SampleTimes, StepVie
 use crate::recorder::{Columns, Output, Recorder};
 use crate::sink::Sink;
 use crate::system::HamelSystem;
-use crate::system_ode::{BalanceOde, PlainOde, extend, project_coordinates, split};
+use crate::system_ode::{BalanceOde, PlainOde, extend, prepared, project_coordinates, split};
 use crate::trajectory::{Summary, Trajectory};
 
 /// Where a run is, for a progress callback.
@@ -300,6 +300,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         let stats = if S::CONSERVATIVE {
             let mut ode = PlainOde {
                 system,
+                prepared: prepared(system),
                 inputs: &inputs,
                 project,
             };
@@ -311,6 +312,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         } else {
             let mut ode = BalanceOde {
                 system,
+                prepared: prepared(system),
                 inputs: &inputs,
                 project,
             };

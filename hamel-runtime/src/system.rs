@@ -126,6 +126,10 @@ pub trait HamelSystem: Parameters {
     /// energy balance E(t) − E(t₀) = ∫ P dt with the power [`Self::power`].
     const CONSERVATIVE: bool;
 
+    /// How many values of the right-hand side depend on the parameters alone
+    /// ([`Self::prepare`]); 0 for a system that prepares nothing.
+    const PREPARED_LEN: usize = 0;
+
     /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
     fn rhs(
         &self,
@@ -134,6 +138,31 @@ pub trait HamelSystem: Parameters {
         u: &Self::Inputs,
         dx: &mut Self::State,
     ) -> Result<(), Singularity>;
+
+    /// Computes the values of the right-hand side that depend on the parameters alone
+    /// (products and quotients of masses and lengths, a constant block of the mass
+    /// matrix and its inverse) into `prepared`, which must have [`Self::PREPARED_LEN`]
+    /// entries: once per parameter set, for [`Self::rhs_prepared`]. A slice of another
+    /// length is left as it is.
+    fn prepare(&self, prepared: &mut [f64]) {
+        let _ = prepared;
+    }
+
+    /// [`Self::rhs`] reading the values [`Self::prepare`] computed instead of computing
+    /// them: the same result, bit for bit, for the parameters they were prepared with. A
+    /// simulation prepares once and calls this at every stage. With a `prepared` of the
+    /// wrong length it is [`Self::rhs`]. No heap allocation.
+    fn rhs_prepared(
+        &self,
+        prepared: &[f64],
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+        dx: &mut Self::State,
+    ) -> Result<(), Singularity> {
+        let _ = prepared;
+        self.rhs(t, x, u, dx)
+    }
 
     /// The generalized velocities q̇ = B(q, t)(ω − a(q, t)) of a state, ω = (0, speeds).
     fn generalized_velocities(

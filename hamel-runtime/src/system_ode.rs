@@ -11,6 +11,13 @@ use crate::named::NamedValues;
 use crate::system::HamelSystem;
 use crate::vector::Vector;
 
+/// The values `system` prepares for its right-hand side ([`HamelSystem::prepare`]).
+pub(crate) fn prepared<S: HamelSystem>(system: &S) -> Vec<f64> {
+    let mut prepared = vec![0.0; S::PREPARED_LEN];
+    system.prepare(&mut prepared);
+    prepared
+}
+
 /// The name of the work in the extended state's messages.
 const WORK: &str = "work";
 
@@ -18,6 +25,8 @@ const WORK: &str = "work";
 /// singular matrix in the right-hand side becomes an error naming the time and state.
 pub(crate) struct PlainOde<'s, 'i, S, F> {
     pub system: &'s S,
+    /// The right-hand side's parameter-only values, prepared once for the run.
+    pub prepared: Vec<f64>,
     /// Shared with the recorder, which records the inputs at the samples.
     pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
@@ -30,7 +39,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
     fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
         let u = (self.inputs.borrow_mut())(t, x);
         self.system
-            .rhs(t, x, &u, dx)
+            .rhs_prepared(&self.prepared, t, x, &u, dx)
             .map_err(|s| S::singular(s, t, x))
     }
 
@@ -53,6 +62,8 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
 /// are exactly those of the plain state.
 pub(crate) struct BalanceOde<'s, 'i, S, F> {
     pub system: &'s S,
+    /// The right-hand side's parameter-only values, prepared once for the run.
+    pub prepared: Vec<f64>,
     pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
@@ -66,7 +77,9 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         let u = (self.inputs.borrow_mut())(t, &x);
         let mut dx = S::State::zeros();
         let at = |s| S::singular(s, t, &x);
-        self.system.rhs(t, &x, &u, &mut dx).map_err(at)?;
+        self.system
+            .rhs_prepared(&self.prepared, t, &x, &u, &mut dx)
+            .map_err(at)?;
         let power = self.system.power(t, &x, &u).map_err(at)?;
         let n = S::State::LEN;
         dv.as_mut()[..n].copy_from_slice(dx.as_ref());

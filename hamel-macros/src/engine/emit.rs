@@ -97,7 +97,8 @@ impl<'g> Emitter<'g> {
         }
     }
 
-    /// The expression an input node reads.
+    /// The expression an input node reads; or that an operation node reads instead of
+    /// being computed (a value prepared beforehand).
     pub fn bind(&mut self, input: NodeId, tokens: TokenStream) {
         self.inputs.insert(input, tokens);
     }
@@ -118,7 +119,7 @@ impl<'g> Emitter<'g> {
         let g = self.graph;
         let all_roots: Vec<NodeId> = stages.iter().flat_map(|s| s.iter().copied()).collect();
         let mut uses: HashMap<NodeId, usize> = HashMap::new();
-        for id in g.live_set(&all_roots) {
+        for id in self.cone(&all_roots) {
             for &operand in g.node(id).operands().as_slice() {
                 *uses.entry(operand).or_default() += 1;
             }
@@ -134,12 +135,14 @@ impl<'g> Emitter<'g> {
         let mut out = Vec::with_capacity(stages.len());
         for roots in stages {
             let mut lets: Vec<(Ident, TokenStream)> = Vec::new();
-            for id in g.live_set(roots) {
+            for id in self.cone(roots) {
                 if refs.contains_key(&id) {
                     continue;
                 }
                 let node = g.node(id);
+                let bound = self.inputs.get(&id);
                 let (expr, prec) = match node {
+                    _ if bound.is_some() => (bound.cloned().unwrap_or_default(), Prec::Atom),
                     Node::Const(bits) => self.constant(f64::from_bits(bits)),
                     Node::Bool(b) => (quote!(#b), Prec::Atom),
                     Node::Input(slot) => match self.inputs.get(&id) {
@@ -156,7 +159,8 @@ impl<'g> Emitter<'g> {
                     },
                     _ => self.operation(node, &refs),
                 };
-                let trivial = matches!(node, Node::Const(_) | Node::Bool(_) | Node::Input(_));
+                let trivial = bound.is_some()
+                    || matches!(node, Node::Const(_) | Node::Bool(_) | Node::Input(_));
                 let nesting = if trivial {
                     0
                 } else {
@@ -186,6 +190,25 @@ impl<'g> Emitter<'g> {
             });
         }
         Ok(out)
+    }
+
+    /// The nodes `roots` need, in topological order, not looking below a bound node: an
+    /// operation bound to an expression (a value computed beforehand) is read, not rebuilt.
+    fn cone(&self, roots: &[NodeId]) -> Vec<NodeId> {
+        let mut seen = vec![false; self.graph.len()];
+        let mut cone = Vec::new();
+        let mut stack: Vec<NodeId> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.index()], true) {
+                continue;
+            }
+            cone.push(id);
+            if !self.inputs.contains_key(&id) {
+                stack.extend_from_slice(self.graph.node(id).operands().as_slice());
+            }
+        }
+        cone.sort_unstable();
+        cone
     }
 
     fn constant(&self, v: f64) -> (TokenStream, Prec) {

@@ -541,6 +541,12 @@ impl Graph {
         if let Some(c) = self.cancelled_product(a, b, true) {
             return c;
         }
+        // A constant in the numerator goes in front, as in products: 0.5·b/r and −0.5·b/r
+        // are then multiples of one node b/r.
+        if let Some((k, x)) = self.leading_constant(a) {
+            let q = self.div(x, b);
+            return self.scale_by(k, q);
+        }
         self.intern(Node::Div(a, b))
     }
 

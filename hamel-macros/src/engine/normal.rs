@@ -11,6 +11,12 @@
 //! `P·sin²x + P·cos²x`, the sum is rebuilt from what is left; when nothing merges it stays the
 //! binary node it was, which keeps shared partial sums shared.
 //!
+//! A quotient's divisor counts as a reciprocal factor (the node `1/r`), so that `0.5·b/r`
+//! and `−0.5·b/r` are multiples of one term and `r·(b/r)` loses its `r` and `1/r`. Where the
+//! flat terms show nothing, products with a sum among their factors are distributed once
+//! and looked at again (the rotation of a closed-form inverse cancels only there), and the
+//! result is kept only if it is simpler.
+//!
 //! Flattening stops at a small number of pieces: this is a local simplification, not a
 //! computer-algebra system, and its cost stays bounded per node.
 
@@ -19,7 +25,25 @@ use super::graph::{Func, Graph, Node, NodeId};
 /// Most terms a sum is flattened into before normalization gives up on it.
 const MAX_TERMS: usize = 16;
 /// Most factors a term is flattened into when comparing terms.
-const MAX_FACTORS: usize = 8;
+const MAX_FACTORS: usize = 16;
+
+/// Operations the merged terms take as a sum (as `Graph::sum_cost` counts them), a
+/// coefficient other than ±1 one more.
+fn merged_cost(terms: &[Term]) -> usize {
+    let products: usize = terms
+        .iter()
+        .map(|t| t.factors.len().saturating_sub(1) + usize::from(t.weight().abs() != 1.0))
+        .sum();
+    products + terms.len().saturating_sub(1)
+}
+
+/// A product `scale · rest · (Σ terms + Σ constants)` split at one of its factors that is a sum.
+struct SplitProduct {
+    scale: f64,
+    rest: NodeId,
+    terms: Vec<(f64, NodeId)>,
+    constants: Vec<f64>,
+}
 
 /// One term of a flattened sum: `coefficient · node`, where `node` is the product of
 /// `factors` (sorted ids) times its own constant `scale`.
@@ -50,43 +74,58 @@ impl Graph {
         {
             return None;
         }
-        if let Some(sum) = self.normalized(&raw, &constants) {
-            return Some(sum);
+        if let Some((terms, constant)) = self.merged(&raw, &constants) {
+            return Some(self.rebuild_sum(&terms, constant));
         }
-        let expanded = self.distributed(&raw)?;
-        self.normalized(&expanded, &constants)
+        // Products with a sum as a factor of their own (x·(p ± q)), distributed; kept if
+        // anything merges, as the products' other factors stay the nodes they are.
+        if let Some(expanded) = self.distributed(&raw, false)
+            && let Some((terms, constant)) = self.merged(&expanded, &constants)
+        {
+            return Some(self.rebuild_sum(&terms, constant));
+        }
+        // Then sums deeper in the products (x·(m·(p ± q))): the rest of each product is
+        // rebuilt as a new node, so distributing pays only where it removes operations even
+        // if the inner sums cost nothing (being shared with other uses). That is where a
+        // rotation cancels through them: sin·(m·(c·a + s·b)) − cos·(m·(s·a − c·b)) = m·b.
+        let expanded = self.distributed(&raw, true)?;
+        let (terms, constant) = self.merged(&expanded, &constants)?;
+        (merged_cost(&terms) < self.sum_cost(&raw)).then(|| self.rebuild_sum(&terms, constant))
     }
 
-    /// The raw terms with every `x·(p ± q)` (either side a short sum) written as
-    /// `x·p ± x·q`; `None` if there is none, or the result would be too long.
-    fn distributed(&mut self, raw: &[(f64, NodeId)]) -> Option<Vec<(f64, NodeId)>> {
+    /// Operations a sum of `raw` terms takes: one per factor of each product beyond the
+    /// first, one per term beyond the first; a factor that is a sum counts as one.
+    fn sum_cost(&mut self, raw: &[(f64, NodeId)]) -> usize {
+        let mut cost = raw.len().saturating_sub(1);
+        for &(_, node) in raw {
+            let mut factors = Vec::new();
+            let mut scale = 1.0;
+            cost += if self.factors(node, false, &mut factors, &mut scale) {
+                factors.len().saturating_sub(1)
+            } else {
+                MAX_FACTORS
+            };
+        }
+        cost
+    }
+
+    /// The raw terms with every product that has a short sum among its factors
+    /// (`x·(p ± q)`, `x·(m·(p ± q))`) written as `x·p ± x·q`; `None` if there is none, or the
+    /// result would be too long.
+    fn distributed(&mut self, raw: &[(f64, NodeId)], deep: bool) -> Option<Vec<(f64, NodeId)>> {
         let mut out = Vec::with_capacity(raw.len() * 2);
         let mut any = false;
         for &(c, node) in raw {
-            let split = match self.node(node) {
-                Node::Mul(x, y) => {
-                    let mut inner = Vec::new();
-                    let mut ignored = Vec::new();
-                    if self.is_sum(y) && self.collect_terms(y, 1.0, &mut inner, &mut ignored) {
-                        Some((x, inner, ignored))
-                    } else if self.is_sum(x) && self.collect_terms(x, 1.0, &mut inner, &mut ignored)
-                    {
-                        Some((y, inner, ignored))
-                    } else {
-                        None
-                    }
-                }
-                _ => None,
-            };
-            match split {
-                Some((factor, inner, inner_constants)) => {
+            match self.split_at_sum(node, deep) {
+                Some(split) => {
                     any = true;
-                    for (ci, t) in inner {
-                        let product = self.mul(factor, t);
-                        out.push((c * ci, product));
+                    let weight = c * split.scale;
+                    for (ci, t) in split.terms {
+                        let product = self.mul(split.rest, t);
+                        out.push((weight * ci, product));
                     }
-                    for k in inner_constants {
-                        out.push((c * k, factor));
+                    for k in split.constants {
+                        out.push((weight * k, split.rest));
                     }
                 }
                 None => out.push((c, node)),
@@ -98,19 +137,75 @@ impl Graph {
         any.then_some(out)
     }
 
+    /// A product with a sum among its factors, as scale · rest · (Σ terms + Σ constants).
+    fn split_at_sum(&mut self, node: NodeId, deep: bool) -> Option<SplitProduct> {
+        if !matches!(self.node(node), Node::Mul(..)) {
+            return None;
+        }
+        let mut factors = Vec::new();
+        let mut scale = 1.0;
+        if !self.factors(node, false, &mut factors, &mut scale) {
+            return None;
+        }
+        // x·(p ± q) as written: x stays the node it is (shared with its other uses).
+        if let Node::Mul(x, y) = self.node(node) {
+            let direct = if self.is_sum(y) {
+                Some((x, y))
+            } else if self.is_sum(x) {
+                Some((y, x))
+            } else {
+                None
+            };
+            if let Some((rest, sum)) = direct {
+                let mut terms = Vec::new();
+                let mut constants = Vec::new();
+                return self
+                    .collect_terms(sum, 1.0, &mut terms, &mut constants)
+                    .then_some(SplitProduct {
+                        scale: 1.0,
+                        rest,
+                        terms,
+                        constants,
+                    });
+            }
+        }
+        if !deep {
+            return None;
+        }
+        let at = factors.iter().position(|&f| self.is_sum(f))?;
+        let sum = factors.remove(at);
+        let mut terms = Vec::new();
+        let mut constants = Vec::new();
+        if !self.collect_terms(sum, 1.0, &mut terms, &mut constants) {
+            return None;
+        }
+        let mut rest = self.one();
+        for f in factors {
+            rest = self.mul(rest, f);
+        }
+        Some(SplitProduct {
+            scale,
+            rest,
+            terms,
+            constants,
+        })
+    }
+
     fn is_sum(&self, id: NodeId) -> bool {
         matches!(self.node(id), Node::Add(..) | Node::Sub(..))
     }
 
-    /// The sum of `raw` and `constants` in normal form, if merging, cancelling, folding
-    /// constants or sin² + cos² simplified anything.
-    fn normalized(&mut self, raw: &[(f64, NodeId)], constants: &[f64]) -> Option<NodeId> {
+    /// The terms and constant of `raw` + `constants` in normal form, if merging, cancelling,
+    /// folding constants or sin² + cos² simplified anything.
+    fn merged(&mut self, raw: &[(f64, NodeId)], constants: &[f64]) -> Option<(Vec<Term>, f64)> {
         let count = raw.len();
         let mut terms: Vec<Term> = Vec::with_capacity(count);
         for &(coefficient, node) in raw {
             let mut factors = Vec::new();
             let mut scale = 1.0;
-            if !self.factors(node, &mut factors, &mut scale) {
+            if self.factors(node, false, &mut factors, &mut scale) {
+                self.cancel_reciprocals(&mut factors);
+            } else {
                 factors = vec![node];
                 scale = 1.0;
             }
@@ -132,7 +227,7 @@ impl Graph {
         if terms.len() == count && constants.len() <= 1 && !pythagoras {
             return None;
         }
-        Some(self.rebuild_sum(&terms, constant))
+        Some((terms, constant))
     }
 
     fn collect_terms(
@@ -248,26 +343,76 @@ impl Graph {
         }
     }
 
-    /// The non-constant factors of a product and its constant part.
-    fn factors(&self, id: NodeId, factors: &mut Vec<NodeId>, scale: &mut f64) -> bool {
+    /// The non-constant factors of a product or quotient and its constant part, divisors
+    /// as reciprocal factors (`1/r`, the node `Div(1, r)`): so that `0.5·b/r` and
+    /// `(−0.5·b)/r`, or `x·(b/r)` and `(x·b)/r`, are seen as the same term.
+    fn factors(
+        &mut self,
+        id: NodeId,
+        inverted: bool,
+        factors: &mut Vec<NodeId>,
+        scale: &mut f64,
+    ) -> bool {
         match self.node(id) {
-            Node::Mul(a, b) => self.factors(a, factors, scale) && self.factors(b, factors, scale),
+            Node::Mul(a, b) => {
+                self.factors(a, inverted, factors, scale)
+                    && self.factors(b, inverted, factors, scale)
+            }
+            Node::Div(a, b) => {
+                self.factors(a, inverted, factors, scale)
+                    && self.factors(b, !inverted, factors, scale)
+            }
             Node::Neg(a) => {
                 *scale = -*scale;
-                self.factors(a, factors, scale)
+                self.factors(a, inverted, factors, scale)
             }
             Node::Const(bits) => {
-                *scale *= f64::from_bits(bits);
+                let v = f64::from_bits(bits);
+                *scale = if inverted { *scale / v } else { *scale * v };
                 true
             }
             Node::Powi(x, 2) => {
-                factors.extend([x, x]);
+                let f = self.factor(x, inverted);
+                factors.extend([f, f]);
                 factors.len() <= MAX_FACTORS
             }
             _ => {
-                factors.push(id);
+                let f = self.factor(id, inverted);
+                factors.push(f);
                 factors.len() <= MAX_FACTORS
             }
+        }
+    }
+
+    /// Removes each factor `x` together with a factor `1/x`: the term `r·(b/r)·x` is `b·x`.
+    fn cancel_reciprocals(&self, factors: &mut Vec<NodeId>) {
+        let mut i = 0;
+        while i < factors.len() {
+            let partner = match self.node(factors[i]) {
+                Node::Div(one, x) if self.is_const(one, 1.0) => {
+                    factors.iter().position(|&f| f == x)
+                }
+                _ => None,
+            };
+            match partner {
+                Some(j) => {
+                    let (first, second) = if i < j { (i, j) } else { (j, i) };
+                    factors.remove(second);
+                    factors.remove(first);
+                    i = 0;
+                }
+                None => i += 1,
+            }
+        }
+    }
+
+    /// `x`, or its reciprocal `Div(1, x)` (the node `div(1, x)` builds).
+    fn factor(&mut self, x: NodeId, inverted: bool) -> NodeId {
+        if inverted {
+            let one = self.one();
+            self.intern(Node::Div(one, x))
+        } else {
+            x
         }
     }
 
@@ -507,6 +652,54 @@ mod tests {
         assert!(
             matches!(g.node(plain), Node::Add(p, q) if [p, q] == [product, m] || [p, q] == [m, product])
         );
+    }
+
+    /// Quotients meet as multiples of one term: 0.5·b/r − (−0.5·b/r) = b/r, and
+    /// r·(b/r) + x − b = x, whatever the association of the products and quotients.
+    #[test]
+    fn quotients_merge_as_reciprocal_factors() {
+        let mut g = Graph::new();
+        let (b, r, x) = (g.new_input("b"), g.new_input("r"), g.new_input("x"));
+        let (half, minus_half) = (g.constant(0.5), g.constant(-0.5));
+        let hb = g.mul(half, b);
+        let up = g.div(hb, r);
+        let mhb = g.mul(minus_half, b);
+        let down = g.div(mhb, r);
+        let difference = g.sub(up, down);
+        let quotient = g.div(b, r);
+        assert_eq!(difference, quotient);
+
+        let rb = g.mul(r, quotient);
+        let sum = g.add(rb, x);
+        let rest = g.sub(sum, b);
+        assert_eq!(rest, x);
+    }
+
+    /// A rotation through a shared factor cancels only when the products are distributed
+    /// down to their sums: sin·(m·(c·a + s·b)) − cos·(m·(s·a − c·b)) = m·b. A deeper sum that
+    /// cancels nothing stays as written.
+    #[test]
+    fn rotations_cancel_through_factored_sums() {
+        let mut g = Graph::new();
+        let (angle, m, a, b) = (
+            g.new_input("angle"),
+            g.new_input("m"),
+            g.new_input("a"),
+            g.new_input("b"),
+        );
+        let (s, c) = (g.unary(Func::Sin, angle), g.unary(Func::Cos, angle));
+        let (ca, sb, sa, cb) = (g.mul(c, a), g.mul(s, b), g.mul(s, a), g.mul(c, b));
+        let (first, second) = (g.add(ca, sb), g.sub(sa, cb));
+        let (mf, ms) = (g.mul(m, first), g.mul(m, second));
+        let (left, right) = (g.mul(s, mf), g.mul(c, ms));
+        let total = g.sub(left, right);
+        let mb = g.mul(m, b);
+        assert_eq!(total, mb);
+
+        let other = g.mul(a, ms);
+        let plain = g.add(left, other);
+        assert!(matches!(g.node(plain), Node::Add(..)));
+        assert!(g.node(plain).operands().as_slice().contains(&left));
     }
 
     #[test]

@@ -5,7 +5,7 @@ use super::equations::{Equations, TransformationPivots};
 use super::interface::{self, Bodies, Dims, Header, lit};
 use super::spec::Spec;
 use crate::engine::emit::{Code, Emitter, Scalar};
-use crate::engine::graph::{Graph, NodeId};
+use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::External;
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::{quote, quote_spanned};
@@ -107,24 +107,58 @@ impl<'g> Context<'g> {
         roots: &[NodeId],
         checks: Checks,
     ) -> syn::Result<(Code, TokenStream)> {
-        let generic = matches!(scalar, Scalar::Generic(_));
-        let emitter = self.emitter(source, scalar);
+        self.emit_prepared(source, scalar, roots, checks, &[])
+    }
+
+    /// The roots and what their checks read.
+    fn checked_roots(&self, roots: &[NodeId], checks: Checks) -> Vec<NodeId> {
         let mut all = roots.to_vec();
+        if let Some(t) = self.eq.transformation.as_ref() {
+            if checks.transformation {
+                all.extend(t.checks.iter().flat_map(|c| [c.value, c.scale]));
+            }
+        }
+        if checks.mass {
+            all.extend(&self.eq.pivots);
+            all.extend(self.diagonal());
+        }
+        all
+    }
+
+    /// The mass matrix's diagonal entries, which its pivots are checked against.
+    fn diagonal(&self) -> Vec<NodeId> {
+        (0..self.eq.mass.len())
+            .map(|k| self.eq.mass[k][k])
+            .collect()
+    }
+
+    /// [`Self::emit`], reading the nodes of `prepared` from the array `prepared` instead of
+    /// computing them.
+    fn emit_prepared(
+        &self,
+        source: Source,
+        scalar: Scalar,
+        roots: &[NodeId],
+        checks: Checks,
+        prepared: &[NodeId],
+    ) -> syn::Result<(Code, TokenStream)> {
+        let generic = matches!(scalar, Scalar::Generic(_));
+        let mut emitter = self.emitter(source, scalar.clone());
+        for (i, &node) in prepared.iter().enumerate() {
+            let i = lit(i);
+            let read = match &scalar {
+                Scalar::F64 => quote!(prepared[#i]),
+                Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(prepared[#i])),
+            };
+            emitter.bind(node, read);
+        }
+        let all = self.checked_roots(roots, checks);
         let transformation = self
             .eq
             .transformation
             .as_ref()
             .filter(|_| checks.transformation);
-        if let Some(t) = transformation {
-            all.extend(t.checks.iter().flat_map(|c| [c.value, c.scale]));
-        }
-        let diagonal: Vec<NodeId> = (0..self.eq.mass.len())
-            .map(|k| self.eq.mass[k][k])
-            .collect();
-        if checks.mass {
-            all.extend(&self.eq.pivots);
-            all.extend(&diagonal);
-        }
+        let diagonal = self.diagonal();
         let code = emitter.emit(&all)?;
         let re = |id: NodeId| {
             let v = code.value(id);
@@ -282,8 +316,8 @@ pub fn generate(
             .map_or_else(Vec::new, |h| h.dependent.clone()),
         conservative: eq.conservative,
     };
-    let bodies = bodies(&cx)?;
-    let rhs_generic = rhs_generic(&cx, dims)?;
+    let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
+    let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
     let bounds = parameter_bounds(read.arrays);
     let system = interface::trait_impl(&header, &bodies);
@@ -302,12 +336,57 @@ pub fn generate(
     })
 }
 
-/// The right-hand side over any [`hamel::Scalar`].
-fn rhs_generic(cx: &Context<'_>, dims: Dims) -> syn::Result<TokenStream> {
+/// The right-hand side's values that depend on the parameters alone: every such node that
+/// a node depending on (t, x, u) reads, or that is a result, and is an operation (not a
+/// parameter read as it is). `prepare` computes them once per parameter set; the right-hand
+/// side reads them.
+fn prepared_nodes(cx: &Context<'_>, roots: &[NodeId]) -> Vec<NodeId> {
+    let g = cx.graph;
+    let inputs = &cx.eq.inputs;
+    let varying: Vec<NodeId> = std::iter::once(inputs.t)
+        .chain(inputs.q.iter().copied())
+        .chain(inputs.w.iter().copied())
+        .chain(inputs.u.iter().copied())
+        .collect();
+    let active = g.depends_on(&varying);
+    let live = g.live_set(roots);
+    let mut wanted = vec![false; g.len()];
+    for &r in roots {
+        wanted[r.index()] = true;
+    }
+    for &id in &live {
+        if active[id.index()] {
+            for &o in g.node(id).operands().as_slice() {
+                wanted[o.index()] = true;
+            }
+        }
+    }
+    live.into_iter()
+        .filter(|&id| {
+            let node = g.node(id);
+            wanted[id.index()]
+                && !active[id.index()]
+                && !node.is_bool()
+                && !matches!(node, Node::Const(_) | Node::Input(_))
+        })
+        .collect()
+}
+
+/// The right-hand side over any [`hamel::Scalar`], in three inherent methods: the
+/// parameter-only values (`__hamel_prepare`), the right-hand side reading them
+/// (`__hamel_rhs_prepared`, which `HamelSystem::rhs_prepared` calls with the values a
+/// simulation prepared once), and `rhs_generic`, the two in one call.
+fn rhs_generic(cx: &Context<'_>, dims: Dims) -> syn::Result<(TokenStream, usize)> {
     let eq = cx.eq;
     let s = Ident::new("S", Span::call_site());
     let roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
-    let (code, checks) = cx.emit(Source::State, Scalar::Generic(s), &roots, ALL)?;
+    let prepared = prepared_nodes(cx, &cx.checked_roots(&roots, ALL));
+    let count = lit(prepared.len());
+    let (values, _) = cx.emit(Source::Coordinates, Scalar::F64, &prepared, NONE)?;
+    let value_stmts = &values.stmts;
+    let value_array = vector(&values, &prepared);
+    let (code, checks) =
+        cx.emit_prepared(Source::State, Scalar::Generic(s), &roots, ALL, &prepared)?;
     let stmts = &code.stmts;
     let writes = roots.iter().enumerate().map(|(i, &id)| {
         let v = code.value(id);
@@ -315,23 +394,54 @@ fn rhs_generic(cx: &Context<'_>, dims: Dims) -> syn::Result<TokenStream> {
         quote!(dx[#i] = #v;)
     });
     let signature = interface::rhs_generic_signature(dims);
-    Ok(quote! {
-        /// The right-hand side ẋ = F(t, x, u) over any [`hamel::Scalar`]: with dual numbers
-        /// it yields the Jacobian of F (linearization); with `f64` it is exactly
-        /// [`hamel::HamelSystem::rhs`]. Generated by `#[hamel_system]`.
-        #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
-        #[inline]
-        #signature {
-            #stmts
-            #checks
-            #(#writes)*
-            ::core::result::Result::Ok(())
-        }
-    })
+    let state = lit(2 * dims.n - dims.p);
+    let m = lit(dims.m);
+    Ok((
+        quote! {
+            /// The right-hand side's values that depend on the parameters alone. Generated by
+            /// `#[hamel_system]`.
+            #[doc(hidden)]
+            #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
+            #[inline]
+            pub fn __hamel_prepare(&self) -> [f64; #count] {
+                #value_stmts
+                #value_array
+            }
+
+            /// The right-hand side with the parameter-only values of `__hamel_prepare`.
+            /// Generated by `#[hamel_system]`.
+            #[doc(hidden)]
+            #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
+            #[inline]
+            pub fn __hamel_rhs_prepared<S: ::hamel::Scalar>(
+                &self,
+                prepared: &[f64; #count],
+                t: S,
+                x: &[S; #state],
+                u: &[S; #m],
+                dx: &mut [S; #state],
+            ) -> ::core::result::Result<(), ::hamel::Singularity> {
+                #stmts
+                #checks
+                #(#writes)*
+                ::core::result::Result::Ok(())
+            }
+
+            /// The right-hand side ẋ = F(t, x, u) over any [`hamel::Scalar`]: with dual numbers
+            /// it yields the Jacobian of F (linearization); with `f64` it is exactly
+            /// [`hamel::HamelSystem::rhs`]. Generated by `#[hamel_system]`.
+            #[inline]
+            #signature {
+                self.__hamel_rhs_prepared(&self.__hamel_prepare(), t, x, u, dx)
+            }
+        },
+        prepared.len(),
+    ))
 }
 
-/// The body of every method of the trait.
-fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
+/// The body of every method of the trait; `prepared` values are prepared for the
+/// right-hand side.
+fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
     let eq = cx.eq;
     let mass_flat: Vec<NodeId> = eq.mass.iter().flatten().copied().collect();
     let gamma_flat: Vec<NodeId> = eq.gamma.iter().flatten().flatten().copied().collect();
@@ -360,8 +470,21 @@ fn bodies(cx: &Context<'_>) -> syn::Result<Bodies> {
         // reported by the right-hand side at the time it is met).
         None => quote!(::core::result::Result::Ok(0.0)),
     };
+    let count = lit(prepared);
     Ok(Bodies {
         rhs: quote!(self.rhs_generic::<f64>(t, x, u, dx)),
+        prepared_len: prepared,
+        prepare: quote! {
+            if let ::core::result::Result::Ok(out) = <&mut [f64; #count]>::try_from(prepared) {
+                *out = self.__hamel_prepare();
+            }
+        },
+        rhs_prepared: quote! {
+            match <&[f64; #count]>::try_from(prepared) {
+                ::core::result::Result::Ok(prepared) => self.__hamel_rhs_prepared::<f64>(prepared, t, x, u, dx),
+                ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx),
+            }
+        },
         generalized_velocities: cx.method(Source::State, &eq.qd, TRANSFORMATION, &|c| {
             vector(c, &eq.qd)
         })?,

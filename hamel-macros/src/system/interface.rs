@@ -30,6 +30,10 @@ pub struct Header<'a> {
 /// The body of each method (a block's contents).
 pub struct Bodies {
     pub rhs: TokenStream,
+    /// How many parameter-only values `prepare` computes for `rhs_prepared`.
+    pub prepared_len: usize,
+    pub prepare: TokenStream,
+    pub rhs_prepared: TokenStream,
     pub generalized_velocities: TokenStream,
     pub energy: TokenStream,
     pub power: TokenStream,
@@ -52,6 +56,9 @@ impl Bodies {
         ));
         Bodies {
             rhs: never.clone(),
+            prepared_len: 0,
+            prepare: never.clone(),
+            rhs_prepared: never.clone(),
             generalized_velocities: never.clone(),
             energy: never.clone(),
             power: never.clone(),
@@ -107,6 +114,9 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
     let allow = quote!(#[inline] #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
     let Bodies {
         rhs,
+        prepared_len,
+        prepare,
+        rhs_prepared,
         generalized_velocities,
         energy,
         power,
@@ -120,6 +130,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         inverse_defect,
         jacobian: jacobian_body,
     } = b;
+    let prepared_len = lit(*prepared_len);
     quote! {
         #[allow(clippy::all)]
         impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
@@ -147,10 +158,19 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             const STATE: &'static [&'static str] = &[#(#state_names),*];
             const DEPENDENT: &'static [usize] = &[#(#dependent),*];
             const CONSERVATIVE: bool = #conservative;
+            const PREPARED_LEN: usize = #prepared_len;
 
             #[inline]
             fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
                 #rhs
+            }
+            #[inline]
+            fn prepare(&self, prepared: &mut [f64]) {
+                #prepare
+            }
+            #[inline]
+            fn rhs_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
+                #rhs_prepared
             }
             #allow
             fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {

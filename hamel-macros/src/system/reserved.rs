@@ -16,7 +16,7 @@ const COLUMNS: [(&str, &str); 3] = [
 const COLUMN_PREFIXES: [(&str, &str); 1] = [("lambda_", "the constraint forces")];
 
 /// Associated constants of `HamelSystem` and `Parameters`.
-const CONSTANTS: [(&str, &str, &str); 10] = [
+const CONSTANTS: [(&str, &str, &str); 11] = [
     ("N", "HamelSystem", "the number of coordinates"),
     ("P", "HamelSystem", "the number of constraints"),
     ("M", "HamelSystem", "the number of inputs"),
@@ -25,6 +25,11 @@ const CONSTANTS: [(&str, &str, &str); 10] = [
     ("SPEEDS", "HamelSystem", "the names of the speeds"),
     ("INPUTS", "HamelSystem", "the names of the inputs"),
     ("CONSTRAINTS", "HamelSystem", "the names of the constraints"),
+    (
+        "PREPARED_LEN",
+        "HamelSystem",
+        "the number of values the right-hand side prepares",
+    ),
     ("NAMES", "Parameters", "the names of the parameters"),
     ("DOCS", "Parameters", "the parameters' doc comments"),
 ];
