@@ -74,15 +74,7 @@ impl SparseLu {
             let mut augmented: Vec<Vec<NodeId>> = rows
                 .iter()
                 .map(|&r| {
-                    let mut rhs = b[r];
-                    for (k, xk) in x.iter().enumerate() {
-                        if let Some(xk) = xk
-                            && !columns.contains(&k)
-                        {
-                            let t = g.mul(self.a[r][k], *xk);
-                            rhs = g.sub(rhs, t);
-                        }
-                    }
+                    let rhs = reduced(g, b[r], &x, columns, |k| self.a[r][k]);
                     let mut row: Vec<NodeId> = columns.iter().map(|&c| self.a[r][c]).collect();
                     row.push(rhs);
                     row
@@ -136,17 +128,30 @@ impl SparseLu {
         rows: &[usize],
         c: usize,
     ) -> NodeId {
-        let mut acc = r[c];
-        for (i, yi) in y.iter().enumerate() {
-            if let Some(yi) = yi
-                && !rows.contains(&i)
-            {
-                let t = g.mul(self.a[i][c], *yi);
-                acc = g.sub(acc, t);
-            }
-        }
-        acc
+        reduced(g, r[c], y, rows, |i| self.a[i][c])
     }
+}
+
+/// `start − Σ_k entry(k)·solved[k]` over the unknowns already solved, but those of the
+/// block at hand (`own`): a block's right-hand side once the blocks solved before it are
+/// substituted (with `entry` a row of A, or a column for the transposed solve).
+fn reduced(
+    g: &mut Graph,
+    start: NodeId,
+    solved: &[Option<NodeId>],
+    own: &[usize],
+    entry: impl Fn(usize) -> NodeId,
+) -> NodeId {
+    let mut acc = start;
+    for (k, value) in solved.iter().enumerate() {
+        if let Some(value) = value
+            && !own.contains(&k)
+        {
+            let t = g.mul(entry(k), *value);
+            acc = g.sub(acc, t);
+        }
+    }
+    acc
 }
 
 /// Gaussian elimination with partial pivoting on an augmented block [M | r], unrolled.
@@ -504,18 +509,7 @@ impl BlockSolver {
         for ((rows, columns), inverse) in self.lu.blocks.iter().zip(&self.inverses) {
             let rhs: Vec<NodeId> = rows
                 .iter()
-                .map(|&row| {
-                    let mut acc = r[row];
-                    for (c, xc) in x.iter().enumerate() {
-                        if let Some(xc) = xc
-                            && !columns.contains(&c)
-                        {
-                            let t = g.mul(self.lu.a[row][c], *xc);
-                            acc = g.sub(acc, t);
-                        }
-                    }
-                    acc
-                })
+                .map(|&row| reduced(g, r[row], &x, columns, |c| self.lu.a[row][c]))
                 .collect();
             for (j, &c) in columns.iter().enumerate() {
                 let terms: Vec<NodeId> = inverse[j]
