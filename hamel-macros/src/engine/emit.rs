@@ -211,6 +211,24 @@ impl<'g> Emitter<'g> {
         cone
     }
 
+    /// `y` when `id` is 1/y written inline (used once, so not bound to a `let`).
+    fn inlined_reciprocal(
+        &self,
+        id: NodeId,
+        refs: &HashMap<NodeId, (TokenStream, Prec)>,
+    ) -> Option<NodeId> {
+        match self.graph.node(id) {
+            Node::Div(one, y)
+                if self.graph.is_const(one, 1.0)
+                    && !self.inputs.contains_key(&id)
+                    && refs.get(&id).is_some_and(|(_, prec)| *prec != Prec::Atom) =>
+            {
+                Some(y)
+            }
+            _ => None,
+        }
+    }
+
     fn constant(&self, v: f64) -> (TokenStream, Prec) {
         let magnitude = if v.is_nan() {
             quote!(f64::NAN)
@@ -274,6 +292,15 @@ impl<'g> Emitter<'g> {
                 (quote!(#a - #b), Prec::Sum)
             }
             Node::Mul(a, b) => {
+                // x·(1/y) with 1/y used nowhere else is x/y: one division, no product.
+                if let Some(y) = self.inlined_reciprocal(b, refs) {
+                    let (a, y) = (at(a, Prec::Product), at(y, Prec::Prefix));
+                    return (quote!(#a / #y), Prec::Product);
+                }
+                if let Some(y) = self.inlined_reciprocal(a, refs) {
+                    let (b, y) = (at(b, Prec::Product), at(y, Prec::Prefix));
+                    return (quote!(#b / #y), Prec::Product);
+                }
                 let (a, b) = (at(a, Prec::Product), at(b, Prec::Prefix));
                 (quote!(#a * #b), Prec::Product)
             }
@@ -361,6 +388,41 @@ mod tests {
         assert_eq!(
             text,
             "let v0 = q [0] . sin () ; let v1 = v0 + q [1] * v0 - 2.0 ; => v1"
+        );
+    }
+
+    /// x·(1/y) is written x / y when 1/y is used once; shared, 1/y is one `let` and the
+    /// products multiply by it.
+    #[test]
+    fn a_reciprocal_used_once_is_a_division() {
+        let mut g = Graph::new();
+        let (x, y, z) = (g.new_input("x"), g.new_input("y"), g.new_input("z"));
+        let sum = g.add(y, z);
+        let one = g.one();
+        let reciprocal = g.div(one, sum);
+        let once = g.mul(x, reciprocal);
+        let mut e = Emitter::new(&g, Scalar::F64);
+        for (id, t) in [(x, quote!(a)), (y, quote!(b)), (z, quote!(c))] {
+            e.bind(id, t);
+        }
+        let code = e.emit(&[once]).unwrap();
+        let text = format!("{} => {}", code.stmts, code.value(once));
+        assert_eq!(text, "let v0 = a / (b + c) ; => v0");
+        let twice = g.mul(z, reciprocal);
+        let mut e = Emitter::new(&g, Scalar::F64);
+        for (id, t) in [(x, quote!(a)), (y, quote!(b)), (z, quote!(c))] {
+            e.bind(id, t);
+        }
+        let code = e.emit(&[once, twice]).unwrap();
+        let text = format!(
+            "{} => {}, {}",
+            code.stmts,
+            code.value(once),
+            code.value(twice)
+        );
+        assert_eq!(
+            text,
+            "let v0 = 1.0 / (b + c) ; let v1 = a * v0 ; let v2 = c * v0 ; => v1, v2"
         );
     }
 
