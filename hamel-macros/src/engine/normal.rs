@@ -88,9 +88,80 @@ impl Graph {
         // rebuilt as a new node, so distributing pays only where it removes operations even
         // if the inner sums cost nothing (being shared with other uses). That is where a
         // rotation cancels through them: sin·(m·(c·a + s·b)) − cos·(m·(s·a − c·b)) = m·b.
+        if !self.deep_expansion_merges(&raw) {
+            return None;
+        }
         let expanded = self.distributed(&raw, true)?;
         let (terms, constant) = self.merged(&expanded, &constants)?;
         (merged_cost(&terms) < self.sum_cost(&raw)).then(|| self.rebuild_sum(&terms, constant))
+    }
+
+    /// Whether distributing the products of `raw` down to a sum among their factors gives
+    /// two terms with the same factors, or a sin² and a cos² term that meet: read off the
+    /// factor lists, before any node of the expansion is built (most sums have neither,
+    /// and building their expansions to find out cost more than the rest of the macro).
+    fn deep_expansion_merges(&mut self, raw: &[(f64, NodeId)]) -> bool {
+        let mut lists: Vec<(f64, Vec<NodeId>)> = Vec::new();
+        for &(c, node) in raw {
+            let mut factors = Vec::new();
+            let mut scale = 1.0;
+            if !self.factors(node, false, &mut factors, &mut scale) {
+                lists.push((c, vec![node]));
+                continue;
+            }
+            let Some(at) = factors.iter().position(|&f| self.is_sum(f)) else {
+                factors.sort_unstable();
+                lists.push((c * scale, factors));
+                continue;
+            };
+            let sum = factors.remove(at);
+            let mut inner = Vec::new();
+            let mut constants = Vec::new();
+            if !self.collect_terms(sum, 1.0, &mut inner, &mut constants) {
+                return false;
+            }
+            for (ci, t) in inner {
+                let mut term = factors.clone();
+                let mut t_scale = 1.0;
+                if !self.factors(t, false, &mut term, &mut t_scale) {
+                    return false;
+                }
+                self.cancel_reciprocals(&mut term);
+                term.sort_unstable();
+                lists.push((c * scale * ci * t_scale, term));
+            }
+            for k in constants {
+                let mut term = factors.clone();
+                term.sort_unstable();
+                lists.push((c * scale * k, term));
+            }
+            if lists.len() > MAX_TERMS {
+                return false;
+            }
+        }
+        let mut sorted: Vec<&Vec<NodeId>> = lists.iter().map(|(_, l)| l).collect();
+        sorted.sort_unstable();
+        if sorted.windows(2).any(|w| w[0] == w[1]) {
+            return true;
+        }
+        // sin²x·P against cos²x·P of the same weight: only lists with a square of each.
+        let squares = |l: &[NodeId], f: Func| {
+            l.windows(2)
+                .any(|w| w[0] == w[1] && matches!(self.node(w[0]), Node::Unary(g, _) if g == f))
+        };
+        let sines: Vec<&(f64, Vec<NodeId>)> = lists
+            .iter()
+            .filter(|(_, l)| squares(l, Func::Sin))
+            .collect();
+        let cosines: Vec<&(f64, Vec<NodeId>)> = lists
+            .iter()
+            .filter(|(_, l)| squares(l, Func::Cos))
+            .collect();
+        sines.iter().any(|(ws, a)| {
+            cosines
+                .iter()
+                .any(|(wc, b)| ws == wc && self.sin_cos_pair(a, b).is_some())
+        })
     }
 
     /// Operations a sum of `raw` terms takes: one per factor of each product beyond the
