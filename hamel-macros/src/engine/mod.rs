@@ -5,10 +5,12 @@
 //! * `lower` — Rust syntax of the supported subset into graph values;
 //! * `diff` — tangent (forward) and adjoint (reverse) sweeps, and their compositions;
 //! * `emit` — the graph back to Rust;
+//! * `factor` — a last pass taking common factors out of finished sums;
 //! * `ops` — operation counts of what is emitted.
 
 pub mod diff;
 pub mod emit;
+mod factor;
 pub mod graph;
 pub mod lower;
 mod normal;

@@ -301,7 +301,7 @@ impl Graph {
         Some((terms, constant))
     }
 
-    fn collect_terms(
+    pub(super) fn collect_terms(
         &self,
         id: NodeId,
         c: f64,
@@ -417,7 +417,7 @@ impl Graph {
     /// The non-constant factors of a product or quotient and its constant part, divisors
     /// as reciprocal factors (`1/r`, the node `Div(1, r)`): so that `0.5·b/r` and
     /// `(−0.5·b)/r`, or `x·(b/r)` and `(x·b)/r`, are seen as the same term.
-    fn factors(
+    pub(super) fn factors(
         &mut self,
         id: NodeId,
         inverted: bool,
@@ -456,7 +456,7 @@ impl Graph {
     }
 
     /// Removes each factor `x` together with a factor `1/x`: the term `r·(b/r)·x` is `b·x`.
-    fn cancel_reciprocals(&self, factors: &mut Vec<NodeId>) {
+    pub(super) fn cancel_reciprocals(&self, factors: &mut Vec<NodeId>) {
         let mut i = 0;
         while i < factors.len() {
             let partner = match self.node(factors[i]) {

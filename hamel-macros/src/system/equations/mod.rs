@@ -251,6 +251,21 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let conservative =
         spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
     let gamma = gamma::gamma(g, &rows.all, q, v, &b_free);
+    let mut motion = motion;
+    let mut qd = qd;
+    let mut transformation_pivots = transformation_pivots;
+    let varying: Vec<NodeId> = std::iter::once(inputs.t)
+        .chain(inputs.q.iter().copied())
+        .chain(inputs.w.iter().copied())
+        .chain(inputs.u.iter().copied())
+        .collect();
+    factor_right_hand_side(
+        g,
+        &varying,
+        &mut qd,
+        &mut motion,
+        &mut transformation_pivots,
+    );
     Some(Equations {
         transformation: transformation_pivots,
         constraint_rows: rows.all[..p].to_vec(),
@@ -268,6 +283,59 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         conservative,
         inputs,
     })
+}
+
+/// What the right-hand side computes (q̇, ω̇ and what its checks read) with the common
+/// factors of its sums taken out ([`Graph::factored`]), once nothing more is built on it;
+/// kept only if the right-hand side then takes fewer operations that depend on the state
+/// (the parameter-only ones are prepared once): taking a factor out rebuilds the products
+/// of the sum's terms, which loses what they shared with other sums (the N-trailer's and
+/// the bicycle's take more operations factored, the robot's fewer).
+fn factor_right_hand_side(
+    g: &mut Graph,
+    varying: &[NodeId],
+    qd: &mut [NodeId],
+    motion: &mut Motion,
+    transformation: &mut Option<TransformationPivots>,
+) {
+    let free = motion.wdot.len();
+    let mut roots: Vec<NodeId> = qd.to_vec();
+    roots.extend(&motion.wdot);
+    roots.extend(&motion.pivots);
+    roots.extend((0..free).map(|k| motion.mass[k][k]));
+    if let Some(t) = transformation.as_ref() {
+        roots.extend(t.checks.iter().flat_map(|c| [c.value, c.scale]));
+    }
+    let mapped = g.factored(&roots, varying);
+    if state_operations(g, &mapped, varying) >= state_operations(g, &roots, varying) {
+        return;
+    }
+    let mut next = mapped.into_iter();
+    for x in qd
+        .iter_mut()
+        .chain(&mut motion.wdot)
+        .chain(&mut motion.pivots)
+    {
+        *x = next.next().unwrap_or(*x);
+    }
+    for k in 0..free {
+        motion.mass[k][k] = next.next().unwrap_or(motion.mass[k][k]);
+    }
+    if let Some(t) = transformation.as_mut() {
+        for c in &mut t.checks {
+            c.value = next.next().unwrap_or(c.value);
+            c.scale = next.next().unwrap_or(c.scale);
+        }
+    }
+}
+
+/// How many operations computing `roots` takes that depend on the `varying` inputs.
+fn state_operations(g: &Graph, roots: &[NodeId], varying: &[NodeId]) -> usize {
+    let active = g.depends_on(varying);
+    g.live_set(roots)
+        .into_iter()
+        .filter(|&id| active[id.index()] && !g.node(id).operands().as_slice().is_empty())
+        .count()
 }
 
 /// q̇ = Σ_{l≥p} B_l w_l + Q₀, with Q₀ = −B a the drift that affine rows impose.

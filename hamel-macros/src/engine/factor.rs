@@ -1,0 +1,252 @@
+//! A last pass over finished expressions: the factors every term of a sum has, taken out
+//! of it. `2·x₇·(x₅ cos α·sin α·J_x − x₅ sin α·cos α·J_z) + 2·sin α·l·m₀·l·cos α·x₅·x₇` becomes
+//! `2·x₅·x₇·sin α·cos α·(J_x − J_z + l·l·m₀)`, whose sum of parameters is then one prepared
+//! value. It runs once the equations are complete, on what the right-hand side computes:
+//! during construction a factored sum would hide its terms from later cancellations.
+
+use super::graph::{Graph, Node, NodeId};
+use std::collections::HashMap;
+
+impl Graph {
+    /// `roots` rebuilt with the common factors of every sum taken out where that saves
+    /// operations; the rest of each node as it is (no other simplification runs again).
+    pub fn factored(&mut self, roots: &[NodeId], varying: &[NodeId]) -> Vec<NodeId> {
+        let active = self.depends_on(varying);
+        let mut image: HashMap<NodeId, NodeId> = HashMap::new();
+        for id in self.live_set(roots) {
+            let node = self.node(id);
+            let m = |x: NodeId| image.get(&x).copied().unwrap_or(x);
+            let rebuilt = match node {
+                Node::Neg(a) => Node::Neg(m(a)),
+                Node::Add(a, b) => Node::Add(m(a), m(b)),
+                Node::Sub(a, b) => Node::Sub(m(a), m(b)),
+                Node::Mul(a, b) => Node::Mul(m(a), m(b)),
+                Node::Div(a, b) => Node::Div(m(a), m(b)),
+                Node::Unary(f, a) => Node::Unary(f, m(a)),
+                Node::Powi(a, n) => Node::Powi(m(a), n),
+                Node::Binary(f, a, b) => Node::Binary(f, m(a), m(b)),
+                Node::Select(c, a, b) => Node::Select(m(c), m(a), m(b)),
+                Node::Compare(op, a, b) => Node::Compare(op, m(a), m(b)),
+                Node::And(a, b) => Node::And(m(a), m(b)),
+                Node::Or(a, b) => Node::Or(m(a), m(b)),
+                Node::Not(a) => Node::Not(m(a)),
+                Node::Const(_) | Node::Input(_) | Node::Bool(_) => node,
+            };
+            let new = self.intern(rebuilt);
+            let new = match rebuilt {
+                Node::Add(..) | Node::Sub(..) => {
+                    self.common_factor_out(new, &active).unwrap_or(new)
+                }
+                _ => new,
+            };
+            image.insert(id, new);
+        }
+        roots.iter().map(|r| image[r]).collect()
+    }
+
+    /// The sum `id` with its terms merged (k·(a + b) flattened into them) and rebuilt by
+    /// taking out, again and again, the factor the most terms have: Horner's scheme for
+    /// many variables, greedy. `None` if the sum cannot be flattened.
+    fn common_factor_out(&mut self, id: NodeId, active: &[bool]) -> Option<NodeId> {
+        let mut raw = Vec::new();
+        if !self.flat_terms(id, 1.0, &mut raw) || raw.len() < 2 {
+            return None;
+        }
+        let mut terms: Vec<(f64, Vec<NodeId>)> = Vec::with_capacity(raw.len());
+        for (c, t) in raw {
+            let (c, factors) = match self.node(t) {
+                Node::Const(bits) => (c * f64::from_bits(bits), Vec::new()),
+                _ => {
+                    let mut factors = Vec::new();
+                    let mut scale = 1.0;
+                    if !self.factors(t, false, &mut factors, &mut scale) {
+                        return None;
+                    }
+                    self.cancel_reciprocals(&mut factors);
+                    factors.sort_unstable();
+                    (c * scale, factors)
+                }
+            };
+            match terms.iter_mut().find(|(_, f)| *f == factors) {
+                Some((w, _)) => *w += c,
+                None => terms.push((c, factors)),
+            }
+        }
+        terms.retain(|(c, _)| *c != 0.0);
+        Some(self.horner(terms, active))
+    }
+
+    /// Σ cᵢ·tᵢ flattened through sums, negations and constant multiples of sums.
+    fn flat_terms(&self, id: NodeId, c: f64, out: &mut Vec<(f64, NodeId)>) -> bool {
+        match self.node(id) {
+            Node::Add(a, b) => self.flat_terms(a, c, out) && self.flat_terms(b, c, out),
+            Node::Sub(a, b) => self.flat_terms(a, c, out) && self.flat_terms(b, -c, out),
+            Node::Neg(a) => self.flat_terms(a, -c, out),
+            Node::Mul(k, x)
+                if self.const_value(k).is_some()
+                    && matches!(self.node(x), Node::Add(..) | Node::Sub(..)) =>
+            {
+                self.flat_terms(x, c * self.const_value(k).unwrap_or(1.0), out)
+            }
+            _ => {
+                out.push((c, id));
+                out.len() <= 64
+            }
+        }
+    }
+
+    /// Σ cᵢ·Πfᵢ with the factor most terms share taken out first, recursively.
+    fn horner(&mut self, terms: Vec<(f64, Vec<NodeId>)>, active: &[bool]) -> NodeId {
+        if terms.is_empty() {
+            return self.zero();
+        }
+        let mut counts: HashMap<NodeId, usize> = HashMap::new();
+        for (_, factors) in &terms {
+            let mut seen = factors.clone();
+            seen.dedup();
+            // Only factors that vary: parameters stay together, where they are prepared.
+            for f in seen
+                .into_iter()
+                .filter(|f| active.get(f.index()).copied().unwrap_or(true))
+            {
+                *counts.entry(f).or_default() += 1;
+            }
+        }
+        let best = counts
+            .into_iter()
+            .filter(|&(_, n)| n >= 2)
+            .max_by_key(|&(f, n)| (n, std::cmp::Reverse(f)));
+        let Some((f, _)) = best else {
+            let items: Vec<(bool, NodeId)> = terms
+                .into_iter()
+                .map(|(c, factors)| {
+                    let product = self.plain_product(&factors);
+                    let magnitude = if c.abs() == 1.0 {
+                        product
+                    } else if factors.is_empty() {
+                        self.constant(c.abs())
+                    } else {
+                        let k = self.constant(c.abs());
+                        self.intern(Node::Mul(k, product))
+                    };
+                    (c < 0.0, magnitude)
+                })
+                .collect();
+            return self.plain_sum(&items);
+        };
+        let (mut with, without): (Vec<_>, Vec<_>) = terms
+            .into_iter()
+            .partition(|(_, factors)| factors.contains(&f));
+        for (_, factors) in &mut with {
+            if let Some(at) = factors.iter().position(|&g| g == f) {
+                factors.remove(at);
+            }
+        }
+        let inner = self.horner(with, active);
+        let grouped = self.intern(Node::Mul(f, inner));
+        if without.is_empty() {
+            return grouped;
+        }
+        let rest = self.horner(without, active);
+        self.intern(Node::Add(grouped, rest))
+    }
+
+    /// Σ ±xᵢ: the positive ones added, the negative ones subtracted.
+    fn plain_sum(&mut self, items: &[(bool, NodeId)]) -> NodeId {
+        let mut acc: Option<NodeId> = None;
+        let mut pending = Vec::new();
+        for &(negative, x) in items {
+            match (acc, negative) {
+                (None, false) => acc = Some(x),
+                (None, true) => pending.push(x),
+                (Some(a), false) => acc = Some(self.intern(Node::Add(a, x))),
+                (Some(a), true) => acc = Some(self.intern(Node::Sub(a, x))),
+            }
+        }
+        let mut pending = pending.into_iter();
+        let mut acc = match (acc, pending.next()) {
+            (Some(a), Some(first)) => self.intern(Node::Sub(a, first)),
+            (Some(a), None) => a,
+            (None, Some(first)) => self.intern(Node::Neg(first)),
+            (None, None) => self.zero(),
+        };
+        for x in pending {
+            acc = self.intern(Node::Sub(acc, x));
+        }
+        acc
+    }
+
+    /// The product of `factors` as written (1 for none), without simplification.
+    fn plain_product(&mut self, factors: &[NodeId]) -> NodeId {
+        let mut iter = factors.iter().copied();
+        let Some(first) = iter.next() else {
+            return self.one();
+        };
+        iter.fold(first, |acc, f| self.intern(Node::Mul(acc, f)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::engine::graph::{Func, Graph};
+    use crate::engine::ops;
+
+    /// 2·x·y·sin a·cos a·J − 2·x·y·cos a·sin a·K + 2·sin a·l·m·l·cos a·x·y, with x, y, a
+    /// varying, is 2·x·y·sin a·cos a·(J − K + l·m·l): the same value with fewer
+    /// operations, and the parameters J, K, l, m together in one sum.
+    #[test]
+    fn common_factors_come_out_of_sums() {
+        let mut g = Graph::new();
+        let (x, y, a) = (g.new_input("x"), g.new_input("y"), g.new_input("a"));
+        let (j, k, l, m) = (
+            g.new_input("J"),
+            g.new_input("K"),
+            g.new_input("l"),
+            g.new_input("m"),
+        );
+        let (s, c) = (g.unary(Func::Sin, a), g.unary(Func::Cos, a));
+        let two = g.constant(2.0);
+        let product = |g: &mut Graph, factors: &[_]| {
+            factors[1..]
+                .iter()
+                .fold(factors[0], |acc, &f| g.mul(acc, f))
+        };
+        let first = product(&mut g, &[two, x, y, s, c, j]);
+        let second = product(&mut g, &[two, x, y, c, s, k]);
+        let third = product(&mut g, &[two, s, l, m, l, c, x, y]);
+        let difference = g.sub(first, second);
+        let sum = g.add(difference, third);
+        let factored = g.factored(&[sum], &[x, y, a])[0];
+        let values = [0.7, -1.3, 0.4, 2.0, 0.5, 1.1, 3.0];
+        let (before, after) = {
+            let v = g.evaluate(&[sum, factored], &values);
+            (v[0], v[1])
+        };
+        assert!(
+            (before - after).abs() <= 1e-14 * before.abs(),
+            "{before} {after}"
+        );
+        let (n_before, n_after) = (
+            ops::count(&g, &[sum]).total(),
+            ops::count(&g, &[factored]).total(),
+        );
+        assert!(
+            n_after < n_before,
+            "{n_after} operations against {n_before}"
+        );
+        // The parameters form one sum that no varying input reaches.
+        let active = g.depends_on(&[x, y, a]);
+        let live = g.live_set(&[factored]);
+        let parameter_sums = live
+            .iter()
+            .filter(|&&id| {
+                !active[id.index()]
+                    && matches!(
+                        g.node(id),
+                        crate::engine::graph::Node::Add(..) | crate::engine::graph::Node::Sub(..)
+                    )
+            })
+            .count();
+        assert!(parameter_sums >= 1);
+    }
+}
