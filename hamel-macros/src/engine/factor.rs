@@ -1,17 +1,20 @@
-//! A last pass over finished expressions: the factors every term of a sum has, taken out
-//! of it. `2·x₇·(x₅ cos α·sin α·J_x − x₅ sin α·cos α·J_z) + 2·sin α·l·m₀·l·cos α·x₅·x₇` becomes
-//! `2·x₅·x₇·sin α·cos α·(J_x − J_z + l·l·m₀)`, whose sum of parameters is then one prepared
-//! value. It runs once the equations are complete, on what the right-hand side computes:
-//! during construction a factored sum would hide its terms from later cancellations.
+//! A last pass over finished expressions: the factors the terms of a sum share, taken out
+//! of it, the most shared first (a greedy Horner scheme in many variables).
+//! `2·x₇·(x₅ cos α·sin α·J_x − x₅ sin α·cos α·J_z) + 2·sin α·l·m₀·l·cos α·x₅·x₇` becomes
+//! `2·x₅·x₇·sin α·cos α·(J_x − J_z + l·l·m₀)`. The parameters of each term are multiplied into
+//! one factor and the terms of parameters alone added into one, so that they form values
+//! prepared once. It runs once the equations are complete, on what the right-hand side
+//! computes: during construction a factored sum would hide its terms from later
+//! cancellations.
 
 use super::graph::{Graph, Node, NodeId};
 use std::collections::HashMap;
 
 impl Graph {
-    /// `roots` rebuilt with the common factors of every sum taken out where that saves
-    /// operations; the rest of each node as it is (no other simplification runs again).
+    /// `roots` rebuilt with every sum in Horner form; `varying` are the inputs that are not
+    /// parameters. The rest of each node as it is (no other simplification runs again).
     pub fn factored(&mut self, roots: &[NodeId], varying: &[NodeId]) -> Vec<NodeId> {
-        let active = self.depends_on(varying);
+        let mut active = self.depends_on(varying);
         let mut image: HashMap<NodeId, NodeId> = HashMap::new();
         for id in self.live_set(roots) {
             let node = self.node(id);
@@ -35,7 +38,7 @@ impl Graph {
             let new = self.intern(rebuilt);
             let new = match rebuilt {
                 Node::Add(..) | Node::Sub(..) => {
-                    self.common_factor_out(new, &active).unwrap_or(new)
+                    self.common_factor_out(new, &mut active).unwrap_or(new)
                 }
                 _ => new,
             };
@@ -47,7 +50,7 @@ impl Graph {
     /// The sum `id` with its terms merged (k·(a + b) flattened into them) and rebuilt by
     /// taking out, again and again, the factor the most terms have: Horner's scheme for
     /// many variables, greedy. `None` if the sum cannot be flattened.
-    fn common_factor_out(&mut self, id: NodeId, active: &[bool]) -> Option<NodeId> {
+    fn common_factor_out(&mut self, id: NodeId, active: &mut Vec<bool>) -> Option<NodeId> {
         let mut raw = Vec::new();
         if !self.flat_terms(id, 1.0, &mut raw) || raw.len() < 2 {
             return None;
@@ -63,8 +66,7 @@ impl Graph {
                         return None;
                     }
                     self.cancel_reciprocals(&mut factors);
-                    factors.sort_unstable();
-                    (c * scale, factors)
+                    (c * scale, self.parameters_grouped(factors, active))
                 }
             };
             match terms.iter_mut().find(|(_, f)| *f == factors) {
@@ -73,7 +75,33 @@ impl Graph {
             }
         }
         terms.retain(|(c, _)| *c != 0.0);
-        Some(self.horner(terms, active))
+        self.extend_activity(active);
+        // The terms of parameters alone, as one: a sum prepared once.
+        let (fixed, mut terms): (Vec<_>, Vec<_>) = terms
+            .into_iter()
+            .partition(|(_, factors)| factors.iter().all(|f| !active[f.index()]));
+        if fixed.len() > 1 {
+            let items = self.signed_products(fixed);
+            terms.push((1.0, vec![self.plain_sum(&items)]));
+        } else {
+            terms.extend(fixed);
+        }
+        Some(self.horner(terms))
+    }
+
+    /// A term's factors, sorted, with those that depend on the parameters alone multiplied
+    /// into one factor: `l·m₀` of `x₅·l·m₀` is then one value, prepared once and taken out of
+    /// a sum as one factor.
+    fn parameters_grouped(&mut self, factors: Vec<NodeId>, active: &mut Vec<bool>) -> Vec<NodeId> {
+        self.extend_activity(active);
+        let (mut fixed, mut varying): (Vec<NodeId>, Vec<NodeId>) =
+            factors.into_iter().partition(|f| !active[f.index()]);
+        fixed.sort_unstable();
+        if !fixed.is_empty() {
+            varying.push(self.plain_product(&fixed));
+        }
+        varying.sort_unstable();
+        varying
     }
 
     /// Σ cᵢ·tᵢ flattened through sums, negations and constant multiples of sums.
@@ -96,7 +124,7 @@ impl Graph {
     }
 
     /// Σ cᵢ·Πfᵢ with the factor most terms share taken out first, recursively.
-    fn horner(&mut self, terms: Vec<(f64, Vec<NodeId>)>, active: &[bool]) -> NodeId {
+    fn horner(&mut self, terms: Vec<(f64, Vec<NodeId>)>) -> NodeId {
         if terms.is_empty() {
             return self.zero();
         }
@@ -104,11 +132,7 @@ impl Graph {
         for (_, factors) in &terms {
             let mut seen = factors.clone();
             seen.dedup();
-            // Only factors that vary: parameters stay together, where they are prepared.
-            for f in seen
-                .into_iter()
-                .filter(|f| active.get(f.index()).copied().unwrap_or(true))
-            {
+            for f in seen {
                 *counts.entry(f).or_default() += 1;
             }
         }
@@ -117,21 +141,7 @@ impl Graph {
             .filter(|&(_, n)| n >= 2)
             .max_by_key(|&(f, n)| (n, std::cmp::Reverse(f)));
         let Some((f, _)) = best else {
-            let items: Vec<(bool, NodeId)> = terms
-                .into_iter()
-                .map(|(c, factors)| {
-                    let product = self.plain_product(&factors);
-                    let magnitude = if c.abs() == 1.0 {
-                        product
-                    } else if factors.is_empty() {
-                        self.constant(c.abs())
-                    } else {
-                        let k = self.constant(c.abs());
-                        self.intern(Node::Mul(k, product))
-                    };
-                    (c < 0.0, magnitude)
-                })
-                .collect();
+            let items = self.signed_products(terms);
             return self.plain_sum(&items);
         };
         let (mut with, without): (Vec<_>, Vec<_>) = terms
@@ -142,13 +152,47 @@ impl Graph {
                 factors.remove(at);
             }
         }
-        let inner = self.horner(with, active);
+        let inner = self.horner(with);
         let grouped = self.intern(Node::Mul(f, inner));
         if without.is_empty() {
             return grouped;
         }
-        let rest = self.horner(without, active);
+        let rest = self.horner(without);
         self.intern(Node::Add(grouped, rest))
+    }
+
+    /// `active` (whether a node depends on the varying inputs) extended to the nodes built
+    /// since: each depends on them if an operand does.
+    fn extend_activity(&self, active: &mut Vec<bool>) {
+        for i in active.len()..self.len() {
+            let id = self.id_at(i);
+            let varying = self
+                .node(id)
+                .operands()
+                .as_slice()
+                .iter()
+                .any(|o| active[o.index()]);
+            active.push(varying);
+        }
+    }
+
+    /// Each cᵢ·Πfᵢ as its sign and magnitude |cᵢ|·Πfᵢ.
+    fn signed_products(&mut self, terms: Vec<(f64, Vec<NodeId>)>) -> Vec<(bool, NodeId)> {
+        terms
+            .into_iter()
+            .map(|(c, factors)| {
+                let product = self.plain_product(&factors);
+                let magnitude = if c.abs() == 1.0 {
+                    product
+                } else if factors.is_empty() {
+                    self.constant(c.abs())
+                } else {
+                    let k = self.constant(c.abs());
+                    self.intern(Node::Mul(k, product))
+                };
+                (c < 0.0, magnitude)
+            })
+            .collect()
     }
 
     /// Σ ±xᵢ: the positive ones added, the negative ones subtracted.

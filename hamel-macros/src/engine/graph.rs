@@ -250,6 +250,11 @@ impl Graph {
         self.nodes.len()
     }
 
+    /// The node with this index (`0..len()`).
+    pub(super) fn id_at(&self, index: usize) -> NodeId {
+        NodeId(index as u32)
+    }
+
     pub fn node(&self, id: NodeId) -> Node {
         self.nodes[id.index()]
     }
