@@ -40,6 +40,7 @@ impl Graph {
                 Node::Add(..) | Node::Sub(..) => {
                     self.common_factor_out(new, &mut active).unwrap_or(new)
                 }
+                Node::Div(..) => self.divided_by_parameters(new, &mut active).unwrap_or(new),
                 _ => new,
             };
             image.insert(id, new);
@@ -87,6 +88,34 @@ impl Graph {
             terms.extend(fixed);
         }
         Some(self.horner(terms))
+    }
+
+    /// x·p/q with q and p parameters alone, as x·(p/q): a product by a value prepared
+    /// once instead of a division at every call (`r·(φ₁ − φ₂)/b` is `(φ₁ − φ₂)·(r/b)`).
+    fn divided_by_parameters(&mut self, id: NodeId, active: &mut Vec<bool>) -> Option<NodeId> {
+        let Node::Div(a, b) = self.node(id) else {
+            return None;
+        };
+        self.extend_activity(active);
+        if active[b.index()] || !active[a.index()] {
+            return None;
+        }
+        let mut factors = Vec::new();
+        let mut scale = 1.0;
+        if !self.factors(a, false, &mut factors, &mut scale) {
+            factors = vec![a];
+            scale = 1.0;
+        }
+        let (fixed, varying): (Vec<NodeId>, Vec<NodeId>) =
+            factors.into_iter().partition(|f| !active[f.index()]);
+        let mut numerator = self.plain_product(&fixed);
+        if scale != 1.0 {
+            let k = self.constant(scale);
+            numerator = self.intern(Node::Mul(k, numerator));
+        }
+        let quotient = self.intern(Node::Div(numerator, b));
+        let rest = self.plain_product(&varying);
+        Some(self.intern(Node::Mul(rest, quotient)))
     }
 
     /// A term's factors, sorted, with those that depend on the parameters alone multiplied
@@ -234,6 +263,34 @@ impl Graph {
 mod tests {
     use crate::engine::graph::{Func, Graph};
     use crate::engine::ops;
+
+    /// r·(x − y)/b with r and b parameters is (x − y)·(r/b): a product by a prepared
+    /// quotient, the same value.
+    #[test]
+    fn a_division_by_parameters_is_a_product() {
+        let mut g = Graph::new();
+        let (x, y, r, b) = (
+            g.new_input("x"),
+            g.new_input("y"),
+            g.new_input("r"),
+            g.new_input("b"),
+        );
+        let difference = g.sub(x, y);
+        let scaled = g.mul(r, difference);
+        let angle = g.div(scaled, b);
+        let rewritten = g.factored(&[angle], &[x, y])[0];
+        assert!(matches!(
+            g.node(rewritten),
+            crate::engine::graph::Node::Mul(..)
+        ));
+        let values = [0.9, -0.4, 0.3, 1.7];
+        let v = g.evaluate(&[angle, rewritten], &values);
+        assert!((v[0] - v[1]).abs() <= 1e-15 * v[0].abs(), "{v:?}");
+        // Divided by something that varies, it stays a division.
+        let by_state = g.div(r, x);
+        let kept = g.factored(&[by_state], &[x, y])[0];
+        assert_eq!(kept, by_state);
+    }
 
     /// 2·x·y·sin a·cos a·J − 2·x·y·cos a·sin a·K + 2·sin a·l·m·l·cos a·x·y, with x, y, a
     /// varying, is 2·x·y·sin a·cos a·(J − K + l·m·l): the same value with fewer

@@ -36,7 +36,7 @@ mod transformation;
 
 use super::ldlt;
 use super::spec::Spec;
-use crate::engine::graph::{Graph, NodeId};
+use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::{Lowerer, Value};
 use std::collections::HashMap;
 use transformation::Transformation;
@@ -329,13 +329,19 @@ fn factor_right_hand_side(
     }
 }
 
-/// How many operations computing `roots` takes that depend on the `varying` inputs.
+/// The cost of the operations computing `roots` that depend on the `varying` inputs: one
+/// per operation, four per division (its throughput on current processors).
 fn state_operations(g: &Graph, roots: &[NodeId], varying: &[NodeId]) -> usize {
     let active = g.depends_on(varying);
     g.live_set(roots)
         .into_iter()
-        .filter(|&id| active[id.index()] && !g.node(id).operands().as_slice().is_empty())
-        .count()
+        .filter(|&id| active[id.index()])
+        .map(|id| match g.node(id) {
+            Node::Div(..) => 4,
+            node if node.operands().as_slice().is_empty() => 0,
+            _ => 1,
+        })
+        .sum()
 }
 
 /// q̇ = Σ_{l≥p} B_l w_l + Q₀, with Q₀ = −B a the drift that affine rows impose.
