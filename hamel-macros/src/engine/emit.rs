@@ -195,20 +195,8 @@ impl<'g> Emitter<'g> {
     /// The nodes `roots` need, in topological order, not looking below a bound node: an
     /// operation bound to an expression (a value computed beforehand) is read, not rebuilt.
     fn cone(&self, roots: &[NodeId]) -> Vec<NodeId> {
-        let mut seen = vec![false; self.graph.len()];
-        let mut cone = Vec::new();
-        let mut stack: Vec<NodeId> = roots.to_vec();
-        while let Some(id) = stack.pop() {
-            if std::mem::replace(&mut seen[id.index()], true) {
-                continue;
-            }
-            cone.push(id);
-            if !self.inputs.contains_key(&id) {
-                stack.extend_from_slice(self.graph.node(id).operands().as_slice());
-            }
-        }
-        cone.sort_unstable();
-        cone
+        self.graph
+            .live_set_until(roots, |id| self.inputs.contains_key(&id))
     }
 
     /// `y` when `id` is 1/y written inline (used once, so not bound to a `let`).

@@ -715,13 +715,20 @@ impl Graph {
     /// Beyond clearing one flag per node, the cost is that of the cone, not of the graph:
     /// the macro asks for many small cones of a graph of up to millions of nodes.
     pub fn live_set(&self, roots: &[NodeId]) -> Vec<NodeId> {
+        self.live_set_until(roots, |_| false)
+    }
+
+    /// [`Self::live_set`], not looking below the nodes where `stop` holds (they are in it).
+    pub fn live_set_until(&self, roots: &[NodeId], stop: impl Fn(NodeId) -> bool) -> Vec<NodeId> {
         let mut seen = vec![false; self.nodes.len()];
         let mut live = Vec::new();
         let mut stack: Vec<NodeId> = roots.to_vec();
         while let Some(id) = stack.pop() {
             if !std::mem::replace(&mut seen[id.index()], true) {
                 live.push(id);
-                stack.extend_from_slice(self.node(id).operands().as_slice());
+                if !stop(id) {
+                    stack.extend_from_slice(self.node(id).operands().as_slice());
+                }
             }
         }
         live.sort_unstable();

@@ -342,13 +342,7 @@ pub fn generate(
 /// side reads them.
 fn prepared_nodes(cx: &Context<'_>, roots: &[NodeId]) -> Vec<NodeId> {
     let g = cx.graph;
-    let inputs = &cx.eq.inputs;
-    let varying: Vec<NodeId> = std::iter::once(inputs.t)
-        .chain(inputs.q.iter().copied())
-        .chain(inputs.w.iter().copied())
-        .chain(inputs.u.iter().copied())
-        .collect();
-    let active = g.depends_on(&varying);
+    let active = g.depends_on(&cx.eq.inputs.varying());
     let live = g.live_set(roots);
     let mut wanted = vec![false; g.len()];
     for &r in roots {

@@ -52,6 +52,18 @@ pub struct Inputs {
     pub v: Vec<NodeId>,
 }
 
+impl Inputs {
+    /// The inputs a right-hand side varies with: t, the state (q, w) and u. Everything
+    /// else it reads is a parameter, fixed for a run.
+    pub fn varying(&self) -> Vec<NodeId> {
+        std::iter::once(self.t)
+            .chain(self.q.iter().copied())
+            .chain(self.w.iter().copied())
+            .chain(self.u.iter().copied())
+            .collect()
+    }
+}
+
 /// What a generated method that uses B checks first (when B is not the user's): the pivots
 /// of the run-time LU factorization of A(q), or the determinants of the diagonal blocks
 /// inverted in closed form, each against its scale.
@@ -217,8 +229,8 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let (transformation, inverse_defect) =
         transformation::build(lowerer, spec, &rows, t, q, &omega)?;
     let (b_free, checks) = transformation.columns(lowerer.graph, p);
-    let qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b_free, &inputs.w);
-    let transformation_pivots = (!checks.is_empty()).then_some(TransformationPivots { checks });
+    let mut qd = admissible_velocity(lowerer.graph, &transformation, &rows, &b_free, &inputs.w);
+    let mut transformation_pivots = (!checks.is_empty()).then_some(TransformationPivots { checks });
     let forces = forces(lowerer, spec, &inputs, &qd)?;
     let vectors = Vectors {
         t,
@@ -246,19 +258,12 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         None => assembled.energy,
     };
     let g = &mut *lowerer.graph;
-    let motion = solve(g, &assembled, &transformation, &vectors, p);
+    let mut motion = solve(g, &assembled, &transformation, &vectors, p);
     let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
     let conservative =
         spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
     let gamma = gamma::gamma(g, &rows.all, q, v, &b_free);
-    let mut motion = motion;
-    let mut qd = qd;
-    let mut transformation_pivots = transformation_pivots;
-    let varying: Vec<NodeId> = std::iter::once(inputs.t)
-        .chain(inputs.q.iter().copied())
-        .chain(inputs.w.iter().copied())
-        .chain(inputs.u.iter().copied())
-        .collect();
+    let varying = inputs.varying();
     factor_right_hand_side(
         g,
         &varying,
