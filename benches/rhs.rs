@@ -10,7 +10,7 @@ use hamel::models::{MobileRobot, MobileRobotPaper};
 use hamel_benches::robot_samples;
 use std::hint::black_box;
 
-#[path = "../validation/tests/common/robot_closed_form.rs"]
+#[path = "../tests/validation/tests/common/robot_closed_form.rs"]
 mod closed_form;
 
 fn robot_rhs(c: &mut Criterion) {

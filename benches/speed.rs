@@ -13,7 +13,7 @@
 //!
 //! * The everyday robot (`MobileRobot`: energies, constraints, quasi-velocities) over the
 //!   same 64 seeded states and inputs as `rhs.rs`, in three variants: (c) the hand-written
-//!   closed form (`validation/tests/common/robot_closed_form.rs`), (b) generated, B = A⁻¹ by
+//!   closed form (`tests/validation/tests/common/robot_closed_form.rs`), (b) generated, B = A⁻¹ by
 //!   the generated LU, (a) generated with the inverse B given (`#[velocities]`): the same
 //!   roles as `MobileRobot` with the paper's B added, [`RobotWithInverse`] below. The startup
 //!   checks that (a) and (b) agree to 1e-12 on every sample. The catalogue's
@@ -29,7 +29,7 @@ use hamel_benches::interleave::{Spread, ratio, round_robin, rounds, seconds, slo
 use hamel_benches::{Uniform, robot_samples};
 use std::hint::black_box;
 
-#[path = "../validation/tests/common/robot_closed_form.rs"]
+#[path = "../tests/validation/tests/common/robot_closed_form.rs"]
 mod closed_form;
 
 hamel::n_trailer!(
