@@ -6,6 +6,7 @@ mod builder;
 mod crossing;
 mod error;
 mod events;
+pub mod geometry;
 pub mod integrate;
 mod jacobian;
 mod linearization;
