@@ -85,6 +85,9 @@ impl<'a> Lowerer<'a, '_> {
             };
         }
         let args: Vec<Value> = m.args.iter().map(|a| self.expr(env, a)).collect();
+        if let Value::Geo(geo) = receiver {
+            return self.geometry_method(geo, m, args);
+        }
         self.elementary(&name, receiver, args, m, &m.method)
     }
 
@@ -99,6 +102,9 @@ impl<'a> Lowerer<'a, '_> {
             .map(|s| s.ident.to_string())
             .collect();
         let segs: Vec<&str> = segments.iter().map(String::as_str).collect();
+        if let Some(value) = self.geometry_call(env, &segs, c) {
+            return value;
+        }
         match segs.as_slice() {
             ["f64", name] | ["std" | "core", "f64", name] => {
                 let mut args = c.args.iter();

@@ -300,7 +300,11 @@ impl<'a> Lowerer<'a, '_> {
     fn field(&mut self, env: &mut Env, f: &syn::ExprField) -> Value {
         let is_self = matches!(&*f.base, Expr::Path(p) if p.path.is_ident("self"));
         if !is_self {
-            return match (self.expr(env, &f.base), &f.member) {
+            let base = self.expr(env, &f.base);
+            if let Some(value) = self.geometry_field(&base, f) {
+                return value;
+            }
+            return match (base, &f.member) {
                 (Value::Tuple(items), syn::Member::Unnamed(i)) => match items.get(i.index as usize) {
                     Some(v) => v.clone(),
                     None => self.error(&f.member, format!("this tuple has {} elements", items.len())),
@@ -330,6 +334,7 @@ impl<'a> Lowerer<'a, '_> {
         let index = self.expr(env, &i.index);
         match (base, index) {
             (Value::Poison, _) | (_, Value::Poison) => Value::Poison,
+            (Value::Geo(geo), index) => self.geometry_index(geo, index, i),
             (Value::Array(items), Value::Int(k)) => {
                 match usize::try_from(k).ok().and_then(|k| items.get(k)) {
                     Some(v) => v.clone(),
@@ -462,6 +467,12 @@ impl<'a> Lowerer<'a, '_> {
 
     /// Apply a binary operator to two values (arithmetic, comparison or logic).
     fn arith(&mut self, op: &BinOp, left: Value, right: Value, at: &syn::ExprBinary) -> Value {
+        if left.is_poison() || right.is_poison() {
+            return Value::Poison;
+        }
+        if let Some(value) = self.geometry_arith(op, &left, &right, at) {
+            return value;
+        }
         let g = &mut *self.graph;
         let cmp = match op {
             BinOp::Lt(_) => Some(Cmp::Lt),
@@ -553,6 +564,7 @@ impl<'a> Lowerer<'a, '_> {
             (_, Value::Poison) => Value::Poison,
             (UnOp::Deref(_), v) => v,
             (UnOp::Neg(_), Value::Real(a)) => Value::Real(self.graph.neg(a)),
+            (UnOp::Neg(_), Value::Geo(geo)) => self.geometry_neg(geo, u),
             (UnOp::Neg(_), Value::Int(a)) => match a.checked_neg() {
                 Some(v) => Value::Int(v),
                 None => self.error(u, "integer overflow"),
@@ -784,6 +796,7 @@ fn same_kind(old: &Value, new: &Value) -> bool {
         (Value::Array(a), Value::Array(b)) | (Value::Tuple(a), Value::Tuple(b)) => {
             a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same_kind(x, y))
         }
+        (Value::Geo(a), Value::Geo(b)) => a.kind() == b.kind(),
         _ => false,
     }
 }

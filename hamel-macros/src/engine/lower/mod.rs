@@ -14,6 +14,7 @@
 mod call;
 mod env;
 mod expr;
+pub mod geometry;
 mod span;
 mod stmt;
 mod types;

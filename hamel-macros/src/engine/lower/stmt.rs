@@ -360,6 +360,12 @@ impl<'a> Lowerer<'a, '_> {
                     .map(|(p, q)| self.merge(c, p, q, at, what))
                     .collect(),
             ),
+            (Value::Geo(x), Value::Geo(y)) if x.kind() == y.kind() => {
+                match x.select(self.graph, c, y) {
+                    Some(geo) => Value::Geo(geo),
+                    None => Value::Poison,
+                }
+            }
             (Value::Unit, Value::Unit) => Value::Unit,
             (Value::Unit, other) | (other, Value::Unit) if at.else_branch.is_none() => self.error(
                 at,

@@ -1,5 +1,6 @@
 //! What a Rust expression of the supported subset evaluates to while it is being lowered.
 
+use super::geometry::{Geo, GeoKind};
 use crate::engine::graph::{Graph, NodeId};
 
 /// The compile-time image of a Rust value.
@@ -17,6 +18,8 @@ pub enum Value {
     Tuple(Vec<Value>),
     /// `()`, the value of statements.
     Unit,
+    /// A value of hamel's geometry vocabulary (`Vector3`, `Rotation3`, `Body`…).
+    Geo(Geo),
     /// Stands in for a value whose expression already produced an error, so that one mistake
     /// is reported once and lowering can go on to find the next independent one.
     Poison,
@@ -39,6 +42,7 @@ impl Value {
             },
             Value::Tuple(items) => format!("a tuple of {} elements", items.len()),
             Value::Unit => "`()` (no value)".into(),
+            Value::Geo(g) => format!("`{}`", g.kind().name()),
             Value::Poison => "an erroneous value".into(),
         }
     }
@@ -64,6 +68,10 @@ impl Value {
                 true
             }
             Value::Array(items) => items.iter().all(|v| v.flatten_into(out)),
+            Value::Geo(g) => {
+                g.flatten_into(out);
+                true
+            }
             _ => false,
         }
     }
@@ -75,6 +83,8 @@ pub enum Shape {
     Real,
     Int,
     Array(usize, Box<Shape>),
+    /// A type of hamel's geometry vocabulary.
+    Geo(GeoKind),
 }
 
 impl Shape {
@@ -84,6 +94,7 @@ impl Shape {
             Shape::Real => 1,
             Shape::Int => 0,
             Shape::Array(n, inner) => n * inner.len(),
+            Shape::Geo(kind) => kind.len(),
         }
     }
 
@@ -92,6 +103,7 @@ impl Shape {
             Shape::Real => "`f64`".into(),
             Shape::Int => "an integer".into(),
             Shape::Array(n, inner) => format!("`[{}; {n}]`", inner.describe().trim_matches('`')),
+            Shape::Geo(kind) => format!("`{}`", kind.name()),
         }
     }
 
@@ -103,6 +115,7 @@ impl Shape {
             (Shape::Array(n, inner), Value::Array(items)) => {
                 items.len() == *n && items.iter().all(|v| inner.admits(v))
             }
+            (Shape::Geo(kind), Value::Geo(g)) => g.kind() == *kind,
             _ => false,
         }
     }
@@ -123,6 +136,13 @@ impl Shape {
                 Some(Value::Real(id))
             }
             Shape::Int => None,
+            Shape::Geo(kind) => {
+                let parts: Vec<NodeId> = (0..kind.len())
+                    .map(|i| graph.new_input(format!("{name}.{i}")))
+                    .collect();
+                nodes.extend(&parts);
+                Some(Value::Geo(Geo::from_nodes(*kind, &parts)))
+            }
             Shape::Array(n, inner) => (0..*n)
                 .map(|i| inner.fresh_into(graph, &format!("{name}[{i}]"), nodes))
                 .collect::<Option<Vec<_>>>()
