@@ -1,0 +1,166 @@
+//! The roles every model needs, and the energy: exactly one way of giving it.
+
+use super::Energy;
+use crate::engine::lower::Lowerer;
+use crate::system::model::{Role, RoleFn, Roles};
+use proc_macro2::TokenStream;
+use quote::ToTokens;
+
+/// Where the roles go, for messages about a missing one (it may be in another impl block).
+pub(super) const ONE_BLOCK: &str = "All the roles of a model must be in the impl block that carries \
+                         `#[hamel_system]`";
+
+pub(super) fn required<'r, 'a>(
+    roles: &'r Roles<'a>,
+    role: Role,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+    what: &str,
+    aside: &str,
+) -> Option<&'r RoleFn<'a>> {
+    let found = roles.get(role);
+    if found.is_none() {
+        let attribute = role.attribute();
+        let signature = role.expected_signature();
+        lowerer.push_error(match forgotten(roles, role) {
+            Some(f) => syn::Error::new_spanned(
+                &f.sig.ident,
+                format!(
+                    "missing role `#[{attribute}]`: no function is marked with it; if `{}` gives \
+                     {what}, put `#[{attribute}]` above it (expected signature `{signature}`)",
+                    f.sig.ident,
+                ),
+            ),
+            None => syn::Error::new_spanned(
+                at,
+                format!(
+                    "missing role `#[{attribute}]`: mark the function that gives {what}{aside}; \
+                     expected signature `{signature}`. {ONE_BLOCK}"
+                ),
+            ),
+        });
+        *ok = false;
+    }
+    found
+}
+
+/// The one unmarked function that looks as if it should have played `role` (its name is the
+/// role's, or its signature has the role's form), if there is exactly one.
+pub(super) fn forgotten<'a>(roles: &Roles<'a>, role: Role) -> Option<&'a syn::ImplItemFn> {
+    let typed = |f: &syn::ImplItemFn| {
+        f.sig
+            .inputs
+            .iter()
+            .filter(|a| matches!(a, syn::FnArg::Typed(_)))
+            .count()
+    };
+    let returns_array = |f: &syn::ImplItemFn| matches!(&f.sig.output, syn::ReturnType::Type(_, ty) if matches!(**ty, syn::Type::Array(_)));
+    let returns_f64 = |f: &syn::ImplItemFn| matches!(&f.sig.output, syn::ReturnType::Type(_, ty) if ty.to_token_stream().to_string() == "f64");
+    if let Some(f) = roles
+        .unmarked
+        .iter()
+        .find(|f| f.sig.ident == role.attribute())
+    {
+        return Some(f);
+    }
+    let fits = |f: &&&syn::ImplItemFn| match role {
+        Role::Constraints | Role::QuasiVelocities => typed(f) == 2 && returns_array(f),
+        Role::Lagrangian | Role::KineticEnergy => typed(f) == 2 && returns_f64(f),
+        _ => false,
+    };
+    let mut candidates = roles.unmarked.iter().filter(fits);
+    match (candidates.next(), candidates.next()) {
+        (Some(f), None) => Some(f),
+        _ => None,
+    }
+}
+
+/// Exactly one way of giving the energy.
+pub(super) fn energy_roles<'a>(
+    roles: &Roles<'a>,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+) -> Option<Energy<'a>> {
+    let l = roles.get(Role::Lagrangian);
+    let t = roles.get(Role::KineticEnergy);
+    let v = roles.get(Role::PotentialEnergy);
+    let lq = roles.get(Role::QuasiLagrangian);
+    let mut conflict = |second: &RoleFn<'_>, first: Role, message: &str| {
+        let holder = roles
+            .get(first)
+            .map(|rf| format!(" (`{}`)", rf.f.sig.ident))
+            .unwrap_or_default();
+        lowerer.push_error(syn::Error::new_spanned(
+            second.attr,
+            format!(
+                "ambiguous energy: this model already has a `#[{}]`{holder}; {message}",
+                first.attribute()
+            ),
+        ));
+        *ok = false;
+    };
+    let give = "give either a `#[lagrangian]` L = T − V, or a `#[kinetic_energy]` T (with an optional \
+                `#[potential_energy]` V), or a `#[quasi_lagrangian]` L̃(q, w) — exactly one of these";
+    match (l, t, v, lq) {
+        (Some(_), Some(t), _, _) => conflict(t, Role::Lagrangian, give),
+        (Some(_), None, Some(v), _) => conflict(
+            v,
+            Role::Lagrangian,
+            "a Lagrangian already contains the potential energy (L = T − V)",
+        ),
+        (_, _, _, Some(lq)) if l.is_some() || t.is_some() => conflict(
+            lq,
+            if l.is_some() {
+                Role::Lagrangian
+            } else {
+                Role::KineticEnergy
+            },
+            give,
+        ),
+        (None, None, Some(v), Some(_)) => conflict(
+            v,
+            Role::QuasiLagrangian,
+            "L̃ already contains the potential energy",
+        ),
+        (None, None, Some(v), None) => {
+            lowerer.push_error(syn::Error::new_spanned(
+                v.attr,
+                "a potential energy alone does not make a model: add the `#[kinetic_energy]` T(q, qd)",
+            ));
+            *ok = false;
+        }
+        (None, None, None, None) => {
+            let message = format!("missing role: the model needs its energy; {give}. {ONE_BLOCK}");
+            lowerer.push_error(match forgotten(roles, Role::KineticEnergy)
+                .or_else(|| forgotten(roles, Role::Lagrangian))
+            {
+                Some(f) => syn::Error::new_spanned(
+                    &f.sig.ident,
+                    format!(
+                        "missing role: no function is marked as the model's energy; if `{}` is the \
+                         kinetic energy T, put `#[kinetic_energy]` above it (`#[lagrangian]` if it \
+                         is L = T − V)",
+                        f.sig.ident
+                    ),
+                ),
+                None => syn::Error::new_spanned(at, message),
+            });
+            *ok = false;
+        }
+        _ => {}
+    }
+    if !*ok {
+        return None;
+    }
+    match (l, t, lq) {
+        (Some(l), None, None) => Some(Energy::Lagrangian(l.f)),
+        (None, Some(t), None) => Some(Energy::Split {
+            kinetic: t.f,
+            potential: v.map(|v| v.f),
+        }),
+        (None, None, Some(lq)) => Some(Energy::Quasi(lq.f)),
+        _ => None,
+    }
+}

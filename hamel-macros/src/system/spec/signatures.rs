@@ -1,0 +1,305 @@
+//! Each role's signature against what the role needs: the arguments' number, order and
+//! shapes, the result, and whether the function takes the time.
+
+use super::{count, error_at_output};
+use crate::engine::lower::geometry::GeoKind;
+use crate::engine::lower::{Arg, Lowerer, Shape};
+use crate::system::model::{Role, RoleFn, Roles, names_of, written_length};
+use quote::ToTokens;
+use std::collections::HashSet;
+use syn::ext::IdentExt;
+
+/// What each role's signature must be, for the messages about unsupported types in it (from
+/// the lengths as written, before they are checked).
+pub(super) fn record_expected_signatures(
+    roles: &Roles<'_>,
+    constraints: Option<&RoleFn<'_>>,
+    holonomic: Option<&RoleFn<'_>>,
+    n: usize,
+    m: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+) {
+    let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
+    let k_written = holonomic.map_or(Some(0), |h| written_length(&h.f.sig.output));
+    let p_total = p_written
+        .zip(k_written)
+        .map(|(p, k)| p + k)
+        .filter(|&p| p < n);
+    for (role, rf) in &roles.by_role {
+        let timed = takes_time(*role, rf.f, n, m, p_total);
+        let (args, out) = expected(*role, n, m, p_total, timed);
+        let name = rf.f.sig.ident.to_string();
+        lowerer
+            .signature_hints
+            .insert(name.clone(), render(*role, &args, out.as_ref()));
+        lowerer.expected_arguments.insert(name, args);
+    }
+}
+
+/// The signature of every role present: the functions that take the time, and the optional
+/// roles left out of the model because their signature is wrong (their error stands, and
+/// the rest of the model is still checked). A required role with a wrong signature clears
+/// `ok`.
+pub(super) fn check_signatures(
+    roles: &Roles<'_>,
+    (n, m, p): (usize, usize, Option<usize>),
+    coordinates: &[syn::Ident],
+    inputs: &[syn::Ident],
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> (HashSet<String>, Vec<Role>) {
+    let mut dropped = Vec::new();
+    let mut timed = HashSet::new();
+    for (role, rf) in &roles.by_role {
+        let takes = takes_time(*role, rf.f, n, m, p);
+        let fits = check_signature(
+            *role,
+            rf,
+            &expected(*role, n, m, p, takes),
+            lowerer,
+            (coordinates, inputs),
+            p,
+        );
+        if takes && *role != Role::Forces {
+            timed.insert(rf.f.sig.ident.to_string());
+        }
+        if !fits {
+            lowerer.mark_faulty(rf.f.sig.ident.to_string());
+            match role {
+                Role::Velocities | Role::Forces => dropped.push(*role),
+                _ => *ok = false,
+            }
+        }
+    }
+    (timed, dropped)
+}
+
+/// Whether a role function takes the time first: one argument more than the role needs,
+/// and the role may take it (`fn(&self, t: f64, q: &[f64; N], qd: &[f64; N])`). A `t` of
+/// the wrong type or in the wrong place is then reported by the signature check.
+pub(super) fn takes_time(role: Role, f: &syn::ImplItemFn, n: usize, m: usize, p: Option<usize>) -> bool {
+    if role == Role::Forces {
+        return true;
+    }
+    let typed: Vec<&syn::PatType> = f
+        .sig
+        .inputs
+        .iter()
+        .filter_map(|a| match a {
+            syn::FnArg::Typed(pt) => Some(pt),
+            syn::FnArg::Receiver(_) => None,
+        })
+        .collect();
+    // One argument too many, and one of them is the time: named `t`, or a scalar `f64`.
+    let is_time = |pt: &&syn::PatType| {
+        argument_name(&pt.pat).is_some_and(|name| name == "t")
+            || matches!(&*pt.ty, syn::Type::Path(ty) if ty.path.is_ident("f64"))
+    };
+    role.may_take_time()
+        && typed.len() == expected(role, n, m, p, false).0.len() + 1
+        && typed.iter().any(is_time)
+}
+
+/// What a role's function must take and return (`p`: the number of constraint rows, the
+/// holonomic ones' included, when known; `timed`: the function takes the time first).
+pub(super) fn expected(
+    role: Role,
+    n: usize,
+    m: usize,
+    p: Option<usize>,
+    timed: bool,
+) -> (Vec<(&'static str, Shape)>, Option<Shape>) {
+    let real_array = |len: usize| Shape::Array(len, Box::new(Shape::Real));
+    let q = ("q", real_array(n));
+    let qd = ("qd", real_array(n));
+    let w = ("w", real_array(n));
+    let (mut args, out) = match role {
+        Role::Lagrangian | Role::KineticEnergy => (vec![q, qd], Some(Shape::Real)),
+        Role::PotentialEnergy => (vec![q], Some(Shape::Real)),
+        Role::QuasiLagrangian => (vec![q, w], Some(Shape::Real)),
+        Role::Constraints => (vec![q, qd], None),
+        Role::QuasiVelocities => (vec![q, qd], p.map(|p| real_array(n - p))),
+        Role::Velocities => (vec![q, w], Some(real_array(n))),
+        Role::Holonomic | Role::Bodies | Role::Contacts => (vec![q], None),
+        Role::Gravity => (vec![], Some(Shape::Geo(GeoKind::Vector))),
+        Role::Forces => {
+            return (
+                vec![("t", Shape::Real), q, qd, ("u", real_array(m))],
+                Some(real_array(n)),
+            );
+        }
+    };
+    if timed {
+        args.insert(0, ("t", Shape::Real));
+    }
+    (args, out)
+}
+
+/// Compare a role function's signature with what its role needs (`expected`: its arguments
+/// and result; `names`: the coordinates and inputs).
+pub(super) fn check_signature(
+    role: Role,
+    rf: &RoleFn<'_>,
+    expected: &(Vec<(&str, Shape)>, Option<Shape>),
+    lowerer: &mut Lowerer<'_, '_>,
+    names: (&[syn::Ident], &[syn::Ident]),
+    p: Option<usize>,
+) -> bool {
+    let (expected, output) = (&expected.0, expected.1.as_ref());
+    let (coordinates, inputs) = names;
+    let f = rf.f;
+    let Some(sig) = lowerer.signature(f) else {
+        return false;
+    };
+    let rendered = render(role, expected, output);
+    let mut ok = true;
+    if sig.args.len() != expected.len() {
+        let why = match role {
+            Role::Holonomic => {
+                "; a holonomic constraint f(q) = 0 depends on the configuration (and, with a \
+                 leading `t: f64`, the time) only: the macro derives its velocity row"
+            }
+            Role::Forces => "",
+            _ => " (or with a leading `t: f64`)",
+        };
+        lowerer.push_error(syn::Error::new_spanned(
+            &f.sig.inputs,
+            format!(
+                "`#[{}]` takes {} besides `&self`, this function takes {}: expected \
+                 `{rendered}`{why}",
+                role.attribute(),
+                count(expected.len(), "argument"),
+                sig.args.len()
+            ),
+        ));
+        return false;
+    }
+    if let Some(e) = misplaced(role, &sig.args, expected, &rendered) {
+        lowerer.push_error(e);
+        return false;
+    }
+    for (arg, (name, shape)) in sig.args.iter().zip(expected) {
+        if arg.shape != *shape {
+            let why = match shape {
+                Shape::Array(_, _) if *name == "u" && inputs.is_empty() => {
+                    "one per input, and the model declares none (name them in \
+                     `#[hamel_system(inputs(..))]`)"
+                        .to_string()
+                }
+                Shape::Array(..) if *name == "u" => {
+                    format!("one per input ({})", names_of(inputs))
+                }
+                Shape::Array(..) => format!("one per coordinate ({})", names_of(coordinates)),
+                _ => "the time".to_string(),
+            };
+            lowerer.push_error(syn::Error::new_spanned(
+                &arg.ty,
+                format!(
+                    "argument `{}` of `#[{}]` must be {}, {why}; found {}. Expected `{rendered}`",
+                    arg.pat.to_token_stream(),
+                    role.attribute(),
+                    shape.describe(),
+                    arg.shape.describe()
+                ),
+            ));
+            ok = false;
+        }
+    }
+    if let (Some(want), Some(got)) = (output, &sig.output)
+        && want != got
+    {
+        let (attribute, want, got) = (role.attribute(), want.describe(), got.describe());
+        let message = match (role, p) {
+            (Role::QuasiVelocities, Some(p)) => format!(
+                "`#[{attribute}]` must return {want}, found {got}: with {} and {}, {} complete the \
+                 constraints to ω = A(q)·qd",
+                count(coordinates.len(), "coordinate"),
+                count(p, "constraint"),
+                count(coordinates.len() - p, "quasi-velocity"),
+            ),
+            (Role::Velocities | Role::Forces, _) => format!(
+                "`#[{attribute}]` must return {want}, one per coordinate ({}); found {got}",
+                names_of(coordinates)
+            ),
+            _ => format!("`#[{attribute}]` must return {want}, found {got}"),
+        };
+        lowerer.push_error(error_at_output(f, message));
+        ok = false;
+    }
+    ok && sig.output.is_some()
+}
+
+/// The name an argument is written with, without the leading underscores that only silence
+/// "unused" warnings: `_q` is `q`. `None` for a pattern that is not a plain name.
+pub fn argument_name(pat: &syn::Pat) -> Option<String> {
+    match pat {
+        syn::Pat::Ident(p) => Some(
+            p.ident
+                .unraw()
+                .to_string()
+                .trim_start_matches('_')
+                .to_string(),
+        ),
+        _ => None,
+    }
+}
+
+/// Arguments named as other arguments of the role (`fn(&self, qd, q)`): the names would say
+/// one thing and the positions another, so the order is an error (other names, `config`,
+/// `vel`, are the user's choice). One error for the whole list, at the first misplaced one.
+pub(super) fn misplaced(
+    role: Role,
+    args: &[Arg],
+    expected: &[(&str, Shape)],
+    rendered: &str,
+) -> Option<syn::Error> {
+    let swaps: Vec<(&Arg, &str)> = args
+        .iter()
+        .zip(expected)
+        .filter_map(|(arg, (place, _))| {
+            let name = argument_name(&arg.pat)?;
+            let other = expected.iter().any(|(e, _)| *e == name);
+            (other && name != *place).then_some((arg, *place))
+        })
+        .collect();
+    let (first, place) = swaps.first()?;
+    let rest: Vec<String> = swaps[1..]
+        .iter()
+        .map(|(arg, place)| {
+            format!(
+                " and `{}` in the place of `{place}`",
+                arg.pat.to_token_stream()
+            )
+        })
+        .collect();
+    Some(syn::Error::new_spanned(
+        &first.pat,
+        format!(
+            "argument `{}` is in the place of `{place}`{}: `#[{}]` takes `{rendered}`; put the \
+             arguments in this order",
+            first.pat.to_token_stream(),
+            rest.concat(),
+            role.attribute()
+        ),
+    ))
+}
+
+pub(super) fn render(role: Role, args: &[(&str, Shape)], output: Option<&Shape>) -> String {
+    let args: Vec<String> = args
+        .iter()
+        .map(|(n, s)| match s {
+            Shape::Real => format!("{n}: f64"),
+            other => format!("{n}: &{}", other.describe().trim_matches('`')),
+        })
+        .collect();
+    let unknown = if role == Role::Holonomic {
+        "[f64; K]"
+    } else {
+        "[f64; P]"
+    };
+    let out = output.map_or_else(
+        || unknown.to_string(),
+        |s| s.describe().trim_matches('`').to_string(),
+    );
+    format!("fn(&self, {}) -> {out}", args.join(", "))
+}
