@@ -27,10 +27,18 @@ pub enum Role {
     /// f(q) = 0 or f(t, q) = 0, holonomic constraints (optional); their time derivatives
     /// join the constraint rows
     Holonomic,
+    /// The rigid bodies as functions of q (and t): their kinetic energy, and with
+    /// `#[gravity]` their potential, are derived
+    Bodies,
+    /// The gravitational acceleration as a vector, for the bodies' potential energy
+    Gravity,
+    /// Where bodies roll without slipping: constraint rows from the velocity of the material
+    /// point at each contact, and the contacts' heights as holonomic constraints
+    Contacts,
 }
 
 impl Role {
-    pub const ALL: [Role; 9] = [
+    pub const ALL: [Role; 12] = [
         Role::Lagrangian,
         Role::KineticEnergy,
         Role::PotentialEnergy,
@@ -40,6 +48,9 @@ impl Role {
         Role::Velocities,
         Role::Forces,
         Role::Holonomic,
+        Role::Bodies,
+        Role::Gravity,
+        Role::Contacts,
     ];
 
     pub fn attribute(self) -> &'static str {
@@ -53,7 +64,23 @@ impl Role {
             Role::Velocities => "velocities",
             Role::Forces => "forces",
             Role::Holonomic => "holonomic",
+            Role::Bodies => "bodies",
+            Role::Gravity => "gravity",
+            Role::Contacts => "contacts",
         }
+    }
+
+    /// Whether the role's function is read with the velocities q̇ (where the time derivative
+    /// `rate!` has a meaning).
+    pub fn takes_velocities(self) -> bool {
+        matches!(
+            self,
+            Role::Lagrangian
+                | Role::KineticEnergy
+                | Role::Constraints
+                | Role::QuasiVelocities
+                | Role::Forces
+        )
     }
 
     /// Whether the role's function may take the time as a leading argument `t: f64` (the
@@ -90,6 +117,9 @@ impl Role {
                 "fn(&self, t: f64, q: &[f64; N], qd: &[f64; N], u: &[f64; M]) -> [f64; N]"
             }
             Role::Holonomic => "fn(&self, q: &[f64; N]) -> [f64; K]",
+            Role::Bodies => "fn(&self, q: &[f64; N]) -> [Body; B]",
+            Role::Gravity => "fn(&self) -> Vector3",
+            Role::Contacts => "fn(&self, q: &[f64; N]) -> [Contact; C]",
         }
     }
 }
@@ -354,8 +384,8 @@ pub fn written_length(output: &syn::ReturnType) -> Option<usize> {
 pub struct RoleFn<'a> {
     pub f: &'a syn::ImplItemFn,
     pub attr: &'a syn::Attribute,
-    /// `#[holonomic(determines(theta))]`: the coordinates the holonomic constraints solve
-    /// for, as written (empty for the other roles).
+    /// `#[holonomic(determines(theta))]`, `#[contacts(determines(theta))]`: the coordinates
+    /// the holonomic constraints solve for, as written (empty for the other roles).
     pub determines: Vec<syn::Ident>,
 }
 
@@ -381,7 +411,12 @@ impl<'a> Roles<'a> {
                     continue;
                 };
                 let determines = if role == Role::Holonomic {
-                    holonomic_arguments(attr, errors)
+                    holonomic_arguments(role, attr, errors)
+                } else if role == Role::Contacts {
+                    match attr.meta {
+                        syn::Meta::Path(_) => Vec::new(),
+                        _ => holonomic_arguments(role, attr, errors),
+                    }
                 } else {
                     if !matches!(attr.meta, syn::Meta::Path(_)) {
                         errors.push(syn::Error::new_spanned(
@@ -432,11 +467,24 @@ impl<'a> Roles<'a> {
     }
 }
 
-/// The coordinates named in `#[holonomic(determines(theta, phi))]` (indexed names such as
-/// `theta[2]` refer to one member of a group).
-fn holonomic_arguments(attr: &syn::Attribute, errors: &mut Vec<syn::Error>) -> Vec<syn::Ident> {
-    let how = "`#[holonomic(determines(theta))]` names the coordinates the holonomic \
-               constraints determine, one per constraint";
+/// The coordinates named in `#[holonomic(determines(theta, phi))]` or
+/// `#[contacts(determines(theta))]` (indexed names such as `theta[2]` refer to one member of
+/// a group).
+fn holonomic_arguments(
+    role: Role,
+    attr: &syn::Attribute,
+    errors: &mut Vec<syn::Error>,
+) -> Vec<syn::Ident> {
+    let how = match role {
+        Role::Contacts => {
+            "`#[contacts(determines(theta))]` names the coordinates that the contacts' heights \
+             determine, one per contact whose height varies with the coordinates"
+        }
+        _ => {
+            "`#[holonomic(determines(theta))]` names the coordinates the holonomic \
+             constraints determine, one per constraint"
+        }
+    };
     if matches!(attr.meta, syn::Meta::Path(_)) {
         errors.push(syn::Error::new_spanned(
             attr,
@@ -448,6 +496,20 @@ fn holonomic_arguments(attr: &syn::Attribute, errors: &mut Vec<syn::Error>) -> V
     let result = attr.parse_nested_meta(|meta| {
         if !meta.path.is_ident("determines") {
             return Err(meta.error(format!("unknown key: {how}")));
+        }
+        // `determines()` is no syntax error of the user's: it names nothing.
+        let empty = meta.input.fork().parse::<proc_macro2::Group>().ok().filter(|g| {
+            g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
+        });
+        if let Some(group) = empty {
+            meta.input.parse::<proc_macro2::Group>()?;
+            return Err(syn::Error::new(
+                group.span(),
+                format!("`determines()` names no coordinate: {how}"),
+            ));
+        }
+        if !meta.input.peek(syn::token::Paren) {
+            return Err(meta.error(format!("`determines` takes a list of coordinates: {how}")));
         }
         meta.parse_nested_meta(|inner| {
             let ident = inner
