@@ -65,7 +65,7 @@ pub use hamel_macros::{differentiate, hamel_system};
 // The role attributes: `#[hamel_system]` reads them, so these run only when one is misplaced,
 // to say where it belongs.
 pub use hamel_macros::{
-    constraints, forces, holonomic, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
-    quasi_velocities, velocities,
+    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
+    potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
 pub use hamel_runtime::*;

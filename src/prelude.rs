@@ -5,6 +5,8 @@ pub use crate::{
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
-    constraints, forces, holonomic, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
-    quasi_velocities, velocities,
+    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
+    potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
+// The geometry vocabulary a model's roles are written in.
+pub use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3, disk_contact};

@@ -137,3 +137,31 @@ fn guarded(expand: impl FnOnce() -> proc_macro2::TokenStream) -> proc_macro2::To
 pub fn holonomic(_attr: TokenStream, item: TokenStream) -> TokenStream {
     stray_role::expand("holonomic", item.into()).into()
 }
+
+/// Marks the rigid bodies (mass, inertia in their own axes, centre of mass and orientation as
+/// functions of q), whose kinetic energy and, with `#[gravity]`, potential energy the macro
+/// derives, in the model's impl block with `#[hamel_system]`, which reads and removes the
+/// attribute: `fn(&self, q: &[f64; N]) -> [Body; B]`. Anywhere else it is an error that says
+/// where it belongs.
+#[proc_macro_attribute]
+pub fn bodies(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("bodies", item.into()).into()
+}
+
+/// Marks the gravitational acceleration acting on the bodies of `#[bodies]`, in the model's
+/// impl block with `#[hamel_system]`, which reads and removes the attribute:
+/// `fn(&self) -> Vector3`. Anywhere else it is an error that says where it belongs.
+#[proc_macro_attribute]
+pub fn gravity(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("gravity", item.into()).into()
+}
+
+/// Marks the rolling contacts (`#[contacts]`, or `#[contacts(determines(theta))]` naming the
+/// coordinates the contacts' heights determine), from which the macro derives the constraint
+/// rows, in the model's impl block with `#[hamel_system]`, which reads and removes the
+/// attribute: `fn(&self, q: &[f64; N]) -> [Contact; C]`. Anywhere else it is an error that
+/// says where it belongs.
+#[proc_macro_attribute]
+pub fn contacts(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("contacts", item.into()).into()
+}

@@ -296,9 +296,21 @@ pub fn generate(
     let constraints = match &spec.constraint_names {
         Some(names) => plain(names),
         None => {
-            let mut rows = row_names(spec.constraints, spec.dims.nonholonomic());
+            let mut rows = spec
+                .constraints
+                .map(|f| row_names(f, spec.written_constraints()))
+                .unwrap_or_default();
+            let contacts = spec.geometry.contacts.as_ref();
+            if let Some(c) = contacts {
+                let name = c.f.sig.ident.unraw();
+                rows.extend((0..c.count).flat_map(|i| [format!("{name}[{i}].x"), format!("{name}[{i}].y")]));
+            }
             if let Some(h) = &spec.holonomic {
-                rows.extend(row_names(h.f, k));
+                rows.extend(row_names(h.f, h.dependent.len()));
+            }
+            if let Some(c) = contacts {
+                let name = c.f.sig.ident.unraw();
+                rows.extend((0..c.dependent.len()).map(|i| format!("{name}.height[{i}]")));
             }
             rows
         }
@@ -310,10 +322,7 @@ pub fn generate(
         speeds: plain(&spec.speeds),
         inputs: plain(&spec.inputs),
         constraints,
-        dependent: spec
-            .holonomic
-            .as_ref()
-            .map_or_else(Vec::new, |h| h.dependent.clone()),
+        dependent: spec.dependent(),
         conservative: eq.conservative,
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;

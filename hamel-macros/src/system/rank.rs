@@ -14,11 +14,17 @@ pub struct Row<'a> {
     pub index: usize,
     /// Whether the row is a constraint (else a quasi-velocity).
     pub constraint: bool,
+    /// For a rolling contact's row, the direction of the slip it forbids (`index` is then
+    /// the contact's).
+    pub slip: Option<&'static str>,
 }
 
 impl Row<'_> {
     fn name(&self) -> String {
-        format!("`{}[{}]`", self.f.sig.ident, self.index)
+        match self.slip {
+            Some(axis) => format!("`{}[{}]` (its slip along {axis})", self.f.sig.ident, self.index),
+            None => format!("`{}[{}]`", self.f.sig.ident, self.index),
+        }
     }
 }
 

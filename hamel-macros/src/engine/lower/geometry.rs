@@ -6,12 +6,16 @@
 //! A rotation keeps, besides its matrix, the elementary turns it was composed of while they
 //! are known (`about_x(a) * from_axis_angle(k, b)`): the body angular velocity of such a
 //! product follows from the turns' rates alone (`system::bodies` uses it), as a hand
-//! derivation would write it, instead of from Rᵀ Ṙ.
+//! derivation would write it, instead of from Rᵀ Ṙ. A vector likewise keeps how it was made
+//! from others (`c + r * l`): its velocity is then ċ + ω × (r l) + r l̇, again as a hand
+//! derivation writes it, where differentiating the entries of r l would expand every product
+//! of sines and cosines in r.
 
 use super::value::Value;
 use super::{Env, Lowerer};
 use crate::engine::graph::{Func, Graph, NodeId};
 use quote::ToTokens;
+use std::rc::Rc;
 use syn::BinOp;
 
 /// The vocabulary's types, by their names in `hamel::geometry`.
@@ -80,6 +84,37 @@ pub const VOCABULARY: &str = "`Vector3` (`new`, `zeros`, `x`, `y`, `z`, `+`, `-`
      `Contact` (`ground`, `on`) and `disk_contact`";
 
 pub type Vec3 = [NodeId; 3];
+
+/// A vector: its components, and how it was made from other vectors, where that is known.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    pub at: Vec3,
+    pub how: Option<Rc<Made>>,
+}
+
+impl Point {
+    pub fn leaf(at: Vec3) -> Point {
+        Point { at, how: None }
+    }
+
+    fn made(at: Vec3, how: Made) -> Point {
+        Point {
+            at,
+            how: Some(Rc::new(how)),
+        }
+    }
+}
+
+/// The operation a vector is the result of.
+#[derive(Debug, PartialEq)]
+pub enum Made {
+    Sum(Point, Point),
+    Difference(Point, Point),
+    Negated(Point),
+    Scaled(NodeId, Point),
+    Cross(Point, Point),
+    Rotated(Rotation, Point),
+}
 pub type Mat3 = [[NodeId; 3]; 3];
 
 /// One elementary turn of a composed rotation: by `angle` about `axis` (a unit vector), with
@@ -104,7 +139,7 @@ pub struct Body {
     pub mass: NodeId,
     /// I_xx, I_yy, I_zz, I_xy, I_yz, I_zx.
     pub inertia: [NodeId; 6],
-    pub centre: Vec3,
+    pub centre: Point,
     pub orientation: Rotation,
 }
 
@@ -120,7 +155,7 @@ pub struct Contact {
 /// A value of the vocabulary.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Geo {
-    Vector(Vec3),
+    Vector(Point),
     Rotation(Box<Rotation>),
     Inertia([NodeId; 6]),
     Body(Box<Body>),
@@ -141,7 +176,7 @@ impl Geo {
     /// Every real of the value, in the order of its fields.
     pub fn flatten_into(&self, out: &mut Vec<NodeId>) {
         match self {
-            Geo::Vector(v) => out.extend(v),
+            Geo::Vector(v) => out.extend(v.at),
             Geo::Rotation(r) => out.extend(r.matrix.iter().flatten()),
             Geo::Inertia(i) => out.extend(i),
             Geo::Body(b) => body_nodes(b, out),
@@ -161,14 +196,14 @@ impl Geo {
         let body = |s: &[NodeId]| Body {
             mass: s[0],
             inertia: [s[1], s[2], s[3], s[4], s[5], s[6]],
-            centre: vec3(&s[7..10]),
+            centre: Point::leaf(vec3(&s[7..10])),
             orientation: Rotation {
                 matrix: mat3(&s[10..19]),
                 turns: None,
             },
         };
         match kind {
-            GeoKind::Vector => Geo::Vector(vec3(nodes)),
+            GeoKind::Vector => Geo::Vector(Point::leaf(vec3(nodes))),
             GeoKind::Rotation => Geo::Rotation(Box::new(Rotation {
                 matrix: mat3(nodes),
                 turns: None,
@@ -205,7 +240,7 @@ impl Geo {
 fn body_nodes(b: &Body, out: &mut Vec<NodeId>) {
     out.push(b.mass);
     out.extend(b.inertia);
-    out.extend(b.centre);
+    out.extend(b.centre.at);
     out.extend(b.orientation.matrix.iter().flatten());
 }
 
@@ -215,7 +250,7 @@ pub fn ground(g: &mut Graph) -> Body {
     Body {
         mass: zero,
         inertia: [zero; 6],
-        centre: [zero; 3],
+        centre: Point::leaf([zero; 3]),
         orientation: identity(g),
     }
 }
@@ -372,7 +407,11 @@ pub fn disk_contact(g: &mut Graph, centre: Vec3, axle: Vec3, radius: NodeId, up:
 }
 
 fn vector(v: Vec3) -> Value {
-    Value::Geo(Geo::Vector(v))
+    Value::Geo(Geo::Vector(Point::leaf(v)))
+}
+
+fn point(p: Point) -> Value {
+    Value::Geo(Geo::Vector(p))
 }
 
 fn rotation(r: Rotation) -> Value {
@@ -443,8 +482,12 @@ impl Part {
     }
 
     fn vector(&self) -> Option<Vec3> {
+        self.point().map(|p| p.at)
+    }
+
+    fn point(&self) -> Option<Point> {
         match self {
-            Part::Geo(Geo::Vector(v)) => Some(*v),
+            Part::Geo(Geo::Vector(v)) => Some(v.clone()),
             _ => None,
         }
     }
@@ -536,6 +579,7 @@ impl Lowerer<'_, '_> {
         let g = &mut *self.graph;
         let real = |i: usize| parts.get(i).and_then(Part::real);
         let vec3 = |i: usize| parts.get(i).and_then(Part::vector);
+        let point = |i: usize| parts.get(i).and_then(Part::point);
         Some(match (owner, name) {
             (Some(GeoKind::Vector), "new") => vector([real(0)?, real(1)?, real(2)?]),
             (Some(GeoKind::Vector), "zeros") => {
@@ -578,7 +622,7 @@ impl Lowerer<'_, '_> {
                 Value::Geo(Geo::Body(Box::new(Body {
                     mass: real(0)?,
                     inertia: [zero; 6],
-                    centre: vec3(1)?,
+                    centre: point(1)?,
                     orientation,
                 })))
             }
@@ -591,7 +635,7 @@ impl Lowerer<'_, '_> {
                 Value::Geo(Geo::Body(Box::new(Body {
                     mass: real(0)?,
                     inertia: *inertia,
-                    centre: vec3(2)?,
+                    centre: point(2)?,
                     orientation: (**r).clone(),
                 })))
             }
@@ -651,15 +695,20 @@ impl Lowerer<'_, '_> {
         let g = &mut *self.graph;
         match (receiver, name.as_str(), other) {
             (value, "clone", None) => Value::Geo(value),
-            (Geo::Vector(a), "cross", Some(Value::Geo(Geo::Vector(b)))) => vector(cross(g, a, b)),
-            (Geo::Vector(a), "dot", Some(Value::Geo(Geo::Vector(b)))) => Value::Real(dot(g, a, b)),
-            (Geo::Vector(a), "norm_squared", None) => Value::Real(dot(g, a, a)),
+            (Geo::Vector(a), "cross", Some(Value::Geo(Geo::Vector(b)))) => {
+                let at = cross(g, a.at, b.at);
+                point(Point::made(at, Made::Cross(a, b)))
+            }
+            (Geo::Vector(a), "dot", Some(Value::Geo(Geo::Vector(b)))) => {
+                Value::Real(dot(g, a.at, b.at))
+            }
+            (Geo::Vector(a), "norm_squared", None) => Value::Real(dot(g, a.at, a.at)),
             (Geo::Vector(a), "norm", None) => {
-                let square = dot(g, a, a);
+                let square = dot(g, a.at, a.at);
                 Value::Real(g.unary(Func::Sqrt, square))
             }
-            (Geo::Vector(a), "normalize", None) => vector(normalize(g, a)),
-            (Geo::Vector(a), "to_array", None) => reals(&a),
+            (Geo::Vector(a), "normalize", None) => vector(normalize(g, a.at)),
+            (Geo::Vector(a), "to_array", None) => reals(&a.at),
             (Geo::Rotation(r), "transpose" | "inverse", None) => rotation(inverse(g, &r)),
             (Geo::Rotation(r), "matrix", None) => {
                 Value::Array(r.matrix.iter().map(|row| reals(row)).collect())
@@ -673,8 +722,8 @@ impl Lowerer<'_, '_> {
                 ])
             }
             (Geo::Body(b), "point", Some(Value::Geo(Geo::Vector(local)))) => {
-                let arm = apply(g, &b.orientation.matrix, local);
-                vector(add(g, b.centre, arm))
+                let arm = rotated(g, &b.orientation, &local);
+                point(sum(g, b.centre.clone(), arm))
             }
             (_, _, Some(other)) => {
                 let at = m.args.first().map(ToTokens::to_token_stream);
@@ -698,9 +747,9 @@ impl Lowerer<'_, '_> {
             syn::Member::Unnamed(i) => i.index.to_string(),
         };
         let got = match (geo, name.as_str()) {
-            (Geo::Vector(v), "x") => Value::Real(v[0]),
-            (Geo::Vector(v), "y") => Value::Real(v[1]),
-            (Geo::Vector(v), "z") => Value::Real(v[2]),
+            (Geo::Vector(v), "x") => Value::Real(v.at[0]),
+            (Geo::Vector(v), "y") => Value::Real(v.at[1]),
+            (Geo::Vector(v), "z") => Value::Real(v.at[2]),
             (Geo::Inertia(i), field) => match ["xx", "yy", "zz", "xy", "yz", "zx"]
                 .iter()
                 .position(|n| *n == field)
@@ -710,7 +759,7 @@ impl Lowerer<'_, '_> {
             },
             (Geo::Body(b), "mass") => Value::Real(b.mass),
             (Geo::Body(b), "inertia") => Value::Geo(Geo::Inertia(b.inertia)),
-            (Geo::Body(b), "centre") => vector(b.centre),
+            (Geo::Body(b), "centre") => point(b.centre.clone()),
             (Geo::Body(b), "orientation") => rotation(b.orientation.clone()),
             (Geo::Contact(c), "body") => Value::Geo(Geo::Body(Box::new(c.body.clone()))),
             (Geo::Contact(c), "point") => vector(c.point),
@@ -742,7 +791,7 @@ impl Lowerer<'_, '_> {
         match (&geo, &index) {
             (_, Value::Poison) => Value::Poison,
             (Geo::Vector(v), k) => match small(k) {
-                Some(k) => Value::Real(v[k]),
+                Some(k) => Value::Real(v.at[k]),
                 None => self.error(
                     &i.index,
                     format!(
@@ -788,16 +837,22 @@ impl Lowerer<'_, '_> {
         let g = &mut *self.graph;
         use Geo::{Rotation as Rot, Vector as V};
         let value = match (op, left, right) {
-            (BinOp::Add(_), Value::Geo(V(a)), Value::Geo(V(b))) => vector(add(g, *a, *b)),
-            (BinOp::Sub(_), Value::Geo(V(a)), Value::Geo(V(b))) => vector(sub(g, *a, *b)),
+            (BinOp::Add(_), Value::Geo(V(a)), Value::Geo(V(b))) => {
+                point(sum(g, a.clone(), b.clone()))
+            }
+            (BinOp::Sub(_), Value::Geo(V(a)), Value::Geo(V(b))) => {
+                let at = sub(g, a.at, b.at);
+                point(Point::made(at, Made::Difference(a.clone(), b.clone())))
+            }
             (BinOp::Mul(_), Value::Geo(V(a)), Value::Real(s))
-            | (BinOp::Mul(_), Value::Real(s), Value::Geo(V(a))) => vector(scale(g, *s, *a)),
+            | (BinOp::Mul(_), Value::Real(s), Value::Geo(V(a))) => {
+                let at = scale(g, *s, a.at);
+                point(Point::made(at, Made::Scaled(*s, a.clone())))
+            }
             (BinOp::Div(_), Value::Geo(V(a)), Value::Real(s)) => {
-                vector([g.div(a[0], *s), g.div(a[1], *s), g.div(a[2], *s)])
+                vector([g.div(a.at[0], *s), g.div(a.at[1], *s), g.div(a.at[2], *s)])
             }
-            (BinOp::Mul(_), Value::Geo(Rot(r)), Value::Geo(V(v))) => {
-                vector(apply(g, &r.matrix, *v))
-            }
+            (BinOp::Mul(_), Value::Geo(Rot(r)), Value::Geo(V(v))) => point(rotated(g, r, v)),
             (BinOp::Mul(_), Value::Geo(Rot(a)), Value::Geo(Rot(b))) => rotation(compose(g, a, b)),
             (_, l, r) => {
                 let hint = if matches!(l, Value::Int(_)) || matches!(r, Value::Int(_)) {
@@ -826,7 +881,8 @@ impl Lowerer<'_, '_> {
         match geo {
             Geo::Vector(v) => {
                 let g = &mut *self.graph;
-                vector([g.neg(v[0]), g.neg(v[1]), g.neg(v[2])])
+                let at = [g.neg(v.at[0]), g.neg(v.at[1]), g.neg(v.at[2])];
+                point(Point::made(at, Made::Negated(v)))
             }
             other => self.error(
                 u,
@@ -834,6 +890,18 @@ impl Lowerer<'_, '_> {
             ),
         }
     }
+}
+
+/// a + b, remembered as a sum.
+fn sum(g: &mut Graph, a: Point, b: Point) -> Point {
+    let at = add(g, a.at, b.at);
+    Point::made(at, Made::Sum(a, b))
+}
+
+/// r v, remembered as a rotated vector.
+fn rotated(g: &mut Graph, r: &Rotation, v: &Point) -> Point {
+    let at = apply(g, &r.matrix, v.at);
+    Point::made(at, Made::Rotated(r.clone(), v.clone()))
 }
 
 fn axis_index(name: &str) -> usize {

@@ -3,7 +3,7 @@
 
 use super::rows::requires_velocities;
 use super::transformation::Transformation;
-use super::{array, dot, lower, pairs, subst};
+use super::{array, bodies, dot, lower, pairs, subst};
 use crate::engine::graph::NodeId;
 use crate::engine::lower::Lowerer;
 use crate::system::generic;
@@ -54,8 +54,8 @@ pub fn lagrangian<'a>(
     requires_velocities(lowerer, f, l, v, "the Lagrangian").then_some(l)
 }
 
-/// L = T − V or L as written, at the given velocities, with the function to blame when it
-/// does not depend on them.
+/// L = T − V or L as written, at the given velocities, with the bodies' energies added,
+/// and the function to blame when it does not depend on them.
 fn written<'a>(
     lowerer: &mut Lowerer<'a, '_>,
     spec: &Spec<'a>,
@@ -63,25 +63,47 @@ fn written<'a>(
     q: &[NodeId],
     velocities: &[NodeId],
 ) -> Option<(NodeId, &'a syn::ImplItemFn)> {
-    match &spec.energy {
+    let bodies = bodies::energies(lowerer, spec, t, q, velocities)?;
+    let blame = spec.geometry.bodies.map(|(f, _)| f);
+    let (l, f) = match &spec.energy {
         Energy::Lagrangian(f) => {
             let l = *lower(lowerer, spec, f, t, vec![array(q), array(velocities)])?.first()?;
-            Some((l, f))
+            (Some(l), Some(*f))
         }
         Energy::Split { kinetic, potential } => {
-            let args = vec![array(q), array(velocities)];
-            let kinetic_value = *lower(lowerer, spec, kinetic, t, args)?.first()?;
-            let l = match potential {
-                Some(vf) => {
-                    let v = *lower(lowerer, spec, vf, t, vec![array(q)])?.first()?;
-                    lowerer.graph.sub(kinetic_value, v)
+            let kinetic_value = match kinetic {
+                Some(f) => {
+                    let args = vec![array(q), array(velocities)];
+                    Some(*lower(lowerer, spec, f, t, args)?.first()?)
                 }
-                None => kinetic_value,
+                None => None,
             };
-            Some((l, kinetic))
+            let potential_value = match potential {
+                Some(vf) => Some(*lower(lowerer, spec, vf, t, vec![array(q)])?.first()?),
+                None => None,
+            };
+            let g = &mut *lowerer.graph;
+            let l = match (kinetic_value, potential_value) {
+                (Some(k), Some(v)) => Some(g.sub(k, v)),
+                (Some(k), None) => Some(k),
+                (None, Some(v)) => Some(g.neg(v)),
+                (None, None) => None,
+            };
+            (l, *kinetic)
         }
-        Energy::Quasi(_) => None,
-    }
+        Energy::Quasi(_) => return None,
+    };
+    let g = &mut *lowerer.graph;
+    let l = match (l, bodies) {
+        (Some(l), Some((kinetic, potential))) => {
+            let with = g.add(l, kinetic);
+            g.sub(with, potential)
+        }
+        (None, Some((kinetic, potential))) => g.sub(kinetic, potential),
+        (Some(l), None) => l,
+        (None, None) => return None,
+    };
+    Some((l, f.or(blame)?))
 }
 
 /// The energy as T + V, where that is the energy q̇·∂L/∂q̇ − L: for a kinetic energy that is
@@ -99,8 +121,18 @@ pub fn split_energy<'a>(
     let Energy::Split { kinetic, potential } = &spec.energy else {
         return Some(None);
     };
-    let at_v = *lower(lowerer, spec, kinetic, t, vec![array(q), array(v)])?.first()?;
+    let bodies = bodies::energies(lowerer, spec, t, q, v)?;
+    let written = match kinetic {
+        Some(f) => Some(*lower(lowerer, spec, f, t, vec![array(q), array(v)])?.first()?),
+        None => None,
+    };
     let g = &mut *lowerer.graph;
+    let at_v = match (written, bodies) {
+        (Some(k), Some((b, _))) => g.add(k, b),
+        (Some(k), None) => k,
+        (None, Some((b, _))) => b,
+        (None, None) => return Some(None),
+    };
     let two = g.constant(2.0);
     let doubled: Vec<NodeId> = v.iter().map(|&x| g.mul(two, x)).collect();
     let at_2v = subst(g, &[at_v], &pairs(v, &doubled))[0];
@@ -116,11 +148,13 @@ pub fn split_energy<'a>(
         return Some(None);
     }
     let kinetic_value = subst(g, &[at_v], &pairs(v, qd))[0];
-    Some(Some(match potential {
-        Some(vf) => {
-            let v_value = *lower(lowerer, spec, vf, t, vec![array(q)])?.first()?;
-            lowerer.graph.add(kinetic_value, v_value)
-        }
+    let mut energy = match bodies {
+        Some((_, gravity)) => g.add(kinetic_value, gravity),
         None => kinetic_value,
-    }))
+    };
+    if let Some(vf) = potential {
+        let v_value = *lower(lowerer, spec, vf, t, vec![array(q)])?.first()?;
+        energy = lowerer.graph.add(energy, v_value);
+    }
+    Some(Some(energy))
 }

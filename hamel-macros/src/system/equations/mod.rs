@@ -26,6 +26,8 @@
 //! Directions in second derivatives (q̇, B_k, p) are fresh symbols while differentiating and
 //! are substituted afterwards: they depend on q themselves and must not be differentiated.
 
+mod bodies;
+mod contacts;
 mod gamma;
 mod hamel;
 mod inverse;
@@ -158,6 +160,24 @@ pub(super) fn lower<'a>(
         return None;
     }
     value.flatten()
+}
+
+/// Lower a role function and keep its value as it is (`None` after an error, already
+/// reported): the vocabulary's values, bodies and contacts, are read part by part.
+pub(super) fn lower_value<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    f: &'a syn::ImplItemFn,
+    t: NodeId,
+    args: Vec<Value>,
+) -> Option<Value> {
+    let mut all = Vec::with_capacity(args.len() + 1);
+    if spec.takes_time(f) {
+        all.push(Value::Real(t));
+    }
+    all.extend(args);
+    let value = lowerer.call_role(f, all);
+    (!value.is_poison()).then_some(value)
 }
 
 /// The columns of a matrix given by rows.

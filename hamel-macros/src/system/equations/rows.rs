@@ -5,7 +5,7 @@
 //! combination of those before it); the holonomic constraints must determine the coordinates
 //! they are said to.
 
-use super::{HolonomicNodes, array, lower, pairs, subst};
+use super::{HolonomicNodes, array, contacts, lower, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::Lowerer;
@@ -34,7 +34,9 @@ pub fn build<'a>(
     q: &[NodeId],
     v: &[NodeId],
 ) -> Option<Rows> {
-    let constraint_rows = lower(lowerer, spec, spec.constraints, t, vec![array(q), array(v)]);
+    let written = spec
+        .constraints
+        .map(|f| lower(lowerer, spec, f, t, vec![array(q), array(v)]));
     let quasi_rows = lower(
         lowerer,
         spec,
@@ -46,11 +48,12 @@ pub fn build<'a>(
         .holonomic
         .as_ref()
         .map(|h| lower(lowerer, spec, h.f, t, vec![array(q)]));
+    let contacts = contacts::build(lowerer, spec, t, q, v);
     // Check whichever rows lowered, so that a mistake in one function does not hide one in
     // the other; B and the equations are only built from rows that are all affine.
     let mut affine = true;
-    if let Some(rows) = &constraint_rows {
-        affine &= check_affine(lowerer, spec.constraints, rows, v, "constraint", "qd");
+    if let (Some(f), Some(Some(rows))) = (spec.constraints, &written) {
+        affine &= check_affine(lowerer, f, rows, v, "constraint", "qd");
     }
     if let Some(rows) = &quasi_rows {
         affine &= check_affine(
@@ -62,7 +65,11 @@ pub fn build<'a>(
             "qd",
         );
     }
-    let (constraint_rows, quasi_rows) = (constraint_rows?, quasi_rows?);
+    let written = match written {
+        Some(rows) => rows?,
+        None => Vec::new(),
+    };
+    let (quasi_rows, contacts) = (quasi_rows?, contacts?);
     let holonomic = match holonomic {
         Some(f) => Some(f?),
         None => None,
@@ -70,25 +77,27 @@ pub fn build<'a>(
     if !affine {
         return None;
     }
+    let mut residual = holonomic.unwrap_or_default();
+    residual.extend(&contacts.heights);
     let g = &mut *lowerer.graph;
-    let (velocity_rows, jacobian) = match &holonomic {
-        Some(f) => {
-            let (rows, jacobian) = time_derivative(g, f, t, q, v);
-            (rows, Some(jacobian))
-        }
-        None => (Vec::new(), None),
+    let (velocity_rows, jacobian) = if residual.is_empty() {
+        (Vec::new(), None)
+    } else {
+        let (rows, jacobian) = time_derivative(g, &residual, t, q, v);
+        (rows, Some(jacobian))
     };
-    let all: Vec<NodeId> = constraint_rows
+    let all: Vec<NodeId> = written
         .iter()
+        .chain(&contacts.rows)
         .chain(&velocity_rows)
         .chain(&quasi_rows)
         .copied()
         .collect();
     let (a, offset) = coefficients(g, &all, v);
-    let structure = regular(lowerer, spec, &a, constraint_rows.len())?;
-    let holonomic = match (holonomic, jacobian, &spec.holonomic) {
-        (Some(residual), Some(jacobian), Some(h)) => {
-            if !determines(lowerer, spec, &jacobian, &h.dependent) {
+    let structure = regular(lowerer, spec, &a)?;
+    let holonomic = match jacobian {
+        Some(jacobian) => {
+            if !determines(lowerer, spec, &jacobian) {
                 return None;
             }
             Some(HolonomicNodes {
@@ -96,7 +105,7 @@ pub fn build<'a>(
                 jacobian: jacobian.into_iter().flatten().collect(),
             })
         }
-        _ => None,
+        None => None,
     };
     Some(Rows {
         all,
@@ -163,7 +172,6 @@ fn regular(
     lowerer: &mut Lowerer<'_, '_>,
     spec: &Spec<'_>,
     a: &[Vec<NodeId>],
-    nonholonomic: usize,
 ) -> Option<SparseLu> {
     let structure = match SparseLu::new(lowerer.graph, a) {
         Ok(lu) => lu,
@@ -181,33 +189,52 @@ fn regular(
             return None;
         }
     };
-    let named = |f, count: usize, constraint| {
-        (0..count).map(move |index| rank::Row {
-            f,
-            index,
-            constraint,
-        })
-    };
-    let (k, free) = (spec.dims.k, spec.dims.free());
-    let mut named_rows: Vec<rank::Row<'_>> = named(spec.constraints, nonholonomic, true).collect();
-    if let Some(h) = &spec.holonomic {
-        named_rows.extend(named(h.f, k, true));
-    }
-    named_rows.extend(named(spec.quasi_velocities, free, false));
-    if !rank::check(lowerer, a, &named_rows, row_source) {
+    if !rank::check(lowerer, a, &named_rows(spec), row_source) {
         return None;
     }
     Some(structure)
 }
 
-/// The holonomic constraints must determine the coordinates they are said to: ∂f/∂q on
-/// those columns regular at generic points.
-fn determines(
-    lowerer: &mut Lowerer<'_, '_>,
-    spec: &Spec<'_>,
-    jacobian: &[Vec<NodeId>],
-    dependent: &[usize],
-) -> bool {
+/// Every row of A named as at run time, in order: the constraints', the contacts' (two
+/// each), the holonomic constraints' and the contacts' heights, the quasi-velocities'.
+fn named_rows<'a>(spec: &Spec<'a>) -> Vec<rank::Row<'a>> {
+    let named = |f, count: usize, constraint| {
+        (0..count).map(move |index| rank::Row {
+            f,
+            index,
+            constraint,
+            slip: None,
+        })
+    };
+    let mut rows: Vec<rank::Row<'a>> = Vec::new();
+    if let Some(f) = spec.constraints {
+        rows.extend(named(f, spec.written_constraints(), true));
+    }
+    let contacts = spec.geometry.contacts.as_ref();
+    if let Some(c) = contacts {
+        rows.extend((0..c.count).flat_map(|index| {
+            ["x", "y"].map(|axis| rank::Row {
+                f: c.f,
+                index,
+                constraint: true,
+                slip: Some(axis),
+            })
+        }));
+    }
+    if let Some(h) = &spec.holonomic {
+        rows.extend(named(h.f, h.dependent.len(), true));
+    }
+    if let Some(c) = contacts {
+        rows.extend(named(c.f, c.dependent.len(), true));
+    }
+    rows.extend(named(spec.quasi_velocities, spec.dims.free(), false));
+    rows
+}
+
+/// The holonomic constraints (and the contacts' heights) must determine the coordinates they
+/// are said to: ∂f/∂q on those columns regular at generic points.
+fn determines(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<NodeId>]) -> bool {
+    let dependent = spec.dependent();
     let block: Vec<Vec<NodeId>> = jacobian
         .iter()
         .map(|row| dependent.iter().map(|&j| row[j]).collect())
@@ -215,25 +242,38 @@ fn determines(
     let Some((i, _)) = rank::dependent_row(lowerer.graph, &block) else {
         return true;
     };
-    let Some(h) = &spec.holonomic else {
-        return true;
-    };
     let name = &spec.coordinates[dependent[i]];
     let all: Vec<String> = dependent
         .iter()
         .map(|&j| format!("`{}`", spec.coordinates[j]))
         .collect();
-    lowerer.push_error(syn::Error::new_spanned(
-        row_source(h.f, i),
-        format!(
-            "the holonomic constraint `{}[{i}]` does not determine `{name}`: together with the \
-             constraints before it, its derivative with respect to {} is singular at generic \
-             configurations; name, in `#[holonomic(determines(..))]`, the coordinates the \
-             constraints can be solved for",
-            h.f.sig.ident,
-            all.join(", ")
+    let written = spec.written_holonomic();
+    let error = match (&spec.holonomic, &spec.geometry.contacts) {
+        (Some(h), _) if i < written => syn::Error::new_spanned(
+            row_source(h.f, i),
+            format!(
+                "the holonomic constraint `{}[{i}]` does not determine `{name}`: together with the \
+                 constraints before it, its derivative with respect to {} is singular at generic \
+                 configurations; name, in `#[holonomic(determines(..))]`, the coordinates the \
+                 constraints can be solved for",
+                h.f.sig.ident,
+                all.join(", ")
+            ),
         ),
-    ));
+        (_, Some(c)) => syn::Error::new_spanned(
+            c.attr,
+            format!(
+                "the height of contact {} does not determine `{name}`: together with the \
+                 holonomic constraints before it, its derivative with respect to {} is singular \
+                 at generic configurations; name, in `#[contacts(determines(..))]`, the \
+                 coordinate that the contact's height fixes",
+                i - written,
+                all.join(", ")
+            ),
+        ),
+        _ => return true,
+    };
+    lowerer.push_error(error);
     false
 }
 

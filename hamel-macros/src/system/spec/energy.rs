@@ -76,91 +76,129 @@ pub(super) fn forgotten<'a>(roles: &Roles<'a>, role: Role) -> Option<&'a syn::Im
     }
 }
 
-/// Exactly one way of giving the energy.
+/// Exactly one way of giving the energy: a Lagrangian, or a kinetic energy with an optional
+/// potential one, or L̃. The rigid bodies of `#[bodies]` (and `#[gravity]`) add their
+/// energies to the first two, and are an energy of their own when the model has no other.
 pub(super) fn energy_roles<'a>(
     roles: &Roles<'a>,
     lowerer: &mut Lowerer<'_, '_>,
     at: &TokenStream,
     ok: &mut bool,
 ) -> Option<Energy<'a>> {
-    let l = roles.get(Role::Lagrangian);
-    let t = roles.get(Role::KineticEnergy);
-    let v = roles.get(Role::PotentialEnergy);
-    let lq = roles.get(Role::QuasiLagrangian);
-    let mut conflict = |second: &RoleFn<'_>, first: Role, message: &str| {
+    let (l, t, v, lq) = (
+        roles.get(Role::Lagrangian),
+        roles.get(Role::KineticEnergy),
+        roles.get(Role::PotentialEnergy),
+        roles.get(Role::QuasiLagrangian),
+    );
+    let bodies = roles.get(Role::Bodies);
+    if let Some(e) = energy_conflict(roles) {
+        lowerer.push_error(e);
+        *ok = false;
+    } else if l.is_none() && t.is_none() && lq.is_none() && bodies.is_none() {
+        lowerer.push_error(missing_energy(roles, v, at));
+        *ok = false;
+    }
+    if let (Some(g), None) = (roles.get(Role::Gravity), bodies) {
+        lowerer.push_error(syn::Error::new_spanned(
+            g.attr,
+            "`#[gravity]` acts on the rigid bodies of a `#[bodies]` role, and this model has \
+             none: state the bodies with `#[bodies]`, or write gravity's potential in a \
+             `#[potential_energy]`",
+        ));
+        *ok = false;
+    }
+    if !*ok {
+        return None;
+    }
+    match (l, lq) {
+        (Some(l), None) => Some(Energy::Lagrangian(l.f)),
+        (None, Some(lq)) => Some(Energy::Quasi(lq.f)),
+        _ => Some(Energy::Split {
+            kinetic: t.map(|t| t.f),
+            potential: v.map(|v| v.f),
+        }),
+    }
+}
+
+/// Two ways of giving the energy at once: the error, at the second.
+fn energy_conflict(roles: &Roles<'_>) -> Option<syn::Error> {
+    let (l, t, v, lq) = (
+        roles.get(Role::Lagrangian),
+        roles.get(Role::KineticEnergy),
+        roles.get(Role::PotentialEnergy),
+        roles.get(Role::QuasiLagrangian),
+    );
+    let conflict = |second: &RoleFn<'_>, first: Role, message: &str| {
         let holder = roles
             .get(first)
             .map(|rf| format!(" (`{}`)", rf.f.sig.ident))
             .unwrap_or_default();
-        lowerer.push_error(syn::Error::new_spanned(
+        Some(syn::Error::new_spanned(
             second.attr,
             format!(
                 "ambiguous energy: this model already has a `#[{}]`{holder}; {message}",
                 first.attribute()
             ),
-        ));
-        *ok = false;
+        ))
     };
-    let give = "give either a `#[lagrangian]` L = T − V, or a `#[kinetic_energy]` T (with an optional \
-                `#[potential_energy]` V), or a `#[quasi_lagrangian]` L̃(q, w) — exactly one of these";
-    match (l, t, v, lq) {
-        (Some(_), Some(t), _, _) => conflict(t, Role::Lagrangian, give),
-        (Some(_), None, Some(v), _) => conflict(
+    match (l, t, v, lq, roles.get(Role::Bodies)) {
+        (Some(_), Some(t), _, _, _) => conflict(t, Role::Lagrangian, GIVE),
+        (Some(_), None, Some(v), _, _) => conflict(
             v,
             Role::Lagrangian,
             "a Lagrangian already contains the potential energy (L = T − V)",
         ),
-        (_, _, _, Some(lq)) if l.is_some() || t.is_some() => conflict(
+        (_, _, _, Some(lq), _) if l.is_some() || t.is_some() => conflict(
             lq,
             if l.is_some() {
                 Role::Lagrangian
             } else {
                 Role::KineticEnergy
             },
-            give,
+            GIVE,
         ),
-        (None, None, Some(v), Some(_)) => conflict(
+        (None, None, Some(v), Some(_), _) => conflict(
             v,
             Role::QuasiLagrangian,
             "L̃ already contains the potential energy",
         ),
-        (None, None, Some(v), None) => {
-            lowerer.push_error(syn::Error::new_spanned(
-                v.attr,
-                "a potential energy alone does not make a model: add the `#[kinetic_energy]` T(q, qd)",
-            ));
-            *ok = false;
-        }
-        (None, None, None, None) => {
-            let message = format!("missing role: the model needs its energy; {give}. {ONE_BLOCK}");
-            lowerer.push_error(match forgotten(roles, Role::KineticEnergy)
-                .or_else(|| forgotten(roles, Role::Lagrangian))
-            {
-                Some(f) => syn::Error::new_spanned(
-                    &f.sig.ident,
-                    format!(
-                        "missing role: no function is marked as the model's energy; if `{}` is the \
-                         kinetic energy T, put `#[kinetic_energy]` above it (`#[lagrangian]` if it \
-                         is L = T − V)",
-                        f.sig.ident
-                    ),
-                ),
-                None => syn::Error::new_spanned(at, message),
-            });
-            *ok = false;
-        }
-        _ => {}
-    }
-    if !*ok {
-        return None;
-    }
-    match (l, t, lq) {
-        (Some(l), None, None) => Some(Energy::Lagrangian(l.f)),
-        (None, Some(t), None) => Some(Energy::Split {
-            kinetic: t.f,
-            potential: v.map(|v| v.f),
-        }),
-        (None, None, Some(lq)) => Some(Energy::Quasi(lq.f)),
+        (_, _, _, Some(_), Some(b)) => conflict(
+            b,
+            Role::QuasiLagrangian,
+            "L̃(q, w) is the whole Lagrangian, which the bodies' energies cannot be added to: \
+             state the bodies with `#[bodies]` and the rest of the energy in \
+             `#[kinetic_energy]` and `#[potential_energy]`, or give L̃ alone",
+        ),
         _ => None,
+    }
+}
+
+const GIVE: &str = "give either a `#[lagrangian]` L = T − V, or a `#[kinetic_energy]` T (with an \
+                    optional `#[potential_energy]` V), or a `#[quasi_lagrangian]` L̃(q, w) — \
+                    exactly one of these";
+
+/// No energy at all (`v`: a potential energy without the kinetic one).
+fn missing_energy(roles: &Roles<'_>, v: Option<&RoleFn<'_>>, at: &TokenStream) -> syn::Error {
+    if let Some(v) = v {
+        return syn::Error::new_spanned(
+            v.attr,
+            "a potential energy alone does not make a model: add the `#[kinetic_energy]` T(q, qd)",
+        );
+    }
+    match forgotten(roles, Role::KineticEnergy).or_else(|| forgotten(roles, Role::Lagrangian)) {
+        Some(f) => syn::Error::new_spanned(
+            &f.sig.ident,
+            format!(
+                "missing role: no function is marked as the model's energy; if `{}` is the \
+                 kinetic energy T, put `#[kinetic_energy]` above it (`#[lagrangian]` if it is L \
+                 = T − V)",
+                f.sig.ident
+            ),
+        ),
+        None => syn::Error::new_spanned(
+            at,
+            format!("missing role: the model needs its energy; {GIVE}. {ONE_BLOCK}"),
+        ),
     }
 }

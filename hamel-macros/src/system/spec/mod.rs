@@ -14,7 +14,8 @@ mod signatures;
 
 pub use signatures::argument_name;
 
-use super::model::{Group, Names, Role, Roles};
+use super::model::{Group, Names, Role, RoleFn, Roles};
+use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::Lowerer;
 use energy::{energy_roles, required};
 use names::{
@@ -22,7 +23,7 @@ use names::{
     coordinate_names, speed_names,
 };
 use proc_macro2::TokenStream;
-use rows::{constraint_count, dependent_coordinates, holonomic_count};
+use rows::{constraint_count, dependent_coordinates, geometry_count, holonomic_count};
 use signatures::{check_signatures, record_expected_signatures};
 use std::collections::HashSet;
 
@@ -61,13 +62,30 @@ pub struct Holonomic<'a> {
 pub enum Energy<'a> {
     /// L(q, q̇)
     Lagrangian(&'a syn::ImplItemFn),
-    /// T(q, q̇) and optionally V(q)
+    /// T(q, q̇) and optionally V(q); without T, the bodies' kinetic energy is the model's
     Split {
-        kinetic: &'a syn::ImplItemFn,
+        kinetic: Option<&'a syn::ImplItemFn>,
         potential: Option<&'a syn::ImplItemFn>,
     },
     /// L̃(q, ω)
     Quasi(&'a syn::ImplItemFn),
+}
+
+/// The roles of a model stated from geometry.
+pub struct Geometry<'a> {
+    /// `#[bodies]`, returning this many bodies.
+    pub bodies: Option<(&'a syn::ImplItemFn, usize)>,
+    pub gravity: Option<&'a syn::ImplItemFn>,
+    pub contacts: Option<Contacts<'a>>,
+}
+
+/// `#[contacts]`: how many, and the coordinates their heights determine (one per contact
+/// whose height varies with the coordinates, in order).
+pub struct Contacts<'a> {
+    pub f: &'a syn::ImplItemFn,
+    pub attr: &'a syn::Attribute,
+    pub count: usize,
+    pub dependent: Vec<usize>,
 }
 
 pub struct Spec<'a> {
@@ -81,11 +99,14 @@ pub struct Spec<'a> {
     /// The indexed groups of names (coordinates, speeds, inputs, constraints).
     pub groups: [Vec<Group>; 4],
     pub energy: Energy<'a>,
-    pub constraints: &'a syn::ImplItemFn,
+    /// `#[constraints]`, which a model whose constraints are all rolling contacts can do
+    /// without.
+    pub constraints: Option<&'a syn::ImplItemFn>,
     pub quasi_velocities: &'a syn::ImplItemFn,
     pub velocities: Option<&'a syn::ImplItemFn>,
     pub forces: Option<&'a syn::ImplItemFn>,
     pub holonomic: Option<Holonomic<'a>>,
+    pub geometry: Geometry<'a>,
     /// The role functions that take the time as a leading argument (by name).
     timed: HashSet<String>,
 }
@@ -95,6 +116,40 @@ impl Spec<'_> {
     pub fn takes_time(&self, f: &syn::ImplItemFn) -> bool {
         self.timed.contains(&f.sig.ident.to_string())
     }
+
+    /// The rows of `#[constraints]`.
+    pub fn written_constraints(&self) -> usize {
+        self.dims.nonholonomic() - 2 * self.contact_count()
+    }
+
+    pub fn contact_count(&self) -> usize {
+        self.geometry.contacts.as_ref().map_or(0, |c| c.count)
+    }
+
+    /// The coordinates the holonomic constraints determine, in the order of their rows: those
+    /// of `#[holonomic]`, then those of the contacts' heights.
+    pub fn dependent(&self) -> Vec<usize> {
+        let holonomic = self.holonomic.iter().flat_map(|h| h.dependent.iter());
+        let contacts = self.geometry.contacts.iter().flat_map(|c| c.dependent.iter());
+        holonomic.chain(contacts).copied().collect()
+    }
+
+    /// The holonomic constraints of `#[holonomic]` (the contacts' heights follow them).
+    pub fn written_holonomic(&self) -> usize {
+        self.holonomic.as_ref().map_or(0, |h| h.dependent.len())
+    }
+}
+
+/// What the role functions' signatures say the model's shape is, once checked.
+struct Shape<'r, 'a> {
+    constraints: Option<&'r RoleFn<'a>>,
+    holonomic: Option<&'r RoleFn<'a>>,
+    contacts: Option<(&'r RoleFn<'a>, usize)>,
+    bodies: Option<(&'a syn::ImplItemFn, usize)>,
+    /// Holonomic constraints: `#[holonomic]`'s and the contacts' heights.
+    k: usize,
+    /// All constraint rows, when they can be counted.
+    p: Option<usize>,
 }
 
 /// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
@@ -109,7 +164,6 @@ pub fn check<'a>(
     at: &TokenStream,
 ) -> Option<Spec<'a>> {
     let mut ok = true;
-
     let coordinates = coordinate_names(
         names.coordinates.clone(),
         names.garbled,
@@ -117,19 +171,21 @@ pub fn check<'a>(
         at,
         &mut ok,
     );
-    let n = coordinates.len();
-    let m = names.inputs.len();
-
+    let (n, m) = (coordinates.len(), names.inputs.len());
     let energy = energy_roles(roles, lowerer, at, &mut ok);
-    let constraints = required(
-        roles,
-        Role::Constraints,
-        lowerer,
-        at,
-        &mut ok,
-        "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
-        " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
-    );
+    // Rolling contacts are constraints: with them, `#[constraints]` is optional.
+    let constraints = match roles.get(Role::Contacts) {
+        Some(_) => roles.get(Role::Constraints),
+        None => required(
+            roles,
+            Role::Constraints,
+            lowerer,
+            at,
+            &mut ok,
+            "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
+            " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
+        ),
+    };
     let quasi_velocities = required(
         roles,
         Role::QuasiVelocities,
@@ -140,72 +196,160 @@ pub fn check<'a>(
          transformation ω = A(q)·qd",
         "",
     );
-
     if n == 0 {
         return None;
     }
-    let holonomic = roles.get(Role::Holonomic);
-    record_expected_signatures(roles, constraints, holonomic, n, m, lowerer);
-    let k = holonomic_count(holonomic, lowerer, &mut ok);
-    let p = constraint_count(constraints, k, &coordinates, lowerer, &mut ok).map(|p| p + k);
+    let written_speeds = names.speeds.as_ref().map_or(&[][..], |(_, l)| &l[..]);
+    let shape = model_shape(roles, &coordinates, m, lowerer, &mut ok);
     let (timed, dropped) = check_signatures(
         roles,
-        (n, m, p),
+        (n, m, shape.p),
         &coordinates,
         &names.inputs,
         lowerer,
         &mut ok,
     );
-    let dependent = holonomic.and_then(|h| dependent_coordinates(h, k, &coordinates, lowerer));
-    if holonomic.is_some() && dependent.is_none() {
-        ok = false;
-    }
-
-    let speeds = speed_names(names.speeds.clone(), names.garbled, n, p, lowerer);
-    // (A failed `#[holonomic]` leaves k unknown: the rows cannot be counted.)
-    let rows = p.filter(|_| holonomic.is_none() || k > 0).map(|p| Rows {
-        constraints: constraints.map(|c| c.f),
-        nonholonomic: p - k,
-        holonomic: holonomic.map(|h| h.f),
-        k,
-    });
-    let constraint_names = constraint_names(&names, rows, lowerer);
-    let lists = [
-        &coordinates[..],
-        &speeds,
-        &names.inputs,
-        constraint_names.as_deref().unwrap_or_default(),
-    ];
-    check_names(lists, lowerer, &mut ok);
-    check_group_names(&names.groups, lists, lowerer);
-    check_inputs_are_read(&names, roles, n, lowerer);
-
+    let holonomic = dependent(roles, &shape, (&coordinates, written_speeds), lowerer, &mut ok);
+    let speeds = speed_names(names.speeds.clone(), names.garbled, n, shape.p, lowerer);
+    let constraint_names = check_all_names(&names, &shape, (&coordinates, &speeds), roles, lowerer, &mut ok);
     if !ok {
         return None;
     }
+    let (holonomic, contacts) = holonomic?;
+    let optional = |role: Role| {
+        roles
+            .get(role)
+            .filter(|_| !dropped.contains(&role))
+            .map(|r| r.f)
+    };
     Some(Spec {
-        dims: Dims { n, p: p?, m, k },
+        dims: Dims { n, p: shape.p?, m, k: shape.k },
         coordinates,
         speeds,
         inputs: names.inputs,
         constraint_names,
         groups: names.groups,
         energy: energy?,
-        constraints: constraints?.f,
+        constraints: constraints.map(|c| c.f),
         quasi_velocities: quasi_velocities?.f,
-        velocities: roles
-            .get(Role::Velocities)
-            .filter(|_| !dropped.contains(&Role::Velocities))
-            .map(|r| r.f),
-        forces: roles
-            .get(Role::Forces)
-            .filter(|_| !dropped.contains(&Role::Forces))
-            .map(|r| r.f),
-        holonomic: holonomic
-            .zip(dependent)
-            .map(|(h, dependent)| Holonomic { f: h.f, dependent }),
+        velocities: optional(Role::Velocities),
+        forces: optional(Role::Forces),
+        holonomic,
+        geometry: Geometry {
+            bodies: shape.bodies,
+            gravity: roles.get(Role::Gravity).map(|g| g.f),
+            contacts,
+        },
         timed,
     })
+}
+
+/// The counts the signatures give: holonomic constraints, contacts, bodies and with them
+/// every constraint row.
+fn model_shape<'r, 'a>(
+    roles: &'r Roles<'a>,
+    coordinates: &[syn::Ident],
+    m: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Shape<'r, 'a> {
+    let n = coordinates.len();
+    let constraints = roles.get(Role::Constraints);
+    let holonomic = roles.get(Role::Holonomic);
+    let contacts_role = roles.get(Role::Contacts);
+    record_expected_signatures(roles, n, m, lowerer);
+    let heights = contacts_role.map_or(0, |c| c.determines.len());
+    let k = holonomic_count(holonomic, lowerer, ok) + heights;
+    let contacts = geometry_count(contacts_role, GeoKind::Contact, lowerer, ok);
+    let bodies = geometry_count(roles.get(Role::Bodies), GeoKind::Body, lowerer, ok);
+    let contacts = contacts_role.zip(contacts);
+    let p = match contacts_role {
+        // A failed `#[contacts]` leaves the rows uncounted.
+        Some(_) if contacts.is_none() => None,
+        _ => constraint_count(constraints, contacts, k, coordinates, lowerer, ok).map(|p| p + k),
+    };
+    Shape {
+        constraints,
+        holonomic,
+        contacts,
+        bodies: roles.get(Role::Bodies).zip(bodies).map(|(b, count)| (b.f, count)),
+        k,
+        p,
+    }
+}
+
+/// The coordinates the holonomic constraints and the contacts' heights determine: the
+/// holonomic role and the contacts, or `None` after a mistake (reported).
+#[allow(clippy::type_complexity)]
+fn dependent<'a>(
+    roles: &Roles<'a>,
+    shape: &Shape<'_, 'a>,
+    names: (&[syn::Ident], &[syn::Ident]),
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<(Option<Holonomic<'a>>, Option<Contacts<'a>>)> {
+    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    let holonomic = match shape.holonomic {
+        Some(h) => {
+            let k = shape.k - heights;
+            let Some(dependent) = dependent_coordinates(h, Some(k), names, &[], lowerer) else {
+                *ok = false;
+                return None;
+            };
+            Some(Holonomic { f: h.f, dependent })
+        }
+        None => None,
+    };
+    let taken = holonomic.as_ref().map_or(&[][..], |h| &h.dependent[..]);
+    let contacts = match shape.contacts {
+        Some((c, count)) => {
+            let Some(dependent) = dependent_coordinates(c, None, names, taken, lowerer) else {
+                *ok = false;
+                return None;
+            };
+            Some(Contacts {
+                f: c.f,
+                attr: c.attr,
+                count,
+                dependent,
+            })
+        }
+        None => None,
+    };
+    Some((holonomic, contacts))
+}
+
+/// The constraint rows' names, and every list of names checked for clashes and reserved
+/// words.
+fn check_all_names(
+    names: &Names,
+    shape: &Shape<'_, '_>,
+    (coordinates, speeds): (&[syn::Ident], &[syn::Ident]),
+    roles: &Roles<'_>,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<Vec<syn::Ident>> {
+    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    // (A failed `#[holonomic]` leaves its k unknown: the rows cannot be counted.)
+    let failed = shape.holonomic.is_some() && shape.k == heights;
+    let rows = shape.p.filter(|_| !failed).map(|p| Rows {
+        constraints: shape.constraints.map(|c| c.f),
+        contacts: shape.contacts.map(|(c, count)| (c.f, count, heights)),
+        nonholonomic: p - shape.k,
+        holonomic: shape.holonomic.map(|h| h.f),
+        k: shape.k - heights,
+    });
+    let constraint_names = constraint_names(names, rows, lowerer);
+    let lists = [
+        coordinates,
+        speeds,
+        &names.inputs,
+        constraint_names.as_deref().unwrap_or_default(),
+    ];
+    check_names(lists, lowerer, ok);
+    check_group_names(&names.groups, lists, lowerer);
+    check_inputs_are_read(names, roles, coordinates.len(), lowerer);
+    constraint_names
 }
 
 /// "1 constraint", "2 constraints".

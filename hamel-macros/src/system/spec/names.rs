@@ -72,8 +72,12 @@ pub(super) fn speed_names(
 /// The constraint rows of a model, for the message about naming them.
 pub(super) struct Rows<'a> {
     pub(super) constraints: Option<&'a syn::ImplItemFn>,
+    /// The rolling contacts: their function, how many, and how many heights are holonomic.
+    pub(super) contacts: Option<(&'a syn::ImplItemFn, usize, usize)>,
+    /// Every nonholonomic row: the constraints' and two per contact.
     pub(super) nonholonomic: usize,
     pub(super) holonomic: Option<&'a syn::ImplItemFn>,
+    /// The rows of `#[holonomic]`.
     pub(super) k: usize,
 }
 
@@ -89,9 +93,20 @@ pub(super) fn constraint_names(
     let Some(rows) = rows else {
         return Some(list);
     };
-    let p = rows.nonholonomic + rows.k;
+    let heights = rows.contacts.map_or(0, |(_, _, h)| h);
+    let p = rows.nonholonomic + rows.k + heights;
     // A list that could not be read is reported already, and its length means nothing.
-    if list.len() != p && !names.garbled {
+    if list.len() != p && !names.garbled && rows.contacts.is_some() {
+        lowerer.push_error(syn::Error::new(
+            span,
+            format!(
+                "{} for {}: {}; name one per row, in this order",
+                count(list.len(), "constraint name"),
+                count(p, "constraint row"),
+                row_sources(&rows)
+            ),
+        ));
+    } else if list.len() != p && !names.garbled {
         let rows_of = |f: Option<&syn::ImplItemFn>, role: Role, rows: usize| {
             let what = count(rows, "row");
             match f {
@@ -125,6 +140,34 @@ pub(super) fn constraint_names(
         ));
     }
     Some(list)
+}
+
+/// Where the constraint rows of a model with rolling contacts come from, in their order.
+fn row_sources(rows: &Rows<'_>) -> String {
+    let mut parts = Vec::new();
+    let contact_rows = rows.contacts.map_or(0, |(_, c, _)| 2 * c);
+    if let Some(f) = rows.constraints {
+        let written = count(rows.nonholonomic - contact_rows, "row");
+        parts.push(format!("`{}` (`#[constraints]`) returns {written}", f.sig.ident));
+    }
+    if let Some((f, c, _)) = rows.contacts {
+        parts.push(format!(
+            "`{}` (`#[contacts]`) gives {} (two per contact: the slip along x and y)",
+            f.sig.ident,
+            count(2 * c, "row")
+        ));
+    }
+    if let Some(h) = rows.holonomic {
+        parts.push(format!("`{}` (`#[holonomic]`) returns {}", h.sig.ident, count(rows.k, "row")));
+    }
+    if let Some((f, _, h)) = rows.contacts.filter(|(_, _, h)| *h > 0) {
+        parts.push(format!(
+            "then {} of `{}`, one per coordinate in `determines(..)`",
+            count(h, "height"),
+            f.sig.ident
+        ));
+    }
+    parts.join(", ")
 }
 
 /// The coordinates' names; an error when there are none (unless the list could not be read,

@@ -2,6 +2,7 @@
 //! ones', and the coordinates the holonomic constraints determine.
 
 use super::{count, error_at_output, fail};
+use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::{Lowerer, Shape};
 use crate::system::model::{RoleFn, names_of};
 use syn::ext::IdentExt;
@@ -48,44 +49,56 @@ pub(super) fn holonomic_count(
     }
 }
 
-/// The coordinates named in `#[holonomic(determines(..))]`, as indices: one per constraint,
-/// each a coordinate, no two the same.
+/// The coordinates named in `#[holonomic(determines(..))]` or
+/// `#[contacts(determines(..))]`, as indices: each a coordinate, none named twice nor
+/// already determined (`taken`, by the holonomic constraints). `k`: how many the role
+/// needs (one per holonomic constraint), `None` for the contacts (one per contact whose
+/// height varies, known once the bodies are lowered). `None` after a mistake (reported)
+/// or when a holonomic role names none.
 pub(super) fn dependent_coordinates(
     h: &RoleFn<'_>,
-    k: usize,
-    coordinates: &[syn::Ident],
+    k: Option<usize>,
+    (coordinates, speeds): (&[syn::Ident], &[syn::Ident]),
+    taken: &[usize],
     lowerer: &mut Lowerer<'_, '_>,
 ) -> Option<Vec<usize>> {
     let known: Vec<String> = coordinates.iter().map(|c| c.unraw().to_string()).collect();
+    let what = if k.is_some() {
+        "each holonomic constraint determines its own coordinate"
+    } else {
+        "each contact's height determines its own coordinate"
+    };
     let mut indices = Vec::new();
     let mut good = true;
     for name in &h.determines {
         let plain = name.unraw().to_string();
-        match known.iter().position(|c| *c == plain) {
-            Some(i) if indices.contains(&i) => {
-                lowerer.push_error(syn::Error::new(
-                    name.span(),
-                    format!("`{name}` is named twice: each holonomic constraint determines its own coordinate"),
-                ));
-                good = false;
+        let message = match known.iter().position(|c| *c == plain) {
+            Some(i) if indices.contains(&i) || taken.contains(&i) => {
+                format!("`{name}` is named twice: {what}")
             }
-            Some(i) => indices.push(i),
+            Some(i) => {
+                indices.push(i);
+                continue;
+            }
+            None if speeds.iter().any(|s| s.unraw() == plain) => format!(
+                "`{name}` is a speed (a quasi-velocity), not a coordinate: a holonomic \
+                 constraint f(q) = 0 determines one of the coordinates ({})",
+                names_of(coordinates)
+            ),
             None => {
                 let hint = crate::engine::lower::closest(&plain, &known)
                     .map(|g| format!("; did you mean `{g}`?"))
                     .unwrap_or_default();
-                lowerer.push_error(syn::Error::new(
-                    name.span(),
-                    format!(
-                        "`{name}` is not a coordinate{hint} (the coordinates are {})",
-                        names_of(coordinates)
-                    ),
-                ));
-                good = false;
+                format!(
+                    "`{name}` is not a coordinate{hint} (the coordinates are {})",
+                    names_of(coordinates)
+                )
             }
-        }
+        };
+        lowerer.push_error(syn::Error::new(name.span(), message));
+        good = false;
     }
-    if good && !h.determines.is_empty() && indices.len() != k && k > 0 {
+    if let Some(k) = k.filter(|&k| good && !h.determines.is_empty() && indices.len() != k && k > 0) {
         lowerer.push_error(syn::Error::new_spanned(
             h.attr,
             format!(
@@ -98,32 +111,73 @@ pub(super) fn dependent_coordinates(
         ));
         good = false;
     }
-    (good && !h.determines.is_empty()).then_some(indices)
+    let named = !h.determines.is_empty() || k.is_none();
+    (good && named).then_some(indices)
 }
 
-/// The number of nonholonomic constraints, from the constraints' result type: at least one,
-/// and with the k holonomic ones fewer than the coordinates.
+/// The number of nonholonomic constraint rows: those of `#[constraints]` (from its result
+/// type; at least one when the role is there) and two per rolling contact. With the k
+/// holonomic ones they must be fewer than the coordinates. `None` when they cannot be
+/// counted (the mistake is reported).
 pub(super) fn constraint_count(
     constraints: Option<&RoleFn<'_>>,
+    contacts: Option<(&RoleFn<'_>, usize)>,
     k: usize,
     coordinates: &[syn::Ident],
     lowerer: &mut Lowerer<'_, '_>,
     ok: &mut bool,
 ) -> Option<usize> {
     let n = coordinates.len();
-    let p = constraints.and_then(|c| {
-        let sig = lowerer.signature(c.f)?;
-        match sig.output {
-            Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
-            Some(_) => {
-                fail(lowerer, ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
-                None
-            }
-            None => None,
-        }
-    });
-    if let (Some(p), Some(c)) = (p, constraints) {
-        if p == 0 {
+    let written = match constraints {
+        Some(c) => Some(constraint_rows(c, lowerer, ok)?),
+        None => None,
+    };
+    let rolling = contacts.map_or(0, |(_, c)| 2 * c);
+    let p = written.unwrap_or(0) + rolling;
+    let blame = match (constraints, contacts) {
+        (Some(c), _) => c.f,
+        (None, Some((c, _))) => c.f,
+        (None, None) => return None,
+    };
+    if p + k >= n {
+        let holonomic = if k > 0 {
+            format!(" and {}", count(k, "holonomic constraint"))
+        } else {
+            String::new()
+        };
+        let rows = match (written, contacts) {
+            (Some(w), Some((_, c))) => format!(
+                "{} and {} ({})",
+                count(w, "constraint"),
+                count(c, "rolling contact"),
+                count(rolling, "row")
+            ),
+            (None, Some((_, c))) => format!("{} ({})", count(c, "rolling contact"), count(rolling, "row")),
+            _ => count(p, "constraint"),
+        };
+        fail(
+            lowerer,
+            ok,
+            error_at_output(
+                blame,
+                format!(
+                    "{rows}{holonomic} on {} leave no motion: there must be fewer constraints \
+                     than coordinates ({})",
+                    count(n, "coordinate"),
+                    names_of(coordinates)
+                ),
+            ),
+        );
+        return None;
+    }
+    Some(p)
+}
+
+/// The rows of `#[constraints]`, from its result type `[f64; P]`, P ≥ 1.
+fn constraint_rows(c: &RoleFn<'_>, lowerer: &mut Lowerer<'_, '_>, ok: &mut bool) -> Option<usize> {
+    let sig = lowerer.signature(c.f)?;
+    match sig.output {
+        Some(Shape::Array(0, inner)) if *inner == Shape::Real => {
             fail(
                 lowerer,
                 ok,
@@ -132,27 +186,67 @@ pub(super) fn constraint_count(
                     "`#[constraints]` returns no constraint: a model needs at least one",
                 ),
             );
-        } else if p + k >= n {
-            let holonomic = if k > 0 {
-                format!(" and {}", count(k, "holonomic constraint"))
-            } else {
-                String::new()
-            };
+            None
+        }
+        Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
+        Some(_) => {
+            fail(lowerer, ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
+            None
+        }
+        None => None,
+    }
+}
+
+/// How many values of the vocabulary type `kind` a role returns, `[Body; B]`, at least
+/// one; 0 without the role, `None` after a mistake (reported).
+pub(super) fn geometry_count(
+    rf: Option<&RoleFn<'_>>,
+    kind: GeoKind,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<usize> {
+    let Some(rf) = rf else {
+        return Some(0);
+    };
+    let attribute = rf_attribute(rf);
+    let name = kind.name();
+    let output = lowerer.signature(rf.f)?.output?;
+    match output {
+        Shape::Array(len, inner) if *inner == Shape::Geo(kind) && len > 0 => Some(len),
+        Shape::Array(0, inner) if *inner == Shape::Geo(kind) => {
             fail(
                 lowerer,
                 ok,
                 error_at_output(
-                    c.f,
+                    rf.f,
+                    format!("`#[{attribute}]` returns no `{name}`: return at least one, or remove the role"),
+                ),
+            );
+            None
+        }
+        other => {
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    rf.f,
                     format!(
-                        "{}{holonomic} on {} leave no motion: there must be fewer constraints \
-                         than coordinates ({})",
-                        count(p, "constraint"),
-                        count(n, "coordinate"),
-                        names_of(coordinates)
+                        "`#[{attribute}]` must return an array `[{name}; {}]`, found {}",
+                        if kind == GeoKind::Body { "B" } else { "C" },
+                        other.describe()
                     ),
                 ),
             );
+            None
         }
     }
-    p.filter(|&p| p > 0 && p + k < n)
+}
+
+fn rf_attribute(rf: &RoleFn<'_>) -> String {
+    rf.attr
+        .path()
+        .segments
+        .last()
+        .map(|s| s.ident.to_string())
+        .unwrap_or_default()
 }

@@ -13,18 +13,11 @@ use syn::ext::IdentExt;
 /// the lengths as written, before they are checked).
 pub(super) fn record_expected_signatures(
     roles: &Roles<'_>,
-    constraints: Option<&RoleFn<'_>>,
-    holonomic: Option<&RoleFn<'_>>,
     n: usize,
     m: usize,
     lowerer: &mut Lowerer<'_, '_>,
 ) {
-    let p_written = constraints.and_then(|c| written_length(&c.f.sig.output));
-    let k_written = holonomic.map_or(Some(0), |h| written_length(&h.f.sig.output));
-    let p_total = p_written
-        .zip(k_written)
-        .map(|(p, k)| p + k)
-        .filter(|&p| p < n);
+    let p_total = written_rows(roles).filter(|&p| p < n);
     for (role, rf) in &roles.by_role {
         let timed = takes_time(*role, rf.f, n, m, p_total);
         let (args, out) = expected(*role, n, m, p_total, timed);
@@ -34,6 +27,26 @@ pub(super) fn record_expected_signatures(
             .insert(name.clone(), render(*role, &args, out.as_ref()));
         lowerer.expected_arguments.insert(name, args);
     }
+}
+
+/// Every constraint row, as the role functions' result types say (before they are
+/// checked): the constraints', two per rolling contact, the holonomic constraints' and the
+/// contacts' heights.
+pub fn written_rows(roles: &Roles<'_>) -> Option<usize> {
+    let written = |role: Role| roles.get(role).map(|rf| written_length(&rf.f.sig.output));
+    let contacts = roles.get(Role::Contacts);
+    let constraints = match (written(Role::Constraints), contacts) {
+        (Some(p), _) => p?,
+        (None, Some(_)) => 0,
+        (None, None) => return None,
+    };
+    let rolling = match written(Role::Contacts) {
+        Some(c) => 2 * c?,
+        None => 0,
+    };
+    let holonomic = written(Role::Holonomic).unwrap_or(Some(0))?;
+    let heights = contacts.map_or(0, |c| c.determines.len());
+    Some(constraints + rolling + holonomic + heights)
 }
 
 /// The signature of every role present: the functions that take the time, and the optional
