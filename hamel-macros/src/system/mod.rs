@@ -17,6 +17,7 @@ mod linearity;
 mod model;
 mod parameters;
 mod rank;
+mod rate_bodies;
 mod reserved;
 mod sparse_lu;
 mod spec;
@@ -81,6 +82,11 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
     if lowerer.has_errors() {
         check_unreached_bodies(&roles, &mut lowerer);
     }
+    let replaced = if lowerer.has_errors() {
+        Vec::new()
+    } else {
+        rate_bodies::lower(&roles, &mut lowerer)
+    };
     if let Err(e) = lowerer.take_errors() {
         let faulty = lowerer.faulty_functions().clone();
         return fallback(imp, &faulty, &sketch, e);
@@ -95,7 +101,10 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
         );
         return fallback(imp, &HashSet::new(), &sketch, error);
     };
-    let stripped = model::strip_role_attributes(imp);
+    let mut stripped = model::strip_role_attributes(imp);
+    if let Err(e) = rate_bodies::emit(&graph, &externals, &replaced, &mut stripped) {
+        return fallback(imp, &HashSet::new(), &sketch, e);
+    }
     let read = generate::Read {
         externals: &externals,
         arrays: &arrays,

@@ -70,18 +70,6 @@ impl Role {
         }
     }
 
-    /// Whether the role's function is read with the velocities q̇ (where the time derivative
-    /// `rate!` has a meaning).
-    pub fn takes_velocities(self) -> bool {
-        matches!(
-            self,
-            Role::Lagrangian
-                | Role::KineticEnergy
-                | Role::Constraints
-                | Role::QuasiVelocities
-                | Role::Forces
-        )
-    }
 
     /// Whether the role's function may take the time as a leading argument `t: f64` (the
     /// forces always take it).

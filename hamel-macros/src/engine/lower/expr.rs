@@ -133,6 +133,7 @@ impl<'a> Lowerer<'a, '_> {
                 c.continue_token,
                 "`continue` is not supported: loops are unrolled at compile time; use `if` inside the loop",
             ),
+            Expr::Macro(m) if super::rate::is_rate(&m.mac) => self.rate(env, &m.mac),
             Expr::Macro(m) => self.error(
                 m,
                 format!(

@@ -15,6 +15,7 @@ mod call;
 mod env;
 mod expr;
 pub mod geometry;
+mod rate;
 mod span;
 mod stmt;
 mod types;
@@ -22,6 +23,7 @@ mod value;
 
 pub use env::Env;
 pub use expr::closest;
+pub use rate::{RateContext, uses_rate};
 pub use types::{Arg, Signature, render_type};
 pub use value::{Shape, Value};
 
@@ -163,6 +165,8 @@ pub struct Lowerer<'a, 'g> {
     /// checks these against the arrays' lengths (a pattern rustc checks in `cargo check`).
     pub parameter_arrays: std::collections::BTreeMap<String, (usize, proc_macro2::Span)>,
     current_signature: Option<String>,
+    /// Set while a role read with the velocities is lowered: where `rate!` has a meaning.
+    pub rate_context: Option<RateContext>,
 }
 
 impl<'a, 'g> Lowerer<'a, 'g> {
@@ -185,6 +189,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             expected_arguments: HashMap::new(),
             parameter_arrays: std::collections::BTreeMap::new(),
             current_signature: None,
+            rate_context: None,
         }
     }
 
@@ -373,9 +378,38 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         Value::Poison
     }
 
-    /// Lower a role function of the model: errors about the call point at its name.
+    /// Lower a role function of the model: errors about the call point at its name. A role
+    /// read with the velocities (its arguments named `q` and `qd`) may take `rate!` of its
+    /// expressions.
     pub fn call_role(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Value {
-        self.call(f, args, &f.sig.ident)
+        self.rate_context = self.rate_context_for(f, &args);
+        let value = self.call(f, args, &f.sig.ident);
+        self.rate_context = None;
+        value
+    }
+
+    /// The coordinates, velocities and time among a role's arguments, by the names its role
+    /// gives them.
+    fn rate_context_for(&mut self, f: &syn::ImplItemFn, args: &[Value]) -> Option<RateContext> {
+        let expected = self.expected_arguments.get(&f.sig.ident.to_string())?;
+        let at = |name: &str| {
+            let i = expected.iter().position(|(n, _)| *n == name)?;
+            args.get(i)?.flatten()
+        };
+        let (q, qd) = (at("q")?, at("qd")?);
+        let t = match at("t").as_deref() {
+            Some([t]) => Some(*t),
+            _ => None,
+        };
+        let mut seeds: Vec<(NodeId, NodeId)> = q.iter().copied().zip(qd.iter().copied()).collect();
+        if let Some(t) = t {
+            let one = self.graph.one();
+            seeds.push((t, one));
+        }
+        Some(RateContext {
+            seeds,
+            velocities: qd,
+        })
     }
 
     /// Count unrolled iterations against the budget; false (with an error) when exhausted.

@@ -63,6 +63,7 @@ impl<'a> Lowerer<'a, '_> {
             ),
             Stmt::Item(item) => self.error(item, "only `const` items are supported inside a differentiated body"),
             Stmt::Expr(e, _) => self.expr(env, e),
+            Stmt::Macro(m) if super::rate::is_rate(&m.mac) => self.rate(env, &m.mac),
             Stmt::Macro(m) => self.error(
                 m,
                 format!(
