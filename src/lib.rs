@@ -69,3 +69,53 @@ pub use hamel_macros::{
     potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
 pub use hamel_runtime::*;
+
+/// The time derivative along the motion of an expression of the coordinates (and the time),
+/// d/dt = Σ q̇ⱼ ∂/∂qⱼ + ∂/∂t: `rate!(contact.x)`. The macro computes it, in the body of a
+/// role of a `#[hamel_system]` model that is read with the velocities `qd` (`#[constraints]`,
+/// `#[quasi_velocities]`, `#[kinetic_energy]`, `#[lagrangian]`, `#[forces]`); anywhere else it
+/// is a compile error. `hamel::docs::geometry` shows it at work.
+///
+/// ```
+/// use hamel::prelude::*;
+///
+/// #[hamel_system]
+/// pub struct Sleigh { pub m: f64, pub inertia: f64, pub a: f64 }
+///
+/// #[hamel_system(coordinates(x, y, theta), speeds(v, omega))]
+/// impl Sleigh {
+///     #[kinetic_energy]
+///     fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+///         0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.inertia * qd[2] * qd[2]
+///     }
+///
+///     /// The blade, a behind the centre of mass, does not move sideways.
+///     #[constraints]
+///     fn blade(&self, q: &[f64; 3], _qd: &[f64; 3]) -> [f64; 1] {
+///         let (s, c) = q[2].sin_cos();
+///         let contact = Vector3::new(q[0] - self.a * c, q[1] - self.a * s, 0.0);
+///         [rate!(contact).dot(&Vector3::new(-s, c, 0.0))]
+///     }
+///
+///     #[quasi_velocities]
+///     fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
+///         [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+///     }
+/// }
+///
+/// // The generated body computes the rate, so the role can be called at run time.
+/// let sleigh = Sleigh { m: 2.0, inertia: 0.5, a: 0.4 };
+/// let sideways = sleigh.blade(&[0.0, 0.0, 0.0], &[0.0, 1.0, 0.0]);
+/// assert_eq!(sideways, [1.0]);
+/// ```
+#[macro_export]
+macro_rules! rate {
+    ($($expression:tt)*) => {
+        ::core::compile_error!(
+            "`rate!` is the time derivative along the motion: it can be used only in the body \
+             of a role of a `#[hamel_system]` model that is read with the velocities `qd` \
+             (`#[constraints]`, `#[quasi_velocities]`, `#[kinetic_energy]`, `#[lagrangian]`, \
+             `#[forces]`), where the macro computes it"
+        )
+    };
+}

@@ -97,8 +97,8 @@ impl Sketch {
 }
 
 /// n from the coordinates' names or else from the length of `q` in a role's signature; p
-/// from the constraints' written result, or else from the quasi-velocities' or the number
-/// of speed names; m from the inputs' names. `None` when n or p is not to be had: a stand-in
+/// from the written results of the roles that give constraint rows, or else from the
+/// quasi-velocities' or the number of speed names; m from the inputs' names. `None` when n or p is not to be had: a stand-in
 /// with made-up lengths would only trade rustc's errors for others.
 fn dimensions(
     coordinates: &[syn::Ident],
@@ -115,9 +115,7 @@ fn dimensions(
         coordinates.len()
     };
     let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
-    let k = written(Role::Holonomic).unwrap_or(0);
-    let p = written(Role::Constraints)
-        .map(|p| p + k)
+    let p = super::spec::written_rows(roles)
         .filter(|&p| p < n)
         .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
         .or_else(|| {

@@ -303,7 +303,9 @@ pub fn generate(
             let contacts = spec.geometry.contacts.as_ref();
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
-                rows.extend((0..c.count).flat_map(|i| [format!("{name}[{i}].x"), format!("{name}[{i}].y")]));
+                rows.extend(
+                    (0..c.count).flat_map(|i| [format!("{name}[{i}].x"), format!("{name}[{i}].y")]),
+                );
             }
             if let Some(h) = &spec.holonomic {
                 rows.extend(row_names(h.f, h.dependent.len()));

@@ -70,7 +70,6 @@ impl Role {
         }
     }
 
-
     /// Whether the role's function may take the time as a leading argument `t: f64` (the
     /// forces always take it).
     pub fn may_take_time(self) -> bool {
@@ -486,9 +485,14 @@ fn holonomic_arguments(
             return Err(meta.error(format!("unknown key: {how}")));
         }
         // `determines()` is no syntax error of the user's: it names nothing.
-        let empty = meta.input.fork().parse::<proc_macro2::Group>().ok().filter(|g| {
-            g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
-        });
+        let empty = meta
+            .input
+            .fork()
+            .parse::<proc_macro2::Group>()
+            .ok()
+            .filter(|g| {
+                g.delimiter() == proc_macro2::Delimiter::Parenthesis && g.stream().is_empty()
+            });
         if let Some(group) = empty {
             meta.input.parse::<proc_macro2::Group>()?;
             return Err(syn::Error::new(

@@ -22,7 +22,10 @@ pub struct Row<'a> {
 impl Row<'_> {
     fn name(&self) -> String {
         match self.slip {
-            Some(axis) => format!("`{}[{}]` (its slip along {axis})", self.f.sig.ident, self.index),
+            Some(axis) => format!(
+                "`{}[{}]` (its slip along {axis})",
+                self.f.sig.ident, self.index
+            ),
             None => format!("`{}[{}]`", self.f.sig.ident, self.index),
         }
     }

@@ -94,7 +94,8 @@ pub fn emit(
                     #stmts
                     #result
                 });
-                f.attrs.push(syn::parse_quote!(#[allow(clippy::all, unused_parens, non_snake_case)]));
+                f.attrs
+                    .push(syn::parse_quote!(#[allow(clippy::all, unused_parens, non_snake_case)]));
             }
         }
     }

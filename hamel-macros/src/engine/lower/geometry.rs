@@ -208,9 +208,9 @@ impl Geo {
                 matrix: mat3(nodes),
                 turns: None,
             })),
-            GeoKind::Inertia => Geo::Inertia([
-                nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5],
-            ]),
+            GeoKind::Inertia => {
+                Geo::Inertia([nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5]])
+            }
             GeoKind::Body => Geo::Body(Box::new(body(nodes))),
             GeoKind::Contact => Geo::Contact(Box::new(Contact {
                 body: body(&nodes[..BODY_LEN]),
@@ -310,7 +310,8 @@ pub fn transpose(m: &Mat3) -> Mat3 {
 
 pub fn product(g: &mut Graph, a: &Mat3, b: &Mat3) -> Mat3 {
     let t = transpose(b);
-    let row = |g: &mut Graph, i: usize| [dot(g, a[i], t[0]), dot(g, a[i], t[1]), dot(g, a[i], t[2])];
+    let row =
+        |g: &mut Graph, i: usize| [dot(g, a[i], t[0]), dot(g, a[i], t[1]), dot(g, a[i], t[2])];
     [row(g, 0), row(g, 1), row(g, 2)]
 }
 
@@ -527,7 +528,9 @@ impl Lowerer<'_, '_> {
             let owner = owner.map_or("hamel::geometry", GeoKind::name);
             return Some(self.error(
                 &c.func,
-                format!("`{owner}::{name}` is not part of hamel's geometry vocabulary: {VOCABULARY}"),
+                format!(
+                    "`{owner}::{name}` is not part of hamel's geometry vocabulary: {VOCABULARY}"
+                ),
             ));
         };
         let args: Vec<Value> = c.args.iter().map(|a| self.expr(env, a)).collect();
@@ -569,7 +572,10 @@ impl Lowerer<'_, '_> {
         }
         Some(match self.construct(owner, name, parts) {
             Some(value) => value,
-            None => self.error(c, "hamel internal error: a geometry call was checked but not built"),
+            None => self.error(
+                c,
+                "hamel internal error: a geometry call was checked but not built",
+            ),
         })
     }
 
@@ -606,7 +612,14 @@ impl Lowerer<'_, '_> {
             }
             (Some(GeoKind::Inertia), "principal") => {
                 let zero = g.zero();
-                Value::Geo(Geo::Inertia([real(0)?, real(1)?, real(2)?, zero, zero, zero]))
+                Value::Geo(Geo::Inertia([
+                    real(0)?,
+                    real(1)?,
+                    real(2)?,
+                    zero,
+                    zero,
+                    zero,
+                ]))
             }
             (Some(GeoKind::Inertia), _) => Value::Geo(Geo::Inertia([
                 real(0)?,
@@ -776,10 +789,7 @@ impl Lowerer<'_, '_> {
             GeoKind::Body => "`mass`, `inertia`, `centre` and `orientation`",
             GeoKind::Contact => "`body` and `point`",
         };
-        self.error(
-            &f.member,
-            format!("`{}` has {fields}", geo.kind().name()),
-        )
+        self.error(&f.member, format!("`{}` has {fields}", geo.kind().name()))
     }
 
     /// `v[i]` or `r[(i, j)]`, with indices known at compile time.
@@ -884,10 +894,7 @@ impl Lowerer<'_, '_> {
                 let at = [g.neg(v.at[0]), g.neg(v.at[1]), g.neg(v.at[2])];
                 point(Point::made(at, Made::Negated(v)))
             }
-            other => self.error(
-                u,
-                format!("a `{}` cannot be negated", other.kind().name()),
-            ),
+            other => self.error(u, format!("a `{}` cannot be negated", other.kind().name())),
         }
     }
 }
@@ -915,5 +922,9 @@ fn axis_index(name: &str) -> usize {
 fn normalize(g: &mut Graph, v: Vec3) -> Vec3 {
     let square = dot(g, v, v);
     let length = g.unary(Func::Sqrt, square);
-    [g.div(v[0], length), g.div(v[1], length), g.div(v[2], length)]
+    [
+        g.div(v[0], length),
+        g.div(v[1], length),
+        g.div(v[2], length),
+    ]
 }

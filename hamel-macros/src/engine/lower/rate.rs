@@ -33,7 +33,11 @@ pub fn is_rate(mac: &syn::Macro) -> bool {
         .map(|s| s.ident.to_string())
         .collect();
     matches!(
-        segments.iter().map(String::as_str).collect::<Vec<_>>().as_slice(),
+        segments
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .as_slice(),
         ["rate"] | ["hamel", "rate"] | ["prelude", "rate"] | ["hamel", "prelude", "rate"]
     )
 }

@@ -182,8 +182,12 @@ impl<'a> Lowerer<'a, '_> {
                 }
             }
             Type::Path(p) if p.qself.is_none() => {
-                let segments: Vec<String> =
-                    p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+                let segments: Vec<String> = p
+                    .path
+                    .segments
+                    .iter()
+                    .map(|s| s.ident.to_string())
+                    .collect();
                 let segments: Vec<&str> = segments.iter().map(String::as_str).collect();
                 if let Some(kind) = super::geometry::GeoKind::from_path(&segments)
                     && p.path.segments.iter().all(|s| s.arguments.is_none())

@@ -21,9 +21,9 @@ use crate::engine::lower::geometry::{
     self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Turn, Vec3, add, apply,
     apply_transposed, cross, dot, scale, sub,
 };
-use std::collections::HashMap;
 use crate::engine::lower::{Lowerer, Value};
 use crate::system::spec::Spec;
+use std::collections::HashMap;
 
 /// The direction a motion moves the graph's inputs in: q along the velocities, t at unit
 /// rate. Tangents along it are time derivatives; the velocities of vectors and the angular

@@ -168,11 +168,7 @@ pub fn coefficients(
 
 /// A regular: structurally (else the coordinate no row determines is named) and at generic
 /// points (else the first row that repeats those before it). The structure, for the LU.
-fn regular(
-    lowerer: &mut Lowerer<'_, '_>,
-    spec: &Spec<'_>,
-    a: &[Vec<NodeId>],
-) -> Option<SparseLu> {
+fn regular(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, a: &[Vec<NodeId>]) -> Option<SparseLu> {
     let structure = match SparseLu::new(lowerer.graph, a) {
         Ok(lu) => lu,
         Err(singular) => {

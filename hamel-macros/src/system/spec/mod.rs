@@ -12,11 +12,11 @@ mod names;
 mod rows;
 mod signatures;
 
-pub use signatures::argument_name;
+pub use signatures::{argument_name, written_rows};
 
 use super::model::{Group, Names, Role, RoleFn, Roles};
-use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::Lowerer;
+use crate::engine::lower::geometry::GeoKind;
 use energy::{energy_roles, required};
 use names::{
     Rows, check_group_names, check_inputs_are_read, check_names, constraint_names,
@@ -130,7 +130,11 @@ impl Spec<'_> {
     /// of `#[holonomic]`, then those of the contacts' heights.
     pub fn dependent(&self) -> Vec<usize> {
         let holonomic = self.holonomic.iter().flat_map(|h| h.dependent.iter());
-        let contacts = self.geometry.contacts.iter().flat_map(|c| c.dependent.iter());
+        let contacts = self
+            .geometry
+            .contacts
+            .iter()
+            .flat_map(|c| c.dependent.iter());
         holonomic.chain(contacts).copied().collect()
     }
 
@@ -209,9 +213,22 @@ pub fn check<'a>(
         lowerer,
         &mut ok,
     );
-    let holonomic = dependent(roles, &shape, (&coordinates, written_speeds), lowerer, &mut ok);
+    let holonomic = dependent(
+        roles,
+        &shape,
+        (&coordinates, written_speeds),
+        lowerer,
+        &mut ok,
+    );
     let speeds = speed_names(names.speeds.clone(), names.garbled, n, shape.p, lowerer);
-    let constraint_names = check_all_names(&names, &shape, (&coordinates, &speeds), roles, lowerer, &mut ok);
+    let constraint_names = check_all_names(
+        &names,
+        &shape,
+        (&coordinates, &speeds),
+        roles,
+        lowerer,
+        &mut ok,
+    );
     if !ok {
         return None;
     }
@@ -223,7 +240,12 @@ pub fn check<'a>(
             .map(|r| r.f)
     };
     Some(Spec {
-        dims: Dims { n, p: shape.p?, m, k: shape.k },
+        dims: Dims {
+            n,
+            p: shape.p?,
+            m,
+            k: shape.k,
+        },
         coordinates,
         speeds,
         inputs: names.inputs,
@@ -272,7 +294,10 @@ fn model_shape<'r, 'a>(
         constraints,
         holonomic,
         contacts,
-        bodies: roles.get(Role::Bodies).zip(bodies).map(|(b, count)| (b.f, count)),
+        bodies: roles
+            .get(Role::Bodies)
+            .zip(bodies)
+            .map(|(b, count)| (b.f, count)),
         k,
         p,
     }

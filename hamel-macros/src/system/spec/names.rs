@@ -148,7 +148,10 @@ fn row_sources(rows: &Rows<'_>) -> String {
     let contact_rows = rows.contacts.map_or(0, |(_, c, _)| 2 * c);
     if let Some(f) = rows.constraints {
         let written = count(rows.nonholonomic - contact_rows, "row");
-        parts.push(format!("`{}` (`#[constraints]`) returns {written}", f.sig.ident));
+        parts.push(format!(
+            "`{}` (`#[constraints]`) returns {written}",
+            f.sig.ident
+        ));
     }
     if let Some((f, c, _)) = rows.contacts {
         parts.push(format!(
@@ -158,7 +161,11 @@ fn row_sources(rows: &Rows<'_>) -> String {
         ));
     }
     if let Some(h) = rows.holonomic {
-        parts.push(format!("`{}` (`#[holonomic]`) returns {}", h.sig.ident, count(rows.k, "row")));
+        parts.push(format!(
+            "`{}` (`#[holonomic]`) returns {}",
+            h.sig.ident,
+            count(rows.k, "row")
+        ));
     }
     if let Some((f, _, h)) = rows.contacts.filter(|(_, _, h)| *h > 0) {
         parts.push(format!(

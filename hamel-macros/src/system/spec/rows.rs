@@ -98,7 +98,8 @@ pub(super) fn dependent_coordinates(
         lowerer.push_error(syn::Error::new(name.span(), message));
         good = false;
     }
-    if let Some(k) = k.filter(|&k| good && !h.determines.is_empty() && indices.len() != k && k > 0) {
+    if let Some(k) = k.filter(|&k| good && !h.determines.is_empty() && indices.len() != k && k > 0)
+    {
         lowerer.push_error(syn::Error::new_spanned(
             h.attr,
             format!(
@@ -152,7 +153,11 @@ pub(super) fn constraint_count(
                 count(c, "rolling contact"),
                 count(rolling, "row")
             ),
-            (None, Some((_, c))) => format!("{} ({})", count(c, "rolling contact"), count(rolling, "row")),
+            (None, Some((_, c))) => format!(
+                "{} ({})",
+                count(c, "rolling contact"),
+                count(rolling, "row")
+            ),
             _ => count(p, "constraint"),
         };
         fail(
@@ -190,7 +195,14 @@ fn constraint_rows(c: &RoleFn<'_>, lowerer: &mut Lowerer<'_, '_>, ok: &mut bool)
         }
         Some(Shape::Array(p, inner)) if *inner == Shape::Real => Some(p),
         Some(_) => {
-            fail(lowerer, ok, error_at_output(c.f, "`#[constraints]` must return an array `[f64; P]`, one entry per constraint"));
+            fail(
+                lowerer,
+                ok,
+                error_at_output(
+                    c.f,
+                    "`#[constraints]` must return an array `[f64; P]`, one entry per constraint",
+                ),
+            );
             None
         }
         None => None,
@@ -219,7 +231,9 @@ pub(super) fn geometry_count(
                 ok,
                 error_at_output(
                     rf.f,
-                    format!("`#[{attribute}]` returns no `{name}`: return at least one, or remove the role"),
+                    format!(
+                        "`#[{attribute}]` returns no `{name}`: return at least one, or remove the role"
+                    ),
                 ),
             );
             None

@@ -90,7 +90,13 @@ pub(super) fn check_signatures(
 /// Whether a role function takes the time first: one argument more than the role needs,
 /// and the role may take it (`fn(&self, t: f64, q: &[f64; N], qd: &[f64; N])`). A `t` of
 /// the wrong type or in the wrong place is then reported by the signature check.
-pub(super) fn takes_time(role: Role, f: &syn::ImplItemFn, n: usize, m: usize, p: Option<usize>) -> bool {
+pub(super) fn takes_time(
+    role: Role,
+    f: &syn::ImplItemFn,
+    n: usize,
+    m: usize,
+    p: Option<usize>,
+) -> bool {
     if role == Role::Forces {
         return true;
     }
