@@ -1,7 +1,7 @@
-//! `rate!(expr)`: the time derivative of an expression along the motion, d/dt = Σ q̇ⱼ ∂/∂qⱼ
-//! + ∂/∂t, in the body of a role that is read with the velocities (the constraints, say: "the
-//! rate of this distance is zero"). A forward tangent of the expression's graph, seeded
-//! with the role's own `q̇`.
+//! `rate!(expr)`: the time derivative of an expression along the motion,
+//! d/dt = Σ q̇ⱼ ∂/∂qⱼ + ∂/∂t, in the body of a role that is read with the velocities (the
+//! constraints, say: "the rate of this distance is zero"). A forward tangent of the
+//! expression's graph, seeded with the role's own `q̇`.
 
 use super::geometry::{Geo, Point};
 use super::value::Value;
