@@ -554,10 +554,21 @@ impl Lowerer<'_, '_> {
                 (Want::Real, Value::Real(n)) => parts.push(Part::Real(n)),
                 (Want::Geo(k), Value::Geo(g)) if g.kind() == *k => parts.push(Part::Geo(g)),
                 (want, other) => {
-                    let hint = if matches!(other, Value::Int(_)) {
-                        " (write a float literal such as `2.0`)"
-                    } else {
-                        ""
+                    let hint = match (want, &other) {
+                        (Want::Real, Value::Int(_)) => " (write a float literal such as `2.0`)",
+                        (Want::Geo(GeoKind::Inertia), _) => {
+                            ": write `Inertia::principal(ixx, iyy, izz)`, or \
+                             `Inertia::new(ixx, iyy, izz, ixy, iyz, izx)` with the products of \
+                             inertia"
+                        }
+                        (Want::Geo(GeoKind::Vector), Value::Array(_)) => {
+                            ": write `Vector3::new(x, y, z)`"
+                        }
+                        (Want::Geo(GeoKind::Rotation), _) => {
+                            ": build it from `Rotation3::about_x(angle)` and its kin, composed \
+                             with `*`"
+                        }
+                        _ => "",
                     };
                     return Some(self.error(
                         arg,

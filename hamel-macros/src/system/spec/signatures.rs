@@ -178,6 +178,17 @@ pub(super) fn check_signature(
                 "; a holonomic constraint f(q) = 0 depends on the configuration (and, with a \
                  leading `t: f64`, the time) only: the macro derives its velocity row"
             }
+            Role::Bodies => {
+                "; a body's pose (its centre and orientation) is a function of the \
+                 configuration (and, with a leading `t: f64`, the time) only: the macro derives \
+                 its velocity and angular velocity"
+            }
+            Role::Contacts => {
+                "; where a body touches the ground is a function of the configuration (and, \
+                 with a leading `t: f64`, the time) only: the macro derives the velocity of the \
+                 body's material point there"
+            }
+            Role::Gravity => " (or with a leading `t: f64`): gravity is a vector of the parameters",
             Role::Forces => "",
             _ => " (or with a leading `t: f64`)",
         };
@@ -311,14 +322,18 @@ pub(super) fn render(role: Role, args: &[(&str, Shape)], output: Option<&Shape>)
             other => format!("{n}: &{}", other.describe().trim_matches('`')),
         })
         .collect();
-    let unknown = if role == Role::Holonomic {
-        "[f64; K]"
-    } else {
-        "[f64; P]"
+    let unknown = match role {
+        Role::Holonomic => "[f64; K]",
+        Role::Bodies => "[Body; B]",
+        Role::Contacts => "[Contact; C]",
+        _ => "[f64; P]",
     };
     let out = output.map_or_else(
         || unknown.to_string(),
         |s| s.describe().trim_matches('`').to_string(),
     );
+    if args.is_empty() {
+        return format!("fn(&self) -> {out}");
+    }
     format!("fn(&self, {}) -> {out}", args.join(", "))
 }
