@@ -12,6 +12,8 @@
 mod differentiate;
 #[path = "../hamel-macros/src/engine/mod.rs"]
 mod engine;
+#[path = "../hamel-macros/src/helpers.rs"]
+mod helpers;
 #[path = "../hamel-macros/src/system/mod.rs"]
 mod system;
 

@@ -61,7 +61,9 @@ pub mod models;
 pub mod plot;
 pub mod prelude;
 
-pub use hamel_macros::{differentiate, hamel_system};
+#[doc(hidden)]
+pub use hamel_macros::__hamel_with_helpers;
+pub use hamel_macros::{differentiate, hamel_system, helpers};
 // The role attributes: `#[hamel_system]` reads them, so these run only when one is misplaced,
 // to say where it belongs.
 pub use hamel_macros::{

@@ -6,6 +6,7 @@
 
 mod differentiate;
 mod engine;
+mod helpers;
 mod stray_role;
 mod system;
 
@@ -164,4 +165,22 @@ pub fn gravity(_attr: TokenStream, item: TokenStream) -> TokenStream {
 #[proc_macro_attribute]
 pub fn contacts(_attr: TokenStream, item: TokenStream) -> TokenStream {
     stray_role::expand("contacts", item.into()).into()
+}
+
+/// Marks an impl block of shared helpers: functions that the roles of several models call as
+/// `Helpers::name(..)`, once the models name them, `#[hamel_system(helpers(Helpers))]`. The
+/// macro differentiates through them like a model's own functions. The impl is emitted as it
+/// is (the helpers are ordinary functions at run time) together with a macro of the same name
+/// that carries their source to the models; bring both into a model's module with `use`.
+#[proc_macro_attribute]
+pub fn helpers(attr: TokenStream, item: TokenStream) -> TokenStream {
+    guarded(|| helpers::expand(attr.into(), item.into())).into()
+}
+
+/// The callback the macros of `#[hamel::helpers]` call with a model and the helpers' source.
+/// Not for direct use.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __hamel_with_helpers(input: TokenStream) -> TokenStream {
+    guarded(|| system::expand_with_helpers(input.into())).into()
 }

@@ -33,7 +33,11 @@ use syn::spanned::Spanned;
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
     match syn::parse2::<syn::Item>(item.clone()) {
         Ok(syn::Item::Struct(s)) => parameters::expand(attr, &s),
-        Ok(syn::Item::Impl(imp)) => expand_impl(attr, &imp),
+        // A model that calls shared helpers first gathers their source (`helpers`).
+        Ok(syn::Item::Impl(_)) if !helper_sets(&attr).is_empty() => {
+            crate::helpers::start(&helper_sets(&attr), &attr, &item)
+        }
+        Ok(syn::Item::Impl(imp)) => expand_impl(attr, &imp, &[]),
         Ok(other) => {
             let error = syn::Error::new_spanned(
                 &other,
@@ -49,7 +53,40 @@ pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
+/// The last step of gathering a model's shared helpers (`hamel::__hamel_with_helpers!`):
+/// the next helper set's macro, or the model expanded with every helper known.
+pub fn expand_with_helpers(input: TokenStream) -> TokenStream {
+    let gathered = match crate::helpers::parse(input) {
+        Ok(g) => g,
+        Err(e) => return e.into_compile_error(),
+    };
+    if let Some(next) = crate::helpers::next(&gathered) {
+        return next;
+    }
+    let imp = match syn::parse2::<syn::ItemImpl>(gathered.item.clone()) {
+        Ok(imp) => imp,
+        Err(e) => return e.into_compile_error(),
+    };
+    let sets: Vec<syn::ItemImpl> = gathered
+        .helpers
+        .iter()
+        .filter_map(|h| syn::parse2(h.clone()).ok())
+        .collect();
+    let at = imp.impl_token.span;
+    crate::helpers::self_resolved_at(expand_impl(gathered.attr, &imp, &sets), at)
+}
+
+/// The helper sets named in `helpers(..)`, read without checking the rest of the arguments.
+fn helper_sets(attr: &TokenStream) -> Vec<syn::Path> {
+    let mut errors = Vec::new();
+    model::parse_names(attr.clone(), &mut errors).helpers
+}
+
+fn expand_impl(
+    attr: TokenStream,
+    imp: &syn::ItemImpl,
+    helper_sets: &[syn::ItemImpl],
+) -> TokenStream {
     if let Some((path, _)) = &imp.trait_ {
         let error = syn::Error::new_spanned(
             path,
@@ -66,6 +103,13 @@ fn expand_impl(attr: TokenStream, imp: &syn::ItemImpl) -> TokenStream {
     let mut ctx = ImplContext::new(&imp.items);
     for (name, i) in &sketch.index_consts {
         ctx.define_index(name.clone(), *i as i64);
+    }
+    for set in helper_sets {
+        if let syn::Type::Path(p) = &*set.self_ty
+            && let Some(last) = p.path.segments.last()
+        {
+            ctx.add_helpers(last.ident.to_string(), &set.items);
+        }
     }
 
     let mut graph = Graph::new();

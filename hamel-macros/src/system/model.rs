@@ -140,16 +140,20 @@ pub struct Names {
     /// A list could not be read (its error is reported): that it holds no names, or none
     /// that fit, is no further mistake.
     pub garbled: bool,
+    /// `helpers(Wheels, shapes::Frames)`: the sets of shared helpers the roles call.
+    pub helpers: Vec<syn::Path>,
 }
 
-pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)`, `inputs(..)` and `constraints(..)`";
+pub const NAME_KEYS: &str =
+    "`coordinates(..)`, `speeds(..)`, `inputs(..)`, `constraints(..)` and `helpers(..)`";
 
-const KEYS: [&str; 5] = [
+const KEYS: [&str; 6] = [
     "coordinates",
     "speeds",
     "quasi_velocities",
     "inputs",
     "constraints",
+    "helpers",
 ];
 
 /// Parse the attribute's arguments, collecting every mistake.
@@ -159,6 +163,13 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
         return names;
     }
     let parser = syn::meta::parser(|meta| {
+        if meta.path.is_ident("helpers") {
+            meta.parse_nested_meta(|inner| {
+                names.helpers.push(inner.path.clone());
+                Ok(())
+            })?;
+            return Ok(());
+        }
         let span = meta.path.span();
         let (list, groups, written) = parse_list(&meta, errors, &mut names.garbled)?;
         // An unknown key is read as the key it most likely meant, so that this one mistake

@@ -458,3 +458,137 @@ fn bodies_mix_with_a_potential_energy_and_rate_gives_the_blade() {
         assert!((r1 - r2).abs() <= 1e-14, "{r1} against {r2}");
     }
 }
+
+/// Shared helpers, in a module of their own: the rolling disk's body and contact, written
+/// once for the two models below.
+mod disks {
+    use hamel::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
+
+    pub struct Disks;
+
+    #[hamel::helpers]
+    impl Disks {
+        /// A thin uniform disk whose axle is its y axis.
+        pub fn thin(m: f64, r: f64, centre: Vector3, orientation: Rotation3) -> Body {
+            let diameter = m * r * r / 4.0;
+            Body::new(
+                m,
+                Inertia::principal(diameter, 2.0 * diameter, diameter),
+                centre,
+                orientation,
+            )
+        }
+
+        /// The disk of radius r rolling at (x, y) with yaw, lean and spin q[2..5].
+        pub fn rolling(m: f64, r: f64, q: &[f64; 5]) -> Body {
+            let heading = Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+            let centre = Vector3::new(q[0], q[1], 0.0) + heading * Vector3::new(0.0, 0.0, r);
+            Self::thin(m, r, centre, heading * Rotation3::about_y(q[4]))
+        }
+
+        pub fn on_ground(disk: Body, q: &[f64; 5]) -> Contact {
+            Contact::ground(disk, Vector3::new(q[0], q[1], 0.0))
+        }
+    }
+}
+
+mod shared {
+    use super::disks::Disks;
+    use hamel::prelude::*;
+
+    #[hamel_system]
+    pub struct Coin {
+        pub m: f64,
+        pub r: f64,
+        pub g: f64,
+    }
+
+    #[hamel_system(coordinates(x, y, psi, phi, theta), helpers(Disks))]
+    impl Coin {
+        #[bodies]
+        fn bodies(&self, q: &[f64; 5]) -> [Body; 1] {
+            [Disks::rolling(self.m, self.r, q)]
+        }
+
+        #[gravity]
+        fn gravity(&self) -> Vector3 {
+            Vector3::new(0.0, 0.0, -self.g)
+        }
+
+        #[contacts]
+        fn contacts(&self, q: &[f64; 5]) -> [Contact; 1] {
+            [Disks::on_ground(Disks::rolling(self.m, self.r, q), q)]
+        }
+
+        #[quasi_velocities]
+        fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+            [qd[2], qd[3], qd[4]]
+        }
+    }
+
+    /// The same coin in a weightless place, written with the same helpers.
+    #[hamel_system]
+    pub struct FloatingCoin {
+        pub m: f64,
+        pub r: f64,
+    }
+
+    #[hamel_system(coordinates(x, y, psi, phi, theta), helpers(super::disks::Disks))]
+    impl FloatingCoin {
+        #[bodies]
+        fn bodies(&self, q: &[f64; 5]) -> [Body; 1] {
+            [Disks::rolling(self.m, self.r, q)]
+        }
+
+        #[contacts]
+        fn contacts(&self, q: &[f64; 5]) -> [Contact; 1] {
+            let [coin] = self.bodies(q);
+            [Disks::on_ground(coin, q)]
+        }
+
+        #[quasi_velocities]
+        fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+            [qd[2], qd[3], qd[4]]
+        }
+    }
+}
+
+/// Two models that call the same shared helpers are the models written without them: the
+/// coin is the catalogue's rolling disk, and without gravity it is the disk with g = 0.
+#[test]
+fn shared_helpers_serve_several_models() {
+    let disk = RollingDisk::default();
+    let coin = shared::Coin {
+        m: disk.m,
+        r: disk.r,
+        g: disk.g,
+    };
+    let floating = shared::FloatingCoin {
+        m: disk.m,
+        r: disk.r,
+    };
+    let weightless = RollingDisk {
+        g: 0.0,
+        ..disk.clone()
+    };
+    let mut rng = XorShift::new(9);
+    for _ in 0..20 {
+        let x: [f64; 8] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let mut d = [[0.0; 8]; 4];
+        disk.rhs(0.0, &x, &[], &mut d[0]).unwrap();
+        coin.rhs(0.0, &x, &[], &mut d[1]).unwrap();
+        weightless.rhs(0.0, &x, &[], &mut d[2]).unwrap();
+        floating.rhs(0.0, &x, &[], &mut d[3]).unwrap();
+        for (ours, theirs) in [(d[1], d[0]), (d[3], d[2])] {
+            for (a, b) in ours.iter().zip(&theirs) {
+                assert!(
+                    (a - b).abs() <= 1e-13 * (1.0 + b.abs()),
+                    "{ours:?} against {theirs:?}"
+                );
+            }
+        }
+    }
+    // At run time the helpers are ordinary functions.
+    let body = disks::Disks::rolling(1.0, 0.5, &[0.0; 5]);
+    assert_eq!(body.centre, Vector3::new(0.0, 0.0, 0.5));
+}

@@ -119,9 +119,16 @@ impl<'a> Lowerer<'a, '_> {
                 let name = name.to_string();
                 self.elementary(&name, receiver, rest, c, &p.path)
             }
-            ["Self", name] => {
-                let name = name.to_string();
-                self.inline(env, &name, false, c.args.iter(), c)
+            ["Self", name] => match self.helper_scope.last().cloned() {
+                Some(set) => self.inline_helper(env, &set, name, c),
+                None => {
+                    let name = name.to_string();
+                    self.inline(env, &name, false, c.args.iter(), c)
+                }
+            },
+            [set, name] if self.ctx.helper(set, name).is_some() => {
+                let set = set.to_string();
+                self.inline_helper(env, &set, name, c)
             }
             [name] => {
                 match env.get(name).map(|local| local.value.clone()) {
@@ -156,13 +163,17 @@ impl<'a> Lowerer<'a, '_> {
             }
             _ => {
                 let path = segments.join("::");
+                let set = segments.len().checked_sub(2).map(|i| segments[i].as_str());
                 self.error_once(
                     format!("call {path}"),
                     &c.func,
                     format!(
                         "unknown function `{path}`: the macro differentiates the source of what a \
-                         body calls, and it sees only the functions of this impl block and the \
-                         elementary functions of `f64` ({ELEMENTARY})"
+                         body calls, and it sees only the functions of this impl block, the \
+                         elementary functions of `f64` ({ELEMENTARY}), hamel's geometry and \
+                         shared helpers; if `{}` holds shared helpers, mark its impl with \
+                         `#[hamel::helpers]` and name it in `#[hamel_system(helpers(..))]`",
+                        set.unwrap_or("Helpers")
                     ),
                 )
             }
@@ -282,6 +293,41 @@ impl<'a> Lowerer<'a, '_> {
                 )
             }
         }
+    }
+
+    /// Inline a call of a shared helper, `Set::name(..)`: in its body `Self` is the set.
+    fn inline_helper(&mut self, env: &mut Env, set: &str, name: &str, c: &syn::ExprCall) -> Value {
+        let args: Vec<Value> = c.args.iter().map(|a| self.expr(env, a)).collect();
+        let f = match self.ctx.helper(set, name) {
+            Some(Ok(f)) => f,
+            Some(Err(known)) => {
+                return self.error_once(
+                    format!("call {set}::{name}"),
+                    &c.func,
+                    format!(
+                        "the shared helpers `{set}` have no function `{name}` (they have {})",
+                        known
+                            .iter()
+                            .map(|k| format!("`{k}`"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                );
+            }
+            None => {
+                return self.error(
+                    &c.func,
+                    format!("`Self::{name}` in the helpers `{set}`: no such helper"),
+                );
+            }
+        };
+        if args.iter().any(Value::is_poison) {
+            return Value::Poison;
+        }
+        self.helper_scope.push(set.to_string());
+        let value = self.call(f, args, c);
+        self.helper_scope.pop();
+        value
     }
 
     /// Inline a call of another function of the impl.

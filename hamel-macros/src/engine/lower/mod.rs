@@ -47,6 +47,8 @@ pub struct ImplContext<'a> {
     generated: HashMap<String, i64>,
     /// Their names in the order they were defined, for messages.
     generated_names: Vec<String>,
+    /// Shared helpers (`#[hamel::helpers]`): their functions by the set's name and their own.
+    helpers: HashMap<String, HashMap<String, &'a syn::ImplItemFn>>,
 }
 
 impl<'a> ImplContext<'a> {
@@ -69,7 +71,28 @@ impl<'a> ImplContext<'a> {
             consts,
             generated: HashMap::new(),
             generated_names: Vec::new(),
+            helpers: HashMap::new(),
         }
+    }
+
+    /// Make the functions of a set of shared helpers known, as `Set::name(..)`.
+    pub fn add_helpers(&mut self, set: String, items: impl IntoIterator<Item = &'a syn::ImplItem>) {
+        let fns = items.into_iter().filter_map(|item| match item {
+            syn::ImplItem::Fn(f) => Some((f.sig.ident.to_string(), f)),
+            _ => None,
+        });
+        self.helpers.entry(set).or_default().extend(fns);
+    }
+
+    /// The helper `name` of the set `set`: `Ok` with the function, `Err` with the set's
+    /// functions (sorted) when it has no such one, `None` when there is no such set.
+    fn helper(&self, set: &str, name: &str) -> Option<Result<&'a syn::ImplItemFn, Vec<String>>> {
+        let fns = self.helpers.get(set)?;
+        Some(fns.get(name).copied().ok_or_else(|| {
+            let mut names: Vec<String> = fns.keys().cloned().collect();
+            names.sort();
+            names
+        }))
     }
 
     /// Make `Self::name` an integer constant known to bodies.
@@ -167,6 +190,9 @@ pub struct Lowerer<'a, 'g> {
     current_signature: Option<String>,
     /// Set while a role read with the velocities is lowered: where `rate!` has a meaning.
     pub rate_context: Option<RateContext>,
+    /// The sets of the shared helpers being inlined, innermost last: their `Self::name(..)`
+    /// is a function of the set.
+    helper_scope: Vec<String>,
 }
 
 impl<'a, 'g> Lowerer<'a, 'g> {
@@ -190,6 +216,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             parameter_arrays: std::collections::BTreeMap::new(),
             current_signature: None,
             rate_context: None,
+            helper_scope: Vec::new(),
         }
     }
 
@@ -309,14 +336,19 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             return Value::Poison;
         };
         if signature.args.len() != args.len() {
-            return self.error(
-                call_site.to_token_stream(),
-                format!(
+            let message = match self.helper_scope.last() {
+                Some(set) => format!(
+                    "the shared helper `{set}::{name}` takes {} argument(s), but {} were given",
+                    signature.args.len(),
+                    args.len()
+                ),
+                None => format!(
                     "`{name}` takes {} argument(s) besides `self`, but {} were given",
                     signature.args.len(),
                     args.len()
                 ),
-            );
+            };
+            return self.error(call_site.to_token_stream(), message);
         }
         let mut env = Env::default();
         env.push();
