@@ -5,14 +5,18 @@
 
 pub mod ball_on_turntable;
 pub mod chaplygin_sleigh;
+pub mod contact_oscillator;
 pub mod knife_edge;
 pub mod mobile_robot;
 pub mod n_trailer;
+pub mod vertical_disk;
 pub mod whipple_bicycle;
 
 pub use ball_on_turntable::BallOnTurntable;
 pub use chaplygin_sleigh::ChaplyginSleigh;
+pub use contact_oscillator::ContactOscillator;
 pub use knife_edge::KnifeEdge;
 pub use mobile_robot::{MobileRobot, MobileRobotPaper};
 pub use n_trailer::{NTrailer1, NTrailer2, NTrailer8, NTrailer24};
+pub use vertical_disk::VerticalDisk;
 pub use whipple_bicycle::WhippleBicycle;

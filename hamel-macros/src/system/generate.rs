@@ -315,6 +315,7 @@ pub fn generate(
             .as_ref()
             .map_or_else(Vec::new, |h| h.dependent.clone()),
         conservative: eq.conservative,
+        reversible: eq.reversible,
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;
