@@ -12,6 +12,7 @@
 //! XI). [`crate::HamelSystem::REVERSIBLE`] says whether a model is reversible in this sense.
 
 use super::collocation::{Collocation, Tableau, extrapolate};
+use super::midpoint::ImplicitMidpoint;
 use super::newton::{Criterion, Newton, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::{
@@ -33,7 +34,7 @@ use crate::vector::Vector;
 /// Each step solves its stage equations to rounding by simplified Newton on the Jacobian
 /// ([`Ode::jacobian`]: for a simulation, the system's exact one), which it keeps over many
 /// steps and evaluates afresh only when the iteration stops contracting by
-/// [`GaussLegendre::REFRESH_RATE`] per iteration. A step whose iteration does not converge
+/// [`GaussLegendre::refresh_rate`] per iteration. A step whose iteration does not converge
 /// even with a fresh Jacobian is an [`Error::NewtonNotConverged`], a singular iteration
 /// matrix an [`Error::SingularIterationMatrix`], both naming t, h and the state.
 ///
@@ -67,6 +68,9 @@ pub struct GaussLegendre {
     /// The most steps an integration may take; more is refused before the first step.
     /// Default [`super::MAX_STEPS`].
     pub max_steps: usize,
+    /// The contraction factor per Newton iteration above which the next step evaluates the
+    /// Jacobian afresh; below it the old one is kept (default [`Self::REFRESH_RATE`]).
+    pub refresh_rate: f64,
 }
 
 impl GaussLegendre {
@@ -76,6 +80,7 @@ impl GaussLegendre {
             stages,
             step,
             max_steps: MAX_STEPS,
+            refresh_rate: Self::REFRESH_RATE,
         }
     }
 
@@ -85,9 +90,17 @@ impl GaussLegendre {
         self
     }
 
-    /// The contraction factor per Newton iteration above which the next step evaluates the
-    /// Jacobian afresh; below it the old one is kept. A Jacobian costs a few right-hand sides
-    /// per state component, an iteration one per stage.
+    /// Evaluates the Jacobian afresh when the Newton iteration contracts by less than `rate`
+    /// per iteration (0: at every step).
+    pub fn with_refresh_rate(mut self, rate: f64) -> Self {
+        self.refresh_rate = rate;
+        self
+    }
+
+    /// The default of [`GaussLegendre::refresh_rate`]. A Jacobian costs about one
+    /// right-hand side per state component, an iteration one per stage; from the
+    /// extrapolated start an iteration contracting by 0.05 needs twice as many iterations to
+    /// reach rounding as one contracting by 0.001.
     pub const REFRESH_RATE: f64 = 0.05;
 
     /// `n` steps of size `h` from (t0, x0) — `h` may be negative, to step backwards — with
@@ -111,10 +124,22 @@ impl GaussLegendre {
             });
         }
         check_problem(ode, t0, x0, &[] as &[f64])?;
+        let rate = self.refresh_rate;
         match self.stages {
-            1 => advance(&Tableau::gauss1(), ode, (t0, x0), h, n),
-            2 => advance(&Tableau::gauss2(), ode, (t0, x0), h, n),
-            _ => advance(&Tableau::gauss3(), ode, (t0, x0), h, n),
+            1 => advance(&Tableau::gauss1(), rate, ode, (t0, x0), h, n),
+            2 => advance(&Tableau::gauss2(), rate, ode, (t0, x0), h, n),
+            _ => advance(&Tableau::gauss3(), rate, ode, (t0, x0), h, n),
+        }
+    }
+}
+
+impl From<&ImplicitMidpoint> for GaussLegendre {
+    fn from(m: &ImplicitMidpoint) -> Self {
+        GaussLegendre {
+            stages: 1,
+            step: m.step,
+            max_steps: m.max_steps,
+            refresh_rate: m.refresh_rate,
         }
     }
 }
@@ -141,32 +166,10 @@ impl Integrator for GaussLegendre {
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error> {
         check_stages(self.stages)?;
-        let settings = (self.step, self.max_steps);
         match self.stages {
-            1 => integrate_fixed(
-                &Tableau::gauss1(),
-                settings,
-                ode,
-                (t0, x0),
-                samples,
-                observer,
-            ),
-            2 => integrate_fixed(
-                &Tableau::gauss2(),
-                settings,
-                ode,
-                (t0, x0),
-                samples,
-                observer,
-            ),
-            _ => integrate_fixed(
-                &Tableau::gauss3(),
-                settings,
-                ode,
-                (t0, x0),
-                samples,
-                observer,
-            ),
+            1 => integrate_fixed(&Tableau::gauss1(), self, ode, (t0, x0), samples, observer),
+            2 => integrate_fixed(&Tableau::gauss2(), self, ode, (t0, x0), samples, observer),
+            _ => integrate_fixed(&Tableau::gauss3(), self, ode, (t0, x0), samples, observer),
         }
     }
 }
@@ -179,15 +182,18 @@ pub(crate) struct Stepper<'t, V, const S: usize> {
     last: Option<Collocation<'t, V, S>>,
     /// Evaluate the Jacobian at the next step's start.
     refresh: bool,
+    /// [`GaussLegendre::refresh_rate`].
+    refresh_rate: f64,
 }
 
 impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
-    pub fn new(tableau: &'t Tableau<S>) -> Self {
+    pub fn new(tableau: &'t Tableau<S>, refresh_rate: f64) -> Self {
         Stepper {
             tableau,
             newton: Newton::new(V::LEN, S),
             last: None,
             refresh: true,
+            refresh_rate,
         }
     }
 
@@ -240,7 +246,7 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
             )?;
         }
         match outcome {
-            Outcome::Converged { rate, .. } => self.refresh = rate > GaussLegendre::REFRESH_RATE,
+            Outcome::Converged { rate, .. } => self.refresh = rate > self.refresh_rate,
             Outcome::Failed {
                 iterations,
                 rate,
@@ -271,12 +277,13 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
 /// `n` steps of size h from (t0, x0), nothing observed or projected.
 fn advance<O: Ode, const S: usize>(
     tableau: &Tableau<S>,
+    refresh_rate: f64,
     ode: &mut O,
     (t0, x0): (f64, &O::State),
     h: f64,
     n: usize,
 ) -> Result<(O::State, Stats), Error> {
-    let mut stepper = Stepper::new(tableau);
+    let mut stepper = Stepper::new(tableau, refresh_rate);
     let mut stats = Stats::default();
     let mut x = *x0;
     for i in 0..n {
@@ -289,16 +296,17 @@ fn advance<O: Ode, const S: usize>(
     Ok((x, stats))
 }
 
-/// A fixed-step integration with the collocation method `tableau`, `step` and `max_steps`
-/// as [`GaussLegendre`] documents them (shared with [`super::ImplicitMidpoint`]).
-pub(crate) fn integrate_fixed<O: Ode, T: SampleTimes + ?Sized, const S: usize>(
+/// A fixed-step integration with the collocation method `tableau` and the settings of
+/// `method` (its stages are `tableau`'s).
+fn integrate_fixed<O: Ode, T: SampleTimes + ?Sized, const S: usize>(
     tableau: &Tableau<S>,
-    (step, max_steps): (f64, usize),
+    method: &GaussLegendre,
     ode: &mut O,
     (t0, x0): (f64, &O::State),
     samples: &T,
     observer: &mut dyn Observer<O::State>,
 ) -> Result<Stats, Error> {
+    let (step, max_steps) = (method.step, method.max_steps);
     if !(step.is_finite() && step > 0.0) {
         return Err(Error::InvalidSetting {
             name: "step",
@@ -314,7 +322,7 @@ pub(crate) fn integrate_fixed<O: Ode, T: SampleTimes + ?Sized, const S: usize>(
     let mut run = Run {
         ode,
         observer,
-        stepper: Stepper::new(tableau),
+        stepper: Stepper::new(tableau, method.refresh_rate),
         stats: Stats::default(),
         watch: false,
     };

@@ -1,8 +1,7 @@
 //! The implicit midpoint rule, x₁ = x₀ + h f(t₀ + h/2, (x₀ + x₁)/2): the simplest symmetric
 //! method (Gauss–Legendre with one stage, order 2), with fixed steps.
 
-use super::collocation::Tableau;
-use super::gauss::{GaussLegendre, integrate_fixed};
+use super::gauss::GaussLegendre;
 use super::observer::{Observer, SampleTimes};
 use super::{Integrator, MAX_STEPS, Ode, Stats};
 use crate::error::Error;
@@ -39,6 +38,8 @@ pub struct ImplicitMidpoint {
     /// The most steps an integration may take; more is refused before the first step.
     /// Default [`super::MAX_STEPS`].
     pub max_steps: usize,
+    /// As [`GaussLegendre::refresh_rate`].
+    pub refresh_rate: f64,
 }
 
 impl ImplicitMidpoint {
@@ -46,6 +47,7 @@ impl ImplicitMidpoint {
         ImplicitMidpoint {
             step,
             max_steps: MAX_STEPS,
+            refresh_rate: GaussLegendre::REFRESH_RATE,
         }
     }
 
@@ -64,7 +66,7 @@ impl ImplicitMidpoint {
         h: f64,
         n: usize,
     ) -> Result<(O::State, Stats), Error> {
-        GaussLegendre::new(1, self.step).advance(ode, t0, x0, h, n)
+        GaussLegendre::from(self).advance(ode, t0, x0, h, n)
     }
 }
 
@@ -77,13 +79,6 @@ impl Integrator for ImplicitMidpoint {
         samples: &T,
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error> {
-        integrate_fixed(
-            &Tableau::gauss1(),
-            (self.step, self.max_steps),
-            ode,
-            (t0, x0),
-            samples,
-            observer,
-        )
+        GaussLegendre::from(self).integrate_observed(ode, t0, x0, samples, observer)
     }
 }

@@ -31,9 +31,10 @@ const ROUNDING_FLOOR: f64 = 1e-12;
 /// How to decide that the iteration has converged.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Criterion {
-    /// To rounding: the scaled increment is at most one ulp, or has stopped decreasing below
-    /// [`ROUNDING_FLOOR`]; diverging or too slow to get there in
-    /// [`NEWTON_MAX_ITERATIONS`] is a failure.
+    /// To rounding: the scaled increment is at most one ulp, or the next one would be (the
+    /// observed contraction times this one), or it has stopped decreasing below
+    /// [`ROUNDING_FLOOR`]; diverging or too slow to get there in [`NEWTON_MAX_ITERATIONS`]
+    /// is a failure.
     Rounding,
     /// Hairer's RADAU5 test: θ/(1 − θ)·‖ΔZ‖ ≤ `tolerance`, θ the observed contraction; at
     /// most `max_iterations`, and a failure as soon as the prediction says they will not do.
@@ -261,7 +262,14 @@ impl Newton {
                         rate = rate.max(theta);
                     }
                     let stalled = k >= 2 && theta >= 1.0;
-                    if increment <= f64::EPSILON || (stalled && increment <= ROUNDING_FLOOR) {
+                    // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
+                    // ulp: the stages are at rounding already.
+                    let below_ulp =
+                        k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
+                    if increment <= f64::EPSILON
+                        || below_ulp
+                        || (stalled && increment <= ROUNDING_FLOOR)
+                    {
                         return Ok(Outcome::Converged {
                             iterations: k,
                             rate,
