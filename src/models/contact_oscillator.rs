@@ -56,4 +56,15 @@ impl ContactOscillator {
     pub fn y_energy(state: &[f64; 5]) -> f64 {
         0.5 * (state[1] * state[1] + state[3] * state[3])
     }
+
+    /// The start of the test suite's and the benchmarks' runs, with McLachlan and
+    /// Perlmutter's energies H₀ = 1.5 and H_y = 0.5: y = 0, ẏ = 1, x = z = 0.5 with ẋ = −y ż
+    /// = 0, and ż > 0 taking the rest of the energy.
+    pub fn start(&self) -> Result<[f64; 5], crate::Error> {
+        use crate::HamelSystem;
+        let (x, z) = (0.5, 0.5);
+        let potential = 0.5 * (x * x + z * z) + 0.5 * self.epsilon * x * x * z * z;
+        let vz = (2.0 * (1.0 - potential)).sqrt();
+        self.state_from_speeds(0.0, &[x, 0.0, z], &[1.0, vz])
+    }
 }

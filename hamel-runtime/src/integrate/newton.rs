@@ -205,10 +205,10 @@ impl Newton {
                 ode.rhs(t + tableau.c[i] * h, &yi, fi)?;
             }
             stats.evaluations += S;
-            for i in 0..S {
+            for (i, (row, zi)) in tableau.a.iter().zip(z.iter()).enumerate() {
                 for p in 0..n {
-                    let sum: f64 = (0..S).map(|j| tableau.a[i][j] * f[j].as_ref()[p]).sum();
-                    self.residual[i * n + p] = h * sum - z[i].as_ref()[p];
+                    let sum: f64 = row.iter().zip(&f).map(|(a, fj)| a * fj.as_ref()[p]).sum();
+                    self.residual[i * n + p] = h * sum - zi.as_ref()[p];
                 }
             }
             let Some((_, lu)) = &self.lu else {
