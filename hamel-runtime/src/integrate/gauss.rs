@@ -33,7 +33,7 @@ use crate::vector::Vector;
 ///
 /// Each step solves its stage equations to rounding by simplified Newton on the Jacobian
 /// ([`Ode::jacobian`]: for a simulation, the system's exact one), which it keeps over many
-/// steps and evaluates afresh only when the iteration stops contracting by
+/// steps and evaluates afresh only when the iteration contracts by less than the factor
 /// [`GaussLegendre::refresh_rate`] per iteration. A step whose iteration does not converge
 /// even with a fresh Jacobian is an [`Error::NewtonNotConverged`], a singular iteration
 /// matrix an [`Error::SingularIterationMatrix`], both naming t, h and the state.
@@ -115,7 +115,7 @@ impl GaussLegendre {
         h: f64,
         n: usize,
     ) -> Result<(O::State, Stats), Error> {
-        check_stages(self.stages)?;
+        check_settings(self)?;
         if !(h.is_finite() && h != 0.0) {
             return Err(Error::InvalidSetting {
                 name: "step",
@@ -144,16 +144,24 @@ impl From<&ImplicitMidpoint> for GaussLegendre {
     }
 }
 
-fn check_stages(stages: usize) -> Result<(), Error> {
-    if (1..=3).contains(&stages) {
-        Ok(())
-    } else {
-        Err(Error::InvalidSetting {
+/// The checks of the settings every entry point makes (the step is checked where its sign
+/// matters).
+fn check_settings(method: &GaussLegendre) -> Result<(), Error> {
+    if !(1..=3).contains(&method.stages) {
+        return Err(Error::InvalidSetting {
             name: "stages",
-            value: stages as f64,
+            value: method.stages as f64,
             reason: "Gauss–Legendre methods are offered with 1, 2 or 3 stages (orders 2, 4, 6)",
-        })
+        });
     }
+    if !(method.refresh_rate.is_finite() && method.refresh_rate >= 0.0) {
+        return Err(Error::InvalidSetting {
+            name: "refresh rate",
+            value: method.refresh_rate,
+            reason: "the contraction factor that refreshes the Jacobian must be a finite number ≥ 0",
+        });
+    }
+    Ok(())
 }
 
 impl Integrator for GaussLegendre {
@@ -165,7 +173,7 @@ impl Integrator for GaussLegendre {
         samples: &T,
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error> {
-        check_stages(self.stages)?;
+        check_settings(self)?;
         match self.stages {
             1 => integrate_fixed(&Tableau::gauss1(), self, ode, (t0, x0), samples, observer),
             2 => integrate_fixed(&Tableau::gauss2(), self, ode, (t0, x0), samples, observer),
@@ -176,7 +184,7 @@ impl Integrator for GaussLegendre {
 
 /// The steps of a fixed-step collocation integration: the Newton machinery, and the last
 /// step's polynomial for the next one's starting values.
-pub(crate) struct Stepper<'t, V, const S: usize> {
+struct Stepper<'t, V, const S: usize> {
     tableau: &'t Tableau<S>,
     newton: Newton,
     last: Option<Collocation<'t, V, S>>,
@@ -187,7 +195,7 @@ pub(crate) struct Stepper<'t, V, const S: usize> {
 }
 
 impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
-    pub fn new(tableau: &'t Tableau<S>, refresh_rate: f64) -> Self {
+    fn new(tableau: &'t Tableau<S>, refresh_rate: f64) -> Self {
         Stepper {
             tableau,
             newton: Newton::new(V::LEN, S),
@@ -198,7 +206,7 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
     }
 
     /// One step of size h from (t, y): its collocation polynomial (whose end is the result).
-    pub fn step<O: Ode<State = V>>(
+    fn step<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
         (t, y): (f64, &V),

@@ -354,6 +354,20 @@ fn step_limits_and_settings_are_checked() {
             "initial step",
         );
     }
+    for bad in [-0.1, f64::NAN, f64::INFINITY] {
+        expect_invalid(
+            run(&|o| {
+                GaussLegendre::new(2, 0.1).with_refresh_rate(bad).integrate(
+                    o,
+                    0.0,
+                    &[1.0, 0.0],
+                    &[1.0],
+                    &mut quiet.clone(),
+                )
+            }),
+            "refresh rate",
+        );
+    }
     for bad in [0.0, 1e-16, f64::NAN] {
         expect_invalid(
             run(&|o| {
