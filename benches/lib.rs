@@ -1,7 +1,8 @@
 //! hamel's benchmarks (`cargo bench -p hamel-benches`): `rhs.rs` times the generated
 //! right-hand side against a hand-written closed form (criterion, for trends), `speed.rs`
 //! gives the figures of record for the same comparison and for the N-trailer (interleaved),
-//! `linearize.rs` the cost of a Jacobian, `expand.rs` the macro's expansion.
+//! `linearize.rs` the cost of a Jacobian, `expand.rs` the macro's expansion, `long_runs.rs`
+//! the integrators over long spans and on a stiff system (figures of record in the file).
 //!
 //! This library holds what the benchmarks share: the interleaved timing ([`interleave`]) and
 //! the seeded samples ([`Uniform`], [`robot_samples`]).

@@ -3,6 +3,7 @@
 //! ```text
 //! cargo run --release --example mobile_robot                       # defaults
 //! cargo run --release --example mobile_robot -- --alpha 1.0 --tau1 0.2 --t-end 5 --out run.csv
+//! cargo run --release --example mobile_robot -- --integrator gauss2 --step 0.01 --t-end 1000
 //! cargo run --release --example mobile_robot -- --help
 //! ```
 //!
@@ -12,10 +13,16 @@
 //! sample, `t,x,y,alpha,phi1,phi2,w3,w4,w5,tau1,tau2,energy,energy_balance`, and (feature
 //! `plot`, on by default) a figure beside it with the same stem, `mobile_robot.svg`: the path
 //! y against x, the pitch α against time and the energy drift against time. A run that takes
-//! more than a second shows a progress bar on a terminal.
+//! more than a second shows a progress bar on a terminal. `--integrator` picks the method:
+//! Dormand–Prince (the default), RK4, the implicit midpoint rule, Gauss–Legendre with 2 or 3
+//! stages (bounded energy error over long runs) or Radau5 (stiff), see
+//! `hamel::docs::running`.
 
 use hamel::models::MobileRobot;
-use hamel::{DormandPrince, HamelSystem, Parameters, Simulation};
+use hamel::{
+    DormandPrince, GaussLegendre, HamelSystem, ImplicitMidpoint, Integrator, Parameters, Radau5,
+    Rk4, Simulation, Trajectory,
+};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -31,7 +38,59 @@ struct Settings {
     dt_out: f64,
     rtol: f64,
     atol: f64,
+    method: Method,
+    /// The step of the fixed-step methods.
+    step: f64,
     out: String,
+}
+
+/// The integrators `--integrator` offers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Method {
+    DormandPrince,
+    Rk4,
+    Midpoint,
+    Gauss2,
+    Gauss3,
+    Radau5,
+}
+
+impl Method {
+    const ALL: [(&'static str, Method); 6] = [
+        ("dopri5", Method::DormandPrince),
+        ("rk4", Method::Rk4),
+        ("midpoint", Method::Midpoint),
+        ("gauss2", Method::Gauss2),
+        ("gauss3", Method::Gauss3),
+        ("radau5", Method::Radau5),
+    ];
+
+    fn parse(name: &str) -> Result<Method, String> {
+        Method::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, m)| *m)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|(n, _)| *n).collect();
+                format!(
+                    "option `--integrator`: unknown integrator `{name}`; the integrators are {}",
+                    names.join(", ")
+                )
+            })
+    }
+
+    /// The method and its settings, as the run's header prints them.
+    fn describe(self, s: &Settings) -> String {
+        let tolerances = format!("rtol = {:e}, atol = {:e}", s.rtol, s.atol);
+        match self {
+            Method::DormandPrince => format!("Dormand–Prince 5(4), {tolerances}"),
+            Method::Radau5 => format!("Radau IIA 5 (Radau5), {tolerances}"),
+            Method::Rk4 => format!("RK4, step {}", s.step),
+            Method::Midpoint => format!("implicit midpoint, step {}", s.step),
+            Method::Gauss2 => format!("Gauss–Legendre, 2 stages (order 4), step {}", s.step),
+            Method::Gauss3 => format!("Gauss–Legendre, 3 stages (order 6), step {}", s.step),
+        }
+    }
 }
 
 impl Default for Settings {
@@ -45,6 +104,8 @@ impl Default for Settings {
             dt_out: 0.01,
             rtol: 1e-9,
             atol: 1e-12,
+            method: Method::DormandPrince,
+            step: 0.01,
             out: "mobile_robot.csv".into(),
         }
     }
@@ -64,13 +125,25 @@ fn help() -> String {
     for (name, value) in MobileRobot::STATE.iter().zip(d.state) {
         text += &format!("  --{name:<8} [{value}]\n");
     }
+    let names: Vec<&str> = Method::ALL.iter().map(|(n, _)| *n).collect();
     text += &format!(
         "\nInputs (constant motor torques, N m):\n  --tau1     [{}]\n  --tau2     [{}]\n\n\
-         Integration (Dormand–Prince 5(4), adaptive):\n  --t-end    end time, s [{}]\n  \
-         --dt-out   sample interval, s [{}]\n  --rtol     relative tolerance [{}]\n  \
-         --atol     absolute tolerance [{}]\n  --out      CSV file, the figure beside it as .svg [{}]\n  \
+         Integration:\n  --integrator  {} [dopri5]\n  \
+         --t-end    end time, s [{}]\n  \
+         --dt-out   sample interval, s [{}]\n  --rtol     relative tolerance (dopri5, radau5) [{}]\n  \
+         --atol     absolute tolerance (dopri5, radau5) [{}]\n  \
+         --step     step, s (rk4, midpoint, gauss2, gauss3) [{}]\n  \
+         --out      CSV file, the figure beside it as .svg [{}]\n  \
          --help     this text\n",
-        d.torques[0], d.torques[1], d.t_end, d.dt_out, d.rtol, d.atol, d.out
+        d.torques[0],
+        d.torques[1],
+        names.join(" | "),
+        d.t_end,
+        d.dt_out,
+        d.rtol,
+        d.atol,
+        d.step,
+        d.out
     );
     text
 }
@@ -103,6 +176,10 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
             s.out = raw.clone();
             continue;
         }
+        if name == "integrator" {
+            s.method = Method::parse(raw)?;
+            continue;
+        }
         let value: f64 = raw
             .parse()
             .map_err(|_| format!("option `--{name}`: `{raw}` is not a number"))?;
@@ -123,6 +200,7 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
                 "dt-out" => s.dt_out = value,
                 "rtol" => s.rtol = value,
                 "atol" => s.atol = value,
+                "step" => s.step = value,
                 _ => return Err(format!("unknown option `--{name}` (see --help)")),
             }
         }
@@ -142,16 +220,19 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
     println!("initial state: {}", MobileRobot::named_state(&x0));
     println!("torques: tau1 = {}, tau2 = {}", s.torques[0], s.torques[1]);
     println!(
-        "integrator: Dormand–Prince 5(4), rtol = {:e}, atol = {:e}; t = 0 … {} s, samples every {} s\n",
-        s.rtol, s.atol, s.t_end, s.dt_out
+        "integrator: {}; t = 0 … {} s, samples every {} s\n",
+        s.method.describe(s),
+        s.t_end,
+        s.dt_out
     );
-    let bar = progress::Bar::default();
-    let trajectory = Simulation::new(robot, x0)
-        .end_time(s.t_end)
-        .sample_interval(s.dt_out)
-        .on_progress(|p| bar.update(p))
-        .run_constant(&DormandPrince::new(s.rtol, s.atol), s.torques)?;
-    bar.clear();
+    let trajectory = match s.method {
+        Method::DormandPrince => simulate(s, x0, &DormandPrince::new(s.rtol, s.atol))?,
+        Method::Radau5 => simulate(s, x0, &Radau5::new(s.rtol, s.atol))?,
+        Method::Rk4 => simulate(s, x0, &Rk4::new(s.step))?,
+        Method::Midpoint => simulate(s, x0, &ImplicitMidpoint::new(s.step))?,
+        Method::Gauss2 => simulate(s, x0, &GaussLegendre::new(2, s.step))?,
+        Method::Gauss3 => simulate(s, x0, &GaussLegendre::new(3, s.step))?,
+    };
     println!("{}", trajectory.summary());
     if let Some(last) = trajectory.row(trajectory.len() - 1) {
         let state = &last[1..=MobileRobot::STATE.len()];
@@ -184,6 +265,22 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
         );
     }
     Ok(())
+}
+
+/// The run with `integrator`, behind a progress bar.
+fn simulate<I: Integrator>(
+    s: &Settings,
+    x0: [f64; 8],
+    integrator: &I,
+) -> Result<Trajectory, hamel::Error> {
+    let bar = progress::Bar::default();
+    let trajectory = Simulation::new(&s.robot, x0)
+        .end_time(s.t_end)
+        .sample_interval(s.dt_out)
+        .on_progress(|p| bar.update(p))
+        .run_constant(integrator, s.torques);
+    bar.clear();
+    trajectory
 }
 
 /// The figure's file: the CSV's path with the extension `svg`.

@@ -1,7 +1,8 @@
 //! What a model and its simulation need: `use hamel::prelude::*;`.
 
 pub use crate::{
-    DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Trajectory, hamel_system,
+    DormandPrince, Error, GaussLegendre, HamelSystem, ImplicitMidpoint, Parameters, Radau5, Rk4,
+    Simulation, Trajectory, hamel_system,
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{

@@ -236,6 +236,45 @@ pub enum Error {
     )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
+    /// The simplified Newton iteration that solves an implicit method's stage equations did
+    /// not converge within a step from (t, `state`), even with the Jacobian evaluated afresh
+    /// at the step's start: the step is too large for how fast the right-hand side changes
+    /// (or the right-hand side is not smooth there). `increment` is the last scaled increment
+    /// of the stage values, `rate` its observed contraction factor (≥ 1: diverging).
+    #[error(
+        "the implicit stage equations did not converge at t = {} with a step of {}: after \
+         {iterations} Newton iterations the stages still change by {} (relative to their \
+         size), each increment {} times the one before (diverging when above 1); use a smaller \
+         step (or a tolerance for an adaptive method), or check that the right-hand side is \
+         smooth here; state: {state}",
+        Num(*t), Num(*h), Num(*increment), Num(*rate)
+    )]
+    NewtonNotConverged {
+        t: f64,
+        h: f64,
+        iterations: usize,
+        increment: f64,
+        rate: f64,
+        state: NamedValues,
+    },
+
+    /// The iteration matrix I − h·(A ⊗ J) of an implicit method's stage equations is
+    /// singular at (t, `state`) for the step h: `pivot` is its smallest LU pivot relative to
+    /// the largest entry of its row. An eigenvalue of ∂f/∂x meets 1/(h·μ) for an eigenvalue μ
+    /// of the method's matrix A: an unstable (growing) motion with a time scale near the step.
+    #[error(
+        "the implicit method's iteration matrix I − h·A⊗∂f/∂x is singular at t = {} with a step \
+         of {} (relative pivot {}): the system has a growing motion on about the time scale of \
+         the step; use a smaller step; state: {state}",
+        Num(*t), Num(*h), Num(*pivot)
+    )]
+    SingularIterationMatrix {
+        t: f64,
+        h: f64,
+        pivot: f64,
+        state: NamedValues,
+    },
+
     /// An integration used up its steps (`with_max_steps`) before the end, or — `planned` —
     /// its fixed or largest step would need more of them than the limit allows for the span,
     /// which is refused before the first step (then `steps` is the number needed, saturated

@@ -29,8 +29,8 @@ pub use crossing::{SingularCrossing, transformation_determinant};
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{
-    Control, DormandPrince, Grid, Integrator, Interpolant, Observer, Ode, Rk4, SampleObserver,
-    SampleTimes, Stats, StepView,
+    Control, DormandPrince, GaussLegendre, Grid, ImplicitMidpoint, Integrator, Interpolant,
+    Observer, Ode, Radau5, Rk4, SampleObserver, SampleTimes, Stats, StepView,
 };
 pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};

@@ -125,6 +125,16 @@ pub trait HamelSystem: Parameters {
     /// rows, nothing that depends on the time explicitly. Otherwise a simulation checks the
     /// energy balance E(t) − E(t₀) = ∫ P dt with the power [`Self::power`].
     const CONSERVATIVE: bool;
+    /// Whether the reduced ODE is reversible: ρ(q, ω) = (q, −ω) maps its solutions to
+    /// solutions run backwards in time, so that a symmetric integrator
+    /// ([`crate::GaussLegendre`], [`crate::ImplicitMidpoint`]) is ρ-reversible on it and keeps
+    /// its energy error bounded over long runs. `#[hamel_system]` sets it when the model is
+    /// [`Self::CONSERVATIVE`], its kinetic energy (`#[kinetic_energy]`) is a quadratic form in
+    /// q̇, and every row — constraints, holonomic ones, quasi-velocities — is homogeneous in q̇
+    /// and does not depend on the time. It is about the model whatever its inputs: a model with
+    /// `#[forces]` is not reversible even when they vanish. The default, for a hand-written
+    /// implementation, is `false`.
+    const REVERSIBLE: bool = false;
 
     /// How many values of the right-hand side depend on the parameters alone
     /// ([`Self::prepare`]); 0 for a system that prepares nothing.

@@ -43,6 +43,11 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
             .map_err(|s| S::singular(s, t, x))
     }
 
+    fn jacobian(&mut self, t: f64, x: &S::State, jacobian: &mut [f64]) -> Result<bool, Error> {
+        state_jacobian(self.system, self.inputs, (t, x), jacobian, S::State::LEN)?;
+        Ok(true)
+    }
+
     fn project(&mut self, t: f64, x: &mut S::State) -> Result<bool, Error> {
         if !self.project {
             return Ok(false);
@@ -91,6 +96,21 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         S::State::LEN
     }
 
+    /// The state's block; the work's row (∂power/∂x) is left zero: the work does not act
+    /// back on the state, so the stages converge all the same, the work one iteration behind.
+    fn jacobian(&mut self, t: f64, v: &S::Extended, jacobian: &mut [f64]) -> Result<bool, Error> {
+        let (x, _) = split::<S>(v);
+        jacobian.fill(0.0);
+        state_jacobian(
+            self.system,
+            self.inputs,
+            (t, &x),
+            jacobian,
+            S::Extended::LEN,
+        )?;
+        Ok(true)
+    }
+
     fn project(&mut self, t: f64, v: &mut S::Extended) -> Result<bool, Error> {
         if !self.project {
             return Ok(false);
@@ -104,6 +124,47 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
     fn describe(&self, v: &S::Extended) -> NamedValues {
         describe_extended::<S>(v)
     }
+}
+
+/// ∂F/∂x of the reduced ODE with the inputs' feedback u(t, x), into the leading rows and
+/// columns of `out` (row-major, `stride` columns): the system's exact ∂F/∂x (dual numbers
+/// through the generated right-hand side) plus ∂F/∂u·∂u/∂x, with ∂u/∂x by forward differences
+/// of the input function (which is arbitrary code): n more calls of it, none for a system
+/// without inputs, and exactly zero for inputs that do not read the state.
+fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
+    system: &S,
+    inputs: &RefCell<F>,
+    (t, x): (f64, &S::State),
+    out: &mut [f64],
+    stride: usize,
+) -> Result<(), Error> {
+    let (n, m) = (S::State::LEN, S::Inputs::LEN);
+    let u = (inputs.borrow_mut())(t, x);
+    let (jx, ju) = system
+        .jacobian(t, x, &u)
+        .map_err(|s| S::singular(s, t, x))?;
+    for i in 0..n {
+        out[i * stride..i * stride + n].copy_from_slice(&jx.as_ref()[i * n..(i + 1) * n]);
+    }
+    if m == 0 {
+        return Ok(());
+    }
+    for j in 0..n {
+        let mut shifted = *x;
+        let xj = x.as_ref()[j];
+        shifted.as_mut()[j] = xj + (f64::EPSILON * xj.abs().max(1e-5)).sqrt();
+        let delta = shifted.as_ref()[j] - xj;
+        let moved = (inputs.borrow_mut())(t, &shifted);
+        for k in 0..m {
+            let du = (moved.as_ref()[k] - u.as_ref()[k]) / delta;
+            if du != 0.0 {
+                for i in 0..n {
+                    out[i * stride + j] += ju.as_ref()[i * m + k] * du;
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The extended state (x, 0) of a state x, or the error for a model whose `Extended` is not

@@ -4,7 +4,14 @@
 //!
 //! Run with `--nocapture` to see the measured figures.
 
-use hamel_runtime::{DormandPrince, Error, Integrator, Ode, Rk4, Stats};
+use hamel_runtime::{
+    DormandPrince, Error, GaussLegendre, ImplicitMidpoint, Integrator, Ode, Radau5, Rk4, Stats,
+};
+
+// The implicit methods' own tests (orders, symmetry, stiffness, their errors), sharing the
+// problems below.
+#[path = "integrators/implicit.rs"]
+mod implicit;
 
 /// y' = −2ty², y(0) = 1: y = 1/(1 + t²). Non-autonomous and nonlinear.
 struct Riccati;
@@ -192,7 +199,8 @@ fn dormand_prince_reproduces_hairers_dopri5() {
             steps: 216,
             rejected: 24,
             evaluations: 1442,
-            stopped: None
+            stopped: None,
+            ..Stats::default()
         }
     );
     for ((t, y1, y2), y) in HAIRER_ARENSTORF.iter().zip(&states) {
@@ -224,7 +232,8 @@ fn dormand_prince_reproduces_hairers_dopri5() {
             steps: 217,
             rejected: 21,
             evaluations: 1 + 6 * 238,
-            stopped: None
+            stopped: None,
+            ..Stats::default()
         }
     );
 }
@@ -475,6 +484,9 @@ fn bad_start_and_sample_times_are_errors() {
     }
     check(&methods.0);
     check(&methods.1);
+    check(&ImplicitMidpoint::new(0.1));
+    check(&GaussLegendre::new(2, 0.1));
+    check(&Radau5::new(1e-6, 1e-6));
 }
 
 #[test]
@@ -503,6 +515,10 @@ fn every_sample_is_observed_once_in_order() {
     check(&Rk4::new(0.05));
     check(&DormandPrince::new(1e-8, 1e-8));
     check(&DormandPrince::new(1e-8, 1e-8).with_fixed_step(0.05));
+    check(&ImplicitMidpoint::new(0.002));
+    check(&GaussLegendre::new(2, 0.05));
+    check(&GaussLegendre::new(3, 0.1));
+    check(&Radau5::new(1e-8, 1e-8));
 }
 
 /// ẏ = 1 until `t_fail`; then the right-hand side fails (`Err`) or returns NaN.
@@ -567,6 +583,8 @@ fn errors_from_the_right_hand_side_and_the_observer_propagate_unchanged() {
     check(&Rk4::new(0.1));
     check(&DormandPrince::new(1e-6, 1e-6));
     check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
+    check(&GaussLegendre::new(2, 0.1));
+    check(&Radau5::new(1e-6, 1e-6));
 }
 
 #[test]
@@ -780,6 +798,8 @@ fn a_failing_projection_stops_the_integration() {
     check(&Rk4::new(0.1));
     check(&DormandPrince::new(1e-6, 1e-6));
     check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
+    check(&GaussLegendre::new(2, 0.1));
+    check(&Radau5::new(1e-6, 1e-6));
 }
 
 /// y' = −10⁶ (y − cos t): stiff, so an explicit method's steps stay near its stability limit,

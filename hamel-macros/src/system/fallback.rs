@@ -251,6 +251,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         constraints,
         dependent: Vec::new(),
         conservative: false,
+        reversible: false,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

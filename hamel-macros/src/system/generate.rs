@@ -326,6 +326,7 @@ pub fn generate(
         constraints,
         dependent: spec.dependent(),
         conservative: eq.conservative,
+        reversible: eq.reversible,
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;

@@ -25,6 +25,7 @@ pub struct Header<'a> {
     pub constraints: Vec<String>,
     pub dependent: Vec<usize>,
     pub conservative: bool,
+    pub reversible: bool,
 }
 
 /// The body of each method (a block's contents).
@@ -105,7 +106,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         (&h.coordinates, &h.speeds, &h.inputs, &h.constraints);
     let state_names = coordinates.iter().chain(speeds);
     let dependent = h.dependent.iter().map(|&i| lit(i));
-    let conservative = h.conservative;
+    let (conservative, reversible) = (h.conservative, h.reversible);
     let result = quote!(::core::result::Result);
     let singularity = quote!(::hamel::Singularity);
     // `#[inline]` on every method: besides inlining, it makes their code generated only in the
@@ -158,6 +159,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             const STATE: &'static [&'static str] = &[#(#state_names),*];
             const DEPENDENT: &'static [usize] = &[#(#dependent),*];
             const CONSERVATIVE: bool = #conservative;
+            const REVERSIBLE: bool = #reversible;
             const PREPARED_LEN: usize = #prepared_len;
 
             #[inline]

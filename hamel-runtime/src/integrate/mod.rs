@@ -11,12 +11,21 @@
 //! a floor on the step size; reaching either is an error that names the time, the step and
 //! the state, never a run that does not end.
 
+mod collocation;
 mod dopri5;
+mod gauss;
+mod midpoint;
+mod newton;
 pub mod observer;
+mod radau;
 mod rk4;
 
 pub use dopri5::DormandPrince;
+pub use gauss::GaussLegendre;
+pub use midpoint::ImplicitMidpoint;
+pub use newton::NEWTON_MAX_ITERATIONS;
 pub use observer::{Control, Grid, Interpolant, Observer, SampleTimes, StepView};
+pub use radau::Radau5;
 pub use rk4::Rk4;
 
 use crate::error::Error;
@@ -48,6 +57,20 @@ pub trait Ode {
         Ok(false)
     }
 
+    /// Writes the Jacobian ∂f/∂x at (t, x) into `jacobian`, row by row (`LEN × LEN` entries:
+    /// entry `i·LEN + j` is ∂fᵢ/∂xⱼ), and returns `Ok(true)`. The implicit methods solve their
+    /// stage equations with it. The default writes nothing and returns `Ok(false)`: they then
+    /// form it by forward differences of [`Ode::rhs`] (LEN + 1 evaluations, counted). An
+    /// error stops the integration and is returned unchanged.
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _x: &Self::State,
+        _jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        Ok(false)
+    }
+
     /// The state with its component names, for error messages. The default names the
     /// components `x0`, `x1`, …; a mechanical system names them after its coordinates.
     fn describe(&self, x: &Self::State) -> NamedValues {
@@ -68,8 +91,13 @@ pub struct Stats {
     pub steps: usize,
     /// Steps computed and thrown away because their error estimate was too large.
     pub rejected: usize,
-    /// Right-hand-side evaluations, including those spent choosing the initial step.
+    /// Right-hand-side evaluations, including those spent choosing the initial step (and
+    /// those of Jacobians formed by differences).
     pub evaluations: usize,
+    /// Jacobians ∂f/∂x evaluated (implicit methods only).
+    pub jacobians: usize,
+    /// LU factorizations of an implicit method's iteration matrix (implicit methods only).
+    pub factorizations: usize,
     /// The time the observer stopped the integration at ([`Control::Stop`]), if it did.
     pub stopped: Option<f64>,
 }

@@ -285,6 +285,7 @@ mod tests {
                 rejected: 0,
                 evaluations: 48,
                 stopped: None,
+                ..Stats::default()
             }
         );
         assert_eq!(

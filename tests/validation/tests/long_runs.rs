@@ -13,10 +13,19 @@
 //!    run returns what it recorded up to there with `Summary::stopped` saying so.
 //! 3. Extra outputs: the input, output and λ columns against the functions that define them,
 //!    row by row; `Simulation::stream` into a `CsvSink` against `Trajectory::write_csv`.
+//! 4. The implicit integrators (`long_runs/implicit.rs`, which lists what it checks).
 
 #[allow(dead_code)]
 #[path = "common/planar_closed_forms.rs"]
 mod planar_closed_forms;
+
+#[path = "common/disk_closed_forms.rs"]
+mod disk_closed_forms;
+
+// The implicit integrators on the catalogue's models: orders, symmetry, bounded energy, the
+// vertical disk's closed form, stiffness.
+#[path = "long_runs/implicit.rs"]
+mod implicit;
 
 use std::cell::RefCell;
 use std::ops::ControlFlow;

@@ -114,6 +114,9 @@ pub struct Equations {
     pub holonomic: Option<HolonomicNodes>,
     /// No forces, no affine part in the constraints, no explicit time in L: E is conserved.
     pub conservative: bool,
+    /// Conservative, T quadratic in q̇, and every row (quasi-velocities too) homogeneous in q̇
+    /// and independent of t: (q, ω) ↦ (q, −ω) reverses the reduced ODE.
+    pub reversible: bool,
 }
 
 pub(super) fn fresh(g: &mut Graph, name: &str, count: usize) -> Vec<NodeId> {
@@ -273,15 +276,19 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
             projected::assemble(lowerer.graph, l, &transformation, &vectors)
         }
     };
-    let energy = match lagrangian::split_energy(lowerer, spec, t, q, v, &qd)? {
-        Some(e) => e,
-        None => assembled.energy,
-    };
+    let split_energy = lagrangian::split_energy(lowerer, spec, t, q, v, &qd)?;
+    let quadratic_kinetic = split_energy.is_some();
+    let energy = split_energy.unwrap_or(assembled.energy);
     let g = &mut *lowerer.graph;
     let mut motion = solve(g, &assembled, &transformation, &vectors, p);
     let offsets_vanish = rows.offset[..p].iter().all(|&a| g.is_zero(a));
     let conservative =
         spec.forces.is_none() && offsets_vanish && g.is_zero(assembled.lagrangian_rate);
+    let on_time = g.depends_on(&[t]);
+    let reversible = conservative
+        && quadratic_kinetic
+        && rows.offset.iter().all(|&a| g.is_zero(a))
+        && rows.all.iter().all(|r| !on_time[r.index()]);
     let gamma = gamma::gamma(g, &rows.all, q, v, &b_free);
     let varying = inputs.varying();
     factor_right_hand_side(
@@ -306,6 +313,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         inverse_defect,
         holonomic: rows.holonomic,
         conservative,
+        reversible,
         inputs,
     })
 }

@@ -1,0 +1,472 @@
+//! The simplified Newton iteration that solves the stage equations of an implicit collocation
+//! method, Zᵢ = h Σⱼ aᵢⱼ f(t + cⱼh, y + Zⱼ), on the Jacobian J = ∂f/∂x: every iteration solves
+//! (I − h·A⊗J) ΔZ = −Z + h (A⊗I) F(Z) with one LU factorization of the iteration matrix,
+//! formed once for a Jacobian and a step size and reused (Hairer & Wanner, *Solving Ordinary
+//! Differential Equations II*, IV.8). The Jacobian is the [`Ode`]'s own ([`Ode::jacobian`]: for
+//! a mechanical system the exact one, by dual numbers through its generated right-hand side),
+//! or forward differences where it has none; the methods evaluate it afresh only when the
+//! iteration stops converging fast.
+//!
+//! Two ways to stop: to rounding, for the symmetric methods (an iteration stopped early leaves
+//! an error that is not symmetric, and over a long run it accumulates into a drift: Hairer,
+//! McLachlan & Razakarivony, *BIT* 48 (2008)), and RADAU5's test on the predicted remaining
+//! error, for the stiff method whose error control needs no more than the tolerance.
+
+use nalgebra::{DMatrix, DVector, Dyn, LU};
+
+use super::collocation::Tableau;
+use super::{Ode, Stats};
+use crate::error::{Error, Num};
+use crate::vector::Vector;
+
+/// The most iterations a symmetric method spends converging its stages to rounding before it
+/// evaluates the Jacobian afresh (and, with a fresh one, reports an error): from the
+/// extrapolated start a contraction of 0.3 per iteration reaches rounding in about 25.
+pub const NEWTON_MAX_ITERATIONS: usize = 50;
+
+/// Scaled increments at most this small that stop decreasing are rounding: the iteration has
+/// converged as far as `f64` allows.
+const ROUNDING_FLOOR: f64 = 1e-12;
+
+/// How to decide that the iteration has converged.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Criterion {
+    /// To rounding: the scaled increment is at most one ulp, or the next one would be (the
+    /// observed contraction times this one), or it has stopped decreasing below
+    /// [`ROUNDING_FLOOR`]; diverging or too slow to get there in [`NEWTON_MAX_ITERATIONS`]
+    /// is a failure.
+    Rounding,
+    /// Hairer's RADAU5 test: θ/(1 − θ)·‖ΔZ‖ ≤ `tolerance`, θ the observed contraction; at
+    /// most `max_iterations`, and a failure as soon as the prediction says they will not do.
+    Predicted {
+        tolerance: f64,
+        max_iterations: usize,
+    },
+}
+
+/// How an iteration ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Outcome {
+    /// The stages are solved; `rate` is the largest contraction factor observed before
+    /// rounding (0 when one iteration sufficed).
+    Converged { iterations: usize, rate: f64 },
+    /// Diverging, too slow, or a stage value where f is not finite. `shrink` is the factor
+    /// by which RADAU5 would reduce the step; `increment` the last scaled increment.
+    Failed {
+        iterations: usize,
+        rate: f64,
+        increment: f64,
+        shrink: f64,
+    },
+}
+
+/// The Jacobian, the factored iteration matrix and the iteration's workspace, for one
+/// integration (allocated once; a factorization allocates its matrix).
+pub(crate) struct Newton {
+    n: usize,
+    jacobian: DMatrix<f64>,
+    /// The Jacobian as the `Ode` writes it, row by row.
+    rows: Vec<f64>,
+    evaluated: bool,
+    /// Whether `jacobian` was evaluated at the start of the step being solved: when it was,
+    /// a failure cannot be blamed on an old Jacobian.
+    pub fresh: bool,
+    /// The LU factors of I − h·(A ⊗ J) and the h they are for.
+    lu: Option<(f64, LU<f64, Dyn, Dyn>)>,
+    residual: DVector<f64>,
+    /// RADAU5's FACCON, carried from step to step: θ/(1 − θ) of the last iteration.
+    faccon: f64,
+}
+
+impl Newton {
+    /// The machinery for an ODE with `n` components and a method with `stages` stages.
+    pub fn new(n: usize, stages: usize) -> Self {
+        Newton {
+            n,
+            jacobian: DMatrix::zeros(n, n),
+            rows: vec![0.0; n * n],
+            evaluated: false,
+            fresh: false,
+            lu: None,
+            residual: DVector::zeros(n * stages),
+            faccon: 1.0,
+        }
+    }
+
+    /// Whether a Jacobian has been evaluated yet.
+    pub fn has_jacobian(&self) -> bool {
+        self.evaluated
+    }
+
+    /// The Jacobian last evaluated.
+    pub fn jacobian(&self) -> &DMatrix<f64> {
+        &self.jacobian
+    }
+
+    /// Evaluates the Jacobian at (t, x): the ODE's own, or forward differences; an entry that
+    /// is not finite is an error naming it. Invalidates the factorization.
+    pub fn evaluate<O: Ode>(
+        &mut self,
+        ode: &mut O,
+        t: f64,
+        x: &O::State,
+        stats: &mut Stats,
+    ) -> Result<(), Error> {
+        if !ode.jacobian(t, x, &mut self.rows)? {
+            differences(ode, t, x, &mut self.rows, stats)?;
+        }
+        stats.jacobians += 1;
+        let n = self.n;
+        if let Some(k) = self.rows.iter().position(|v| !v.is_finite()) {
+            let names = ode.describe(x);
+            let name = |i: usize| {
+                names
+                    .0
+                    .get(i)
+                    .map_or_else(|| format!("x{i}"), |(n, _)| n.clone())
+            };
+            return Err(Error::NonFiniteDerivative {
+                of: format!("the rate of `{}`", name(k / n)),
+                by: name(k % n),
+                value: self.rows[k],
+                at: format!("at t = {}, in the state {names}", Num(t)),
+            });
+        }
+        for i in 0..n {
+            for j in 0..n {
+                self.jacobian[(i, j)] = self.rows[i * n + j];
+            }
+        }
+        self.evaluated = true;
+        self.fresh = true;
+        self.lu = None;
+        Ok(())
+    }
+
+    /// Factors I − h·(A ⊗ J) unless it is factored for this h already; a singular matrix is
+    /// an error naming t, h and the state x (where the step starts).
+    pub fn factor<O: Ode, const S: usize>(
+        &mut self,
+        ode: &O,
+        tableau: &Tableau<S>,
+        (t, x, h): (f64, &O::State, f64),
+        stats: &mut Stats,
+    ) -> Result<(), Error> {
+        if matches!(self.lu, Some((formed, _)) if formed == h) {
+            return Ok(());
+        }
+        let n = self.n;
+        let matrix = DMatrix::from_fn(S * n, S * n, |r, c| {
+            let (i, p, j, q) = (r / n, r % n, c / n, c % n);
+            let identity = if r == c { 1.0 } else { 0.0 };
+            identity - h * tableau.a[i][j] * self.jacobian[(p, q)]
+        });
+        let pivot = factor_checked(matrix, &mut self.lu, h);
+        stats.factorizations += 1;
+        match pivot {
+            Some(pivot) => Err(Error::SingularIterationMatrix {
+                t,
+                h,
+                pivot,
+                state: ode.describe(x),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Solves the stage equations of a step of size h from (t, y), starting from `z` and
+    /// leaving the solution there; the increments are measured component by component
+    /// relative to `scale`. The factorization must be for this h ([`Newton::factor`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn iterate<O: Ode, const S: usize>(
+        &mut self,
+        ode: &mut O,
+        tableau: &Tableau<S>,
+        (t, y, h): (f64, &O::State, f64),
+        z: &mut [O::State; S],
+        criterion: Criterion,
+        scale: &[f64],
+        stats: &mut Stats,
+    ) -> Result<Outcome, Error> {
+        let n = self.n;
+        let max_iterations = match criterion {
+            Criterion::Rounding => NEWTON_MAX_ITERATIONS,
+            Criterion::Predicted { max_iterations, .. } => max_iterations,
+        };
+        let mut f = [O::State::zeros(); S];
+        let (mut previous, mut rate, mut theta_old) = (f64::NAN, 0.0f64, 0.0);
+        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
+        for k in 1..=max_iterations {
+            for (i, fi) in f.iter_mut().enumerate() {
+                let mut yi = *y;
+                for (v, dz) in yi.as_mut().iter_mut().zip(z[i].as_ref()) {
+                    *v += dz;
+                }
+                ode.rhs(t + tableau.c[i] * h, &yi, fi)?;
+            }
+            stats.evaluations += S;
+            for (i, (row, zi)) in tableau.a.iter().zip(z.iter()).enumerate() {
+                for p in 0..n {
+                    let sum: f64 = row.iter().zip(&f).map(|(a, fj)| a * fj.as_ref()[p]).sum();
+                    self.residual[i * n + p] = h * sum - zi.as_ref()[p];
+                }
+            }
+            let Some((_, lu)) = &self.lu else {
+                unreachable!("the iteration matrix is factored before the iteration");
+            };
+            let solved = lu.solve_mut(&mut self.residual);
+            let increment = self.scaled_norm(scale);
+            let failed = |rate: f64, shrink: f64| Outcome::Failed {
+                iterations: k,
+                rate,
+                increment,
+                shrink,
+            };
+            // A stage where f is not finite, or a solve that overflowed.
+            if !(solved && increment.is_finite()) {
+                return Ok(failed(f64::NAN, 0.5));
+            }
+            let theta = if k >= 2 { increment / previous } else { 0.0 };
+            if let Criterion::Predicted {
+                tolerance,
+                max_iterations,
+            } = criterion
+            {
+                if k >= 2 {
+                    // RADAU5: the geometric mean of the last two rates, once there are two.
+                    let smoothed = if k == 2 {
+                        theta
+                    } else {
+                        (theta * theta_old).sqrt()
+                    };
+                    theta_old = theta;
+                    rate = smoothed;
+                    if smoothed >= 0.99 {
+                        return Ok(failed(smoothed, 0.5));
+                    }
+                    self.faccon = smoothed / (1.0 - smoothed);
+                    let left = (max_iterations - k) as i32;
+                    let predicted = self.faccon * increment * smoothed.powi(left) / tolerance;
+                    if predicted >= 1.0 {
+                        let q = predicted.clamp(1e-4, 20.0);
+                        let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
+                        return Ok(failed(smoothed, shrink));
+                    }
+                }
+            }
+            self.apply(z);
+            previous = increment.max(f64::MIN_POSITIVE);
+            match criterion {
+                Criterion::Rounding => {
+                    if k >= 2 && increment > ROUNDING_FLOOR {
+                        rate = rate.max(theta);
+                    }
+                    let stalled = k >= 2 && theta >= 1.0;
+                    // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
+                    // ulp: the stages are at rounding already.
+                    let below_ulp =
+                        k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
+                    if increment <= f64::EPSILON
+                        || below_ulp
+                        || (stalled && increment <= ROUNDING_FLOOR)
+                    {
+                        return Ok(Outcome::Converged {
+                            iterations: k,
+                            rate,
+                        });
+                    }
+                    // Diverging, or so slow that rounding is out of reach in the iterations left.
+                    let left = (max_iterations - k) as f64;
+                    if stalled || (k >= 2 && increment * theta.powf(left) > ROUNDING_FLOOR) {
+                        return Ok(failed(theta, 0.5));
+                    }
+                }
+                Criterion::Predicted { tolerance, .. } => {
+                    if self.faccon * increment <= tolerance {
+                        return Ok(Outcome::Converged {
+                            iterations: k,
+                            rate,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(Outcome::Failed {
+            iterations: max_iterations,
+            rate,
+            increment: previous,
+            shrink: 0.5,
+        })
+    }
+
+    /// √(mean((ΔZ / scale)²)) over every stage and component, ΔZ being in `residual`.
+    fn scaled_norm(&self, scale: &[f64]) -> f64 {
+        let n = self.n;
+        let sum: f64 = self
+            .residual
+            .iter()
+            .enumerate()
+            .map(|(r, dz)| (dz / scale[r % n]).powi(2))
+            .sum();
+        (sum / self.residual.len() as f64).sqrt()
+    }
+
+    /// Z += ΔZ.
+    fn apply<V: Vector, const S: usize>(&self, z: &mut [V; S]) {
+        let n = self.n;
+        for (i, zi) in z.iter_mut().enumerate() {
+            for (p, v) in zi.as_mut().iter_mut().enumerate() {
+                *v += self.residual[i * n + p];
+            }
+        }
+    }
+}
+
+/// Relative LU pivots below this are zero: the matrix is singular to rounding.
+const SINGULAR_PIVOT: f64 = 1e-13;
+
+/// Factors `matrix` into `slot` (with the h it is for); `Some(pivot)` when it is singular,
+/// the smallest pivot relative to the matrix's largest entry (the slot then left empty).
+pub(crate) fn factor_checked(
+    matrix: DMatrix<f64>,
+    slot: &mut Option<(f64, LU<f64, Dyn, Dyn>)>,
+    h: f64,
+) -> Option<f64> {
+    let largest = matrix.amax();
+    let lu = matrix.lu();
+    let smallest = lu.u().diagonal().amin();
+    let pivot = if largest > 0.0 {
+        smallest / largest
+    } else {
+        0.0
+    };
+    if pivot.is_nan() || pivot <= SINGULAR_PIVOT {
+        *slot = None;
+        Some(pivot)
+    } else {
+        *slot = Some((h, lu));
+        None
+    }
+}
+
+/// The Jacobian by forward differences, row by row into `rows`, with Hairer's increments
+/// √(ε·max(10⁻⁵, |xⱼ|)) (RADAU5): n + 1 evaluations.
+fn differences<O: Ode>(
+    ode: &mut O,
+    t: f64,
+    x: &O::State,
+    rows: &mut [f64],
+    stats: &mut Stats,
+) -> Result<(), Error> {
+    let n = O::State::LEN;
+    let mut f0 = O::State::zeros();
+    ode.rhs(t, x, &mut f0)?;
+    let mut f = O::State::zeros();
+    for j in 0..n {
+        let mut shifted = *x;
+        let xj = x.as_ref()[j];
+        shifted.as_mut()[j] = xj + (f64::EPSILON * xj.abs().max(1e-5)).sqrt();
+        // The increment as represented, so that the quotient is exact in it.
+        let delta = shifted.as_ref()[j] - xj;
+        ode.rhs(t, &shifted, &mut f)?;
+        for i in 0..n {
+            rows[i * n + j] = (f.as_ref()[i] - f0.as_ref()[i]) / delta;
+        }
+    }
+    stats.evaluations += n + 1;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ẋ = A x with a fixed A: the iteration matrix is exact, so simplified Newton converges
+    /// in one iteration (the second only confirms it).
+    struct Linear;
+
+    impl Ode for Linear {
+        type State = [f64; 2];
+
+        fn rhs(&mut self, _t: f64, x: &[f64; 2], dx: &mut [f64; 2]) -> Result<(), Error> {
+            *dx = [x[1], -4.0 * x[0] - 0.5 * x[1]];
+            Ok(())
+        }
+
+        fn jacobian(&mut self, _t: f64, _x: &[f64; 2], j: &mut [f64]) -> Result<bool, Error> {
+            j.copy_from_slice(&[0.0, 1.0, -4.0, -0.5]);
+            Ok(true)
+        }
+    }
+
+    #[test]
+    fn differences_approximate_the_jacobian() {
+        let mut rows = [0.0; 4];
+        let mut stats = Stats::default();
+        differences(&mut Linear, 0.0, &[0.3, -1.2], &mut rows, &mut stats).unwrap();
+        // Linear's own Jacobian is not used by `differences`.
+        for (got, want) in rows.iter().zip([0.0, 1.0, -4.0, -0.5]) {
+            assert!((got - want).abs() < 1e-7, "{rows:?}");
+        }
+        assert_eq!(stats.evaluations, 3);
+    }
+
+    #[test]
+    fn a_linear_problem_converges_at_once() {
+        let tableau = Tableau::gauss2();
+        let mut newton = Newton::new(2, 2);
+        let mut stats = Stats::default();
+        let (t, y, h) = (0.0, [1.0, 0.0], 0.1);
+        newton.evaluate(&mut Linear, t, &y, &mut stats).unwrap();
+        newton
+            .factor(&Linear, &tableau, (t, &y, h), &mut stats)
+            .unwrap();
+        let mut z = [[0.0; 2]; 2];
+        let outcome = newton
+            .iterate(
+                &mut Linear,
+                &tableau,
+                (t, &y, h),
+                &mut z,
+                Criterion::Rounding,
+                &[1.0, 1.0],
+                &mut stats,
+            )
+            .unwrap();
+        match outcome {
+            Outcome::Converged { iterations, .. } => assert_eq!(iterations, 2, "{outcome:?}"),
+            other => panic!("{other:?}"),
+        }
+        // A second factorization for the same h is skipped.
+        newton
+            .factor(&Linear, &tableau, (t, &y, h), &mut stats)
+            .unwrap();
+        assert_eq!((stats.jacobians, stats.factorizations), (1, 1));
+    }
+
+    #[test]
+    fn a_singular_iteration_matrix_is_an_error() {
+        // ẋ = x with the midpoint rule and h = 2: I − h·½·1 = 0.
+        struct Growth;
+        impl Ode for Growth {
+            type State = [f64; 1];
+            fn rhs(&mut self, _t: f64, x: &[f64; 1], dx: &mut [f64; 1]) -> Result<(), Error> {
+                dx[0] = x[0];
+                Ok(())
+            }
+        }
+        let tableau = Tableau::gauss1();
+        let mut newton = Newton::new(1, 1);
+        let mut stats = Stats::default();
+        newton
+            .evaluate(&mut Growth, 1.5, &[2.0], &mut stats)
+            .unwrap();
+        match newton.factor(&Growth, &tableau, (1.5, &[2.0], 2.0), &mut stats) {
+            Err(Error::SingularIterationMatrix { t, h, state, .. }) => {
+                assert_eq!((t, h), (1.5, 2.0));
+                assert_eq!(state.get("x0"), Some(2.0));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

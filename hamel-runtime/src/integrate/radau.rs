@@ -1,0 +1,664 @@
+//! Radau IIA of order 5 with step-size control, for stiff systems (stiff springs and
+//! dampers, tyre and motor models): after Hairer's RADAU5 (Hairer & Wanner, *Solving Ordinary
+//! Differential Equations II*, IV.8) — the same error estimate, Newton stopping test,
+//! predictive (Gustafsson) step-size controller, Jacobian reuse and tolerance convention —
+//! with the stage equations solved as one real system of 3n equations instead of RADAU5's
+//! transformed real and complex ones (the same iterates in exact arithmetic, more work per
+//! factorization: irrelevant for the small n of a mechanical system).
+//!
+//! Why not a crate: diffsol (0.18, BDF and SDIRK methods) was measured
+//! (`benches/diffsol_build_cost.sh`): with only its nalgebra backend it still brings 83 more
+//! crates (faer among them) and added 79 s of CPU time to a fresh debug build and 110 s to a
+//! release one, beside 16 s and 19 s for nalgebra and num-dual alone; and it fits badly: its
+//! right-hand side cannot return an error (a singular configuration would have to become NaN),
+//! it has no projection hook, and it takes the Jacobian as a Jacobian-vector product that it
+//! colours into a matrix by repeated calls, each of which would cost a whole dual-number
+//! Jacobian here. The scheme is written on nalgebra's LU instead.
+
+use nalgebra::{DMatrix, DVector, Dyn, LU};
+
+use super::collocation::{Collocation, Tableau, extrapolate};
+use super::newton::{Criterion, Newton, Outcome, factor_checked};
+use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::{Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, too_many_steps};
+use crate::error::Error;
+use crate::vector::Vector;
+
+/// Radau IIA (3 stages, order 5, L-stable, stiffly accurate) with error control: for systems
+/// whose fast, strongly damped motions force an explicit method into tiny steps whatever the
+/// tolerance. Its steps follow the slow motion; each solves 3n implicit equations by
+/// simplified Newton on the Jacobian ([`Ode::jacobian`]: for a simulation, the system's exact
+/// one), which it evaluates afresh only when the iteration slows down.
+///
+/// The tolerances are RADAU5's: rtol and atol are mapped to 0.1·rtol^(2/3) and
+/// 0.1·rtol^(2/3)·atol/rtol before the local error is held to them, which makes the global
+/// error come out near rtol. Samples inside a step come from the collocation polynomial
+/// (third order, as RADAU5's CONTR5), projected; the integrator never shortens a step to hit
+/// a sample. A step whose Newton iteration fails is retried smaller; a step size below
+/// `min_step` of the span is an [`Error::StepSizeUnderflow`], a singular iteration matrix an
+/// [`Error::SingularIterationMatrix`], both naming t, h and the state.
+///
+/// ```
+/// use hamel_runtime::{Integrator, Ode, Error, Radau5};
+///
+/// /// y′ = −10⁶ (y − cos t): after a transient of a microsecond y follows cos t closely,
+/// /// y ≈ cos t + 10⁻⁶ sin t; an explicit method would need millions of steps for 10 s.
+/// struct Stiff;
+/// impl Ode for Stiff {
+///     type State = [f64; 1];
+///     fn rhs(&mut self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), Error> {
+///         dy[0] = -1e6 * (y[0] - t.cos());
+///         Ok(())
+///     }
+/// }
+///
+/// let mut end = 0.0;
+/// let stats = Radau5::new(1e-10, 1e-10).integrate(&mut Stiff, 0.0, &[1.0], &[10.0], &mut |_, y| {
+///     end = y[0];
+///     Ok(())
+/// })?;
+/// assert!((end - (10f64.cos() + 1e-6 * 10f64.sin())).abs() < 1e-9);
+/// // 15 steps, about a hundred evaluations.
+/// assert!(stats.evaluations < 200, "{stats:?}");
+/// # Ok::<(), hamel_runtime::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Radau5 {
+    /// Relative tolerance (> 10 ε).
+    pub rtol: f64,
+    /// Absolute tolerance (> 0).
+    pub atol: f64,
+    /// The first step size; `None` starts with RADAU5's 10⁻⁶ (shortened to the span).
+    pub initial_step: Option<f64>,
+    /// The largest step allowed.
+    pub max_step: f64,
+    /// The most steps (accepted and rejected) an integration may take.
+    pub max_steps: usize,
+    /// The smallest step allowed, relative to the span integrated.
+    pub min_step: f64,
+    /// The most Newton iterations per step (RADAU5's NIT, 7).
+    pub max_iterations: usize,
+}
+
+/// RADAU5's constants: the safety factor, the bounds of a step's change (h/5 … 8h), the
+/// contraction below which the Jacobian is kept, and the band of step ratios that keep the
+/// step (and so the factorization) unchanged.
+const SAFE: f64 = 0.9;
+const FACL: f64 = 5.0;
+const FACR: f64 = 0.125;
+const THET: f64 = 0.001;
+const QUOT1: f64 = 1.0;
+const QUOT2: f64 = 1.2;
+
+impl Radau5 {
+    /// Adaptive steps with these tolerances.
+    pub fn new(rtol: f64, atol: f64) -> Self {
+        Radau5 {
+            rtol,
+            atol,
+            initial_step: None,
+            max_step: f64::INFINITY,
+            max_steps: MAX_STEPS,
+            min_step: Self::MIN_STEP,
+            max_iterations: 7,
+        }
+    }
+
+    /// The default floor on a step, relative to the span: 10⁻¹⁴ of it (a stiff transient
+    /// may ask for steps far below those of the motion that follows).
+    pub const MIN_STEP: f64 = 1e-14;
+
+    pub fn with_initial_step(mut self, h: f64) -> Self {
+        self.initial_step = Some(h);
+        self
+    }
+
+    pub fn with_max_step(mut self, h: f64) -> Self {
+        self.max_step = h;
+        self
+    }
+
+    /// Limits an integration to `n` steps, rejected ones included.
+    pub fn with_max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
+    }
+
+    /// The floor on a step, relative to the span integrated (≥ 0).
+    pub fn with_min_step(mut self, relative: f64) -> Self {
+        self.min_step = relative;
+        self
+    }
+
+    fn check_settings(&self) -> Result<(), Error> {
+        let invalid = |name, value, reason| {
+            Err(Error::InvalidSetting {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.rtol.is_finite() && self.rtol > 10.0 * f64::EPSILON) {
+            return invalid(
+                "rtol",
+                self.rtol,
+                "the relative tolerance of Radau5 must be a finite number above 10 ε ≈ 2.2e-15",
+            );
+        }
+        if !(self.atol.is_finite() && self.atol > 0.0) {
+            return invalid(
+                "atol",
+                self.atol,
+                "the absolute tolerance must be a positive finite number",
+            );
+        }
+        if let Some(h) = self.initial_step {
+            if !(h.is_finite() && h > 0.0) {
+                return invalid(
+                    "initial step",
+                    h,
+                    "the initial step must be a positive finite number",
+                );
+            }
+        }
+        if self.max_step.is_nan() || self.max_step <= 0.0 {
+            return invalid(
+                "max step",
+                self.max_step,
+                "the largest step must be positive (infinite for no limit)",
+            );
+        }
+        if self.max_steps == 0 {
+            return invalid("max steps", 0.0, "the step limit must be at least 1");
+        }
+        if !(self.min_step.is_finite() && self.min_step >= 0.0) {
+            return invalid(
+                "min step",
+                self.min_step,
+                "the relative floor on the step must be a finite number ≥ 0",
+            );
+        }
+        if self.max_iterations < 2 {
+            return invalid(
+                "max iterations",
+                self.max_iterations as f64,
+                "the Newton iteration needs at least 2 iterations to measure its convergence",
+            );
+        }
+        Ok(())
+    }
+}
+
+impl Integrator for Radau5 {
+    fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
+        &self,
+        ode: &mut O,
+        t0: f64,
+        x0: &O::State,
+        samples: &T,
+        observer: &mut dyn Observer<O::State>,
+    ) -> Result<Stats, Error> {
+        self.check_settings()?;
+        check_problem(ode, t0, x0, samples)?;
+        let mut samples = Samples {
+            times: samples,
+            next: 0,
+            observer,
+        };
+        while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
+            samples.observer.sample(s, x0)?;
+            samples.next += 1;
+        }
+        let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
+            return Ok(Stats::default());
+        };
+        let tableau = Tableau::radau_iia();
+        let mut run = Run::new(self, &tableau, ode, (t0, x0), t_end)?;
+        run.integrate(&mut samples)?;
+        Ok(run.stats)
+    }
+}
+
+/// The constants of RADAU5's error estimate: the real eigenvalue u₁ of A⁻¹, and the weights
+/// of the stage increments in the embedded formula (its DD1…DD3).
+struct Estimate {
+    u1: f64,
+    dd: [f64; 3],
+}
+
+impl Estimate {
+    fn new() -> Self {
+        let r = 6f64.sqrt();
+        let u1 = 30.0 / (6.0 + 81f64.cbrt() - 9f64.cbrt());
+        Estimate {
+            u1,
+            dd: [-(13.0 + 7.0 * r) / 3.0, (-13.0 + 7.0 * r) / 3.0, -1.0 / 3.0],
+        }
+    }
+}
+
+/// One Radau5 integration.
+struct Run<'a, 't, O: Ode> {
+    method: &'a Radau5,
+    tableau: &'t Tableau<3>,
+    ode: &'a mut O,
+    stats: Stats,
+    newton: Newton,
+    estimate: Estimate,
+    /// The LU factors of (u₁/h) I − J for the error estimate, with the h and the Jacobian
+    /// (by its count) they are for.
+    e1: Option<(f64, LU<f64, Dyn, Dyn>)>,
+    e1_jacobian: usize,
+    /// The tolerances as RADAU5 transforms them, and its Newton tolerance.
+    rtol: f64,
+    atol: f64,
+    fnewt: f64,
+    t: f64,
+    y: O::State,
+    /// f(t, y).
+    f0: O::State,
+    t_end: f64,
+    h: f64,
+    hmax: f64,
+    floor: f64,
+    /// The last accepted step, for the starting values of the next.
+    last: Option<Collocation<'t, O::State, 3>>,
+    /// Gustafsson's controller: the last accepted step and its error.
+    accepted: Option<(f64, f64)>,
+    first: bool,
+    reject: bool,
+    /// The last Newton contraction rate, which decides whether the Jacobian is kept.
+    theta: f64,
+}
+
+/// A step's stage increments and the Newton iterations they took.
+type Solved<V> = ([V; 3], usize);
+
+/// What the step size does after an accepted step.
+enum Next {
+    Done,
+    Continue,
+}
+
+impl<'a, 't, O: Ode> Run<'a, 't, O> {
+    fn new(
+        method: &'a Radau5,
+        tableau: &'t Tableau<3>,
+        ode: &'a mut O,
+        (t0, x0): (f64, &O::State),
+        t_end: f64,
+    ) -> Result<Self, Error> {
+        let span = t_end - t0;
+        let hmax = method.max_step.min(span);
+        if span / method.max_step > method.max_steps as f64 {
+            return Err(super::too_many_steps_planned(
+                ode,
+                t0,
+                method.max_step,
+                x0,
+                (span / method.max_step).ceil(),
+            ));
+        }
+        let rtol = 0.1 * method.rtol.powf(2.0 / 3.0);
+        let atol = rtol * method.atol / method.rtol;
+        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
+        let mut stats = Stats::default();
+        let mut f0 = O::State::zeros();
+        ode.rhs(t0, x0, &mut f0)?;
+        stats.evaluations += 1;
+        let h = method.initial_step.unwrap_or(1e-6).min(hmax);
+        Ok(Run {
+            method,
+            tableau,
+            ode,
+            stats,
+            newton: Newton::new(O::State::LEN, 3),
+            estimate: Estimate::new(),
+            e1: None,
+            e1_jacobian: 0,
+            rtol,
+            atol,
+            fnewt,
+            t: t0,
+            y: *x0,
+            f0,
+            t_end,
+            h,
+            hmax,
+            floor: method.min_step * span,
+            last: None,
+            accepted: None,
+            first: true,
+            reject: false,
+            theta: 0.0,
+        })
+    }
+
+    /// The steps from the start to the end (or the observer's stop).
+    fn integrate<T: SampleTimes + ?Sized>(
+        &mut self,
+        samples: &mut Samples<'_, T, O::State>,
+    ) -> Result<(), Error> {
+        let (t, y) = (self.t, self.y);
+        self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        // Stretch a first step that nearly reaches the end (RADAU5's rule).
+        let mut last = self.t + self.h * QUOT1 >= self.t_end;
+        if last {
+            self.h = self.t_end - self.t;
+        }
+        loop {
+            let (t, y, h) = (self.t, self.y, self.h);
+            let tried = self.stats.steps + self.stats.rejected;
+            if tried >= self.method.max_steps {
+                return Err(too_many_steps(&*self.ode, t, h, &y, tried));
+            }
+            if h < 16.0 * f64::EPSILON * t.abs() || h < self.floor || h < 1e-300 {
+                return Err(Error::StepSizeUnderflow {
+                    t,
+                    h,
+                    state: self.ode.describe(&y),
+                });
+            }
+            let Some((z, iterations)) = self.solve_stages()? else {
+                last = false;
+                continue;
+            };
+            let err = self.error(&z)?;
+            // RADAU5: a step that needed many iterations may not grow much.
+            let nit = self.method.max_iterations as f64;
+            let fac = SAFE.min(SAFE * (1.0 + 2.0 * nit) / (iterations as f64 + 2.0 * nit));
+            let mut quot = FACR.max(FACL.min(err.powf(0.25) / fac));
+            if err < 1.0 {
+                // Gustafsson's predictive controller, from the second accepted step on.
+                if let Some((h_acc, err_acc)) = self.accepted {
+                    let gus = (h_acc / h) * (err * err / err_acc).powf(0.25) / SAFE;
+                    quot = quot.max(gus.clamp(FACR, FACL));
+                }
+                self.accepted = Some((h, err.max(1e-2)));
+                let t1 = if last { self.t_end } else { t + h };
+                match self.accept(z, t1, last, samples)? {
+                    Next::Done => return Ok(()),
+                    Next::Continue => {}
+                }
+                let mut h_new = (h / quot).min(self.hmax);
+                if self.reject {
+                    h_new = h_new.min(h);
+                }
+                self.reject = false;
+                self.first = false;
+                if self.t + h_new * QUOT1 >= self.t_end {
+                    self.h = self.t_end - self.t;
+                    last = true;
+                } else {
+                    let ratio = h_new / h;
+                    // Within a band of ratios the step, and so the factorization, is kept.
+                    if !(self.theta <= THET && (QUOT1..=QUOT2).contains(&ratio)) {
+                        self.h = h_new;
+                    }
+                }
+                self.newton.fresh = false;
+                if self.theta > THET {
+                    let (t, y) = (self.t, self.y);
+                    self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+                }
+            } else {
+                self.stats.rejected += 1;
+                self.reject = true;
+                last = false;
+                self.h = if self.first { 0.1 * h } else { h / quot };
+                self.refresh_unless_fresh()?;
+            }
+        }
+    }
+
+    /// Evaluates the Jacobian at the current point unless it was evaluated there.
+    fn refresh_unless_fresh(&mut self) -> Result<(), Error> {
+        if !self.newton.fresh {
+            let (t, y) = (self.t, self.y);
+            self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        }
+        Ok(())
+    }
+
+    /// The stage increments of a step of size h from (t, y) and the iterations they took, or
+    /// `None` after a failed iteration (the step size reduced, the Jacobian refreshed where
+    /// it was old, and the attempt counted as rejected).
+    fn solve_stages(&mut self) -> Result<Option<Solved<O::State>>, Error> {
+        let (t, y, h) = (self.t, self.y, self.h);
+        self.newton
+            .factor(self.ode, self.tableau, (t, &y, h), &mut self.stats)?;
+        let mut z = match &self.last {
+            Some(last) if !self.first && last.t + last.h == t => extrapolate(last, &y, h),
+            _ => [O::State::zeros(); 3],
+        };
+        let scale = self.scale(&y);
+        let criterion = Criterion::Predicted {
+            tolerance: self.fnewt,
+            max_iterations: self.method.max_iterations,
+        };
+        let outcome = self.newton.iterate(
+            self.ode,
+            self.tableau,
+            (t, &y, h),
+            &mut z,
+            criterion,
+            scale.as_ref(),
+            &mut self.stats,
+        )?;
+        match outcome {
+            Outcome::Converged { iterations, rate } => {
+                self.theta = rate;
+                Ok(Some((z, iterations)))
+            }
+            Outcome::Failed { shrink, .. } => {
+                self.stats.rejected += 1;
+                self.reject = true;
+                self.h *= shrink;
+                self.refresh_unless_fresh()?;
+                Ok(None)
+            }
+        }
+    }
+
+    /// RADAU5's scale of each component: atol + rtol·|yᵢ| (transformed tolerances).
+    fn scale(&self, y: &O::State) -> O::State {
+        let mut scale = O::State::zeros();
+        for (s, v) in scale.as_mut().iter_mut().zip(y.as_ref()) {
+            *s = self.atol + self.rtol * v.abs();
+        }
+        scale
+    }
+
+    /// RADAU5's error estimate (ESTRAD): ((u₁/h) I − J)⁻¹ (f(y) + Σ eᵢ Zᵢ / h), measured
+    /// in the controlled components; after a rejection or at the first step, when it is ≥ 1,
+    /// once more through an evaluation at y + the estimate, which filters the stiff
+    /// components.
+    fn error(&mut self, z: &[O::State; 3]) -> Result<f64, Error> {
+        let n = O::State::LEN;
+        let (t, y, h) = (self.t, self.y, self.h);
+        self.factor_estimate()?;
+        let Some((_, lu)) = &self.e1 else {
+            unreachable!("factored just now");
+        };
+        let mut f2 = DVector::<f64>::zeros(n);
+        for (i, zi) in z.iter().enumerate() {
+            for (k, v) in zi.as_ref().iter().enumerate() {
+                f2[k] += self.estimate.dd[i] / h * v;
+            }
+        }
+        let mut cont = f2.clone();
+        for (k, v) in self.f0.as_ref().iter().enumerate() {
+            cont[k] += v;
+        }
+        lu.solve_mut(&mut cont);
+        let mut err = self.error_norm(&cont);
+        if err >= 1.0 && (self.first || self.reject) {
+            let mut shifted = y;
+            for (k, v) in shifted.as_mut().iter_mut().enumerate() {
+                *v += cont[k];
+            }
+            let mut f1 = O::State::zeros();
+            self.ode.rhs(t, &shifted, &mut f1)?;
+            self.stats.evaluations += 1;
+            for (k, v) in f1.as_ref().iter().enumerate() {
+                cont[k] = v + f2[k];
+            }
+            lu.solve_mut(&mut cont);
+            err = self.error_norm(&cont);
+        }
+        // A NaN estimate (a stage where f overflowed) rejects the step.
+        Ok(if err.is_nan() { f64::INFINITY } else { err })
+    }
+
+    /// √(mean((eᵢ/scᵢ)²)) over the controlled components, at least 10⁻¹⁰ (RADAU5).
+    fn error_norm(&self, e: &DVector<f64>) -> f64 {
+        let len = self.ode.controlled_components().min(O::State::LEN).max(1);
+        let scale = self.scale(&self.y);
+        let sum: f64 = (0..len).map(|k| (e[k] / scale.as_ref()[k]).powi(2)).sum();
+        (sum / len as f64).sqrt().max(1e-10)
+    }
+
+    /// Factors (u₁/h) I − J unless done for this h and Jacobian.
+    fn factor_estimate(&mut self) -> Result<(), Error> {
+        let h = self.h;
+        let current = self.stats.jacobians;
+        if matches!(self.e1, Some((formed, _)) if formed == h) && self.e1_jacobian == current {
+            return Ok(());
+        }
+        let n = O::State::LEN;
+        let j = self.newton.jacobian();
+        let matrix = DMatrix::from_fn(n, n, |r, c| {
+            let diagonal = if r == c { self.estimate.u1 / h } else { 0.0 };
+            diagonal - j[(r, c)]
+        });
+        self.stats.factorizations += 1;
+        self.e1_jacobian = current;
+        match factor_checked(matrix, &mut self.e1, h) {
+            None => Ok(()),
+            Some(pivot) => Err(Error::SingularIterationMatrix {
+                t: self.t,
+                h,
+                pivot,
+                state: self.ode.describe(&self.y),
+            }),
+        }
+    }
+
+    /// Completes an accepted step to t1: checks, projects and reports it and the samples it
+    /// covers, and moves on from it (with f there, unless it is the last).
+    fn accept<T: SampleTimes + ?Sized>(
+        &mut self,
+        z: [O::State; 3],
+        t1: f64,
+        last: bool,
+        samples: &mut Samples<'_, T, O::State>,
+    ) -> Result<Next, Error> {
+        let (t, y, h) = (self.t, self.y, self.h);
+        let step = Collocation {
+            tableau: self.tableau,
+            t,
+            h,
+            y0: y,
+            z,
+        };
+        let raw = self.tableau.end(&y, &z);
+        check_state(&*self.ode, t1, &raw)?;
+        self.stats.steps += 1;
+        let mut y1 = raw;
+        self.ode.project(t1, &mut y1)?;
+        let control = if samples.observer.watches_steps() {
+            let view = StepView {
+                t,
+                x: &y,
+                t1,
+                x1: &y1,
+                dense: &step,
+            };
+            samples.observer.step(&view)?
+        } else {
+            Control::Continue
+        };
+        let stop = match control {
+            Control::Continue => None,
+            Control::Stop(ts) => Some(ts.clamp(t, t1)),
+        };
+        samples.report(self.ode, (t1, &y1), &step, stop)?;
+        if stop.is_some() {
+            self.stats.stopped = stop;
+            return Ok(Next::Done);
+        }
+        self.last = Some(step);
+        (self.t, self.y) = (t1, y1);
+        if last {
+            return Ok(Next::Done);
+        }
+        self.ode.rhs(t1, &y1, &mut self.f0)?;
+        self.stats.evaluations += 1;
+        Ok(Next::Continue)
+    }
+}
+
+/// The bookkeeping of sample times: which come next, and reporting those an accepted step
+/// covers (as Dormand–Prince does).
+struct Samples<'a, T: ?Sized, V> {
+    times: &'a T,
+    next: usize,
+    observer: &'a mut dyn Observer<V>,
+}
+
+impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
+    fn upcoming(&self) -> Option<f64> {
+        (self.next < self.times.count()).then(|| self.times.time(self.next))
+    }
+
+    /// Reports the samples in the accepted step ending at t1 — up to `stop` when the observer
+    /// ends the integration within it: at t1 the step's result as projected, inside the step
+    /// the collocation polynomial, projected; at a stop the polynomial there, projected, as
+    /// the last sample.
+    fn report<O: Ode<State = V>>(
+        &mut self,
+        ode: &mut O,
+        (t1, y1): (f64, &V),
+        dense: &dyn Interpolant<V>,
+        stop: Option<f64>,
+    ) -> Result<(), Error> {
+        let end = stop.unwrap_or(t1);
+        while let Some(s) = self
+            .upcoming()
+            .filter(|s| *s <= end && (stop.is_none() || *s < end))
+        {
+            if s == t1 {
+                self.observer.sample(s, y1)?;
+            } else {
+                let mut value = dense.at(s);
+                ode.project(s, &mut value)?;
+                self.observer.sample(s, &value)?;
+            }
+            self.next += 1;
+        }
+        if let Some(ts) = stop {
+            let mut value = if ts == t1 { *y1 } else { dense.at(ts) };
+            ode.project(ts, &mut value)?;
+            self.observer.sample(ts, &value)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_estimate_constants_are_radau5s() {
+        let e = Estimate::new();
+        // RADAU5: U1 = 1/((6 + 81^(1/3) − 9^(1/3))/30), the real eigenvalue of A⁻¹.
+        assert!((e.u1 - 3.637_834_252_744_496).abs() < 1e-14);
+        // The eigenvalue: det(A⁻¹ − u₁ I) = 0, i.e. det(I − u₁ A) = 0.
+        let a = Tableau::radau_iia().a;
+        let m = DMatrix::from_fn(3, 3, |i, j| {
+            (if i == j { 1.0 } else { 0.0 }) - e.u1 * a[i][j]
+        });
+        assert!(m.determinant().abs() < 1e-13);
+    }
+}
