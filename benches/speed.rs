@@ -18,12 +18,18 @@
 //!   roles as `MobileRobot` with the paper's B added, [`RobotWithInverse`] below. The startup
 //!   checks that (a) and (b) agree to 1e-12 on every sample. The catalogue's
 //!   `MobileRobotPaper` (L̃ given with B, the paper's input form) is timed beside them.
+//! * The Whipple bicycle stated from its bodies and contacts (the catalogue's
+//!   `WhippleBicycle`, velocities and constraints derived by the macro) against the same
+//!   bicycle written by hand (`tests/validation/tests/common/whipple_by_hand.rs`), over 64
+//!   seeded states; the startup checks that they agree to 1e-12.
 //! * The N-trailer (`hamel::n_trailer!`) for N = 1, 2, 4, 8, 16, 24 over 64 seeded states
 //!   each: ns per right-hand side, its ratio to N = 1, and the growth exponent, the
 //!   least-squares slope of log t against log N, taken per round (median, p10–p90) and of
 //!   the median times (the steadier figure when some rounds are disturbed).
 
-use hamel::models::{MobileRobot, MobileRobotPaper, NTrailer1, NTrailer2, NTrailer8, NTrailer24};
+use hamel::models::{
+    MobileRobot, MobileRobotPaper, NTrailer1, NTrailer2, NTrailer8, NTrailer24, WhippleBicycle,
+};
 use hamel::{HamelSystem, Vector, hamel_system};
 use hamel_benches::interleave::{Spread, ratio, round_robin, rounds, seconds, slope};
 use hamel_benches::{Uniform, robot_samples};
@@ -31,6 +37,8 @@ use std::hint::black_box;
 
 #[path = "../tests/validation/tests/common/robot_closed_form.rs"]
 mod closed_form;
+#[path = "../tests/validation/tests/common/whipple_by_hand.rs"]
+mod whipple_by_hand;
 
 hamel::n_trailer!(
     /// A tractor with four trailers.
@@ -426,8 +434,81 @@ fn n_trailer() {
     }
 }
 
+/// 64 seeded states of the bicycle: angles in [−1, 1) (the pitch in [−0.3, 0.3)), speeds
+/// in [−5, 5), inputs in [−0.5, 0.5).
+fn bicycle_samples() -> Vec<([f64; 11], [f64; 2])> {
+    let mut rng = Uniform::new(0x9E37_79B9_7F4A_7C15);
+    (0..64)
+        .map(|_| {
+            let x = std::array::from_fn(|i| {
+                let spread = match i {
+                    WhippleBicycle::THETA => 0.3,
+                    i if i < WhippleBicycle::N => 1.0,
+                    _ => 5.0,
+                };
+                spread * rng.sample()
+            });
+            (x, [0.5 * rng.sample(), 0.5 * rng.sample()])
+        })
+        .collect()
+}
+
+fn bicycle() {
+    let from_bodies = WhippleBicycle::default();
+    let by_hand = whipple_by_hand::WhippleByHand::from(&from_bodies);
+    let samples = bicycle_samples();
+    let mut worst = 0.0f64;
+    for (x, u) in &samples {
+        let (mut a, mut b) = ([0.0; 11], [0.0; 11]);
+        from_bodies
+            .rhs(0.0, x, u, &mut a)
+            .expect("the samples are regular");
+        by_hand
+            .rhs(0.0, x, u, &mut b)
+            .expect("the samples are regular");
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (p, q) in a.iter().zip(&b) {
+            worst = worst.max((p - q).abs() / scale);
+        }
+    }
+    assert!(worst <= 1e-12, "the bicycles differ by {worst:e}");
+    let mut hand = sweep(&by_hand, &samples);
+    let mut bodies = sweep(&from_bodies, &samples);
+    let mut hand_plain = sweep_unprepared(&by_hand, &samples);
+    let mut bodies_plain = sweep_unprepared(&from_bodies, &samples);
+    let rounds = round_robin(&mut [&mut hand, &mut bodies, &mut hand_plain, &mut bodies_plain]);
+    let per_call = 1e9 / samples.len() as f64;
+    println!(
+        "\nWhipple bicycle right-hand side, {} rounds over {} states (agreement {worst:.1e})",
+        rounds.len(),
+        samples.len()
+    );
+    println!(
+        "  {:<44} {:>10} {:>15} {:>9} {:>17}",
+        "variant", "ratio", "p10–p90", "ns/call", "ns p10–p90"
+    );
+    let names = [
+        "written by hand",
+        "stated from bodies and contacts",
+        "written by hand, unprepared (rhs)",
+        "from bodies and contacts, unprepared (rhs)",
+    ];
+    for (v, name) in names.iter().enumerate() {
+        let r = ratio(&rounds, v, if v < 2 { 0 } else { 2 });
+        let t = seconds(&rounds, v).scaled(per_call);
+        println!(
+            "  {name:<44} {:>10.3} {:>15} {:>9.1} {:>17}",
+            r.median,
+            format!("{:.3}–{:.3}", r.p10, r.p90),
+            t.median,
+            format!("{:.1}–{:.1}", t.p10, t.p90),
+        );
+    }
+}
+
 fn main() {
     println!("hamel speed benchmark: {} rounds", rounds());
     robot();
+    bicycle();
     n_trailer();
 }
