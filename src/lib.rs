@@ -5,6 +5,8 @@
 //! * [`docs::model`] — how to write a model: every role with its exact signature, the names
 //!   and the state layout, inputs and forces, the errors, and a worked example of each input
 //!   form.
+//! * [`docs::geometry`] — three-dimensional models stated from their bodies and rolling
+//!   contacts, the velocities derived by the macro.
 //! * [`docs::running`] — running a simulation: events, extra columns, streaming, progress,
 //!   the limits that end every run, and what the summary flags.
 //! * [`docs::subset`] — the part of Rust a role function's body may use.

@@ -2,6 +2,9 @@
 //!
 //! * [`model`] — writing a model: every role and its signature, the names, the state layout,
 //!   inputs and forces, the errors, and a worked example of each input form.
+//! * [`geometry`] — models from geometry: rigid bodies, rolling contacts and `rate!`, the
+//!   velocities derived by the macro; orientation parametrizations and where each is
+//!   singular; shared helpers; the rolling disk, Chaplygin's ball and the bicycle.
 //! * [`running`] — running a simulation: the recorded columns, events, streaming, progress
 //!   and cancelling, the limits that end every run, and what the summary flags.
 //! * [`subset`] — the part of Rust a role function's body may use.
@@ -10,6 +13,9 @@
 
 #[doc = include_str!("model.md")]
 pub mod model {}
+
+#[doc = include_str!("geometry.md")]
+pub mod geometry {}
 
 #[doc = include_str!("running.md")]
 pub mod running {}
