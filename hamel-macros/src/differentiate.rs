@@ -15,8 +15,9 @@
 //! | `f_generic::<S: hamel::Scalar>(args over S) -> R over S` | F itself, over any scalar |
 //! | `F_OPS: hamel::OpCounts` | operation counts of all of the above |
 //!
-//! Functions with integer arguments are helpers: they can be called (and are inlined) but
-//! get no derivative methods of their own.
+//! Functions with integer arguments, or with values of the geometry vocabulary (`Vector3`,
+//! `Rotation3`, ...) as arguments or result, are helpers: they can be called (and are
+//! inlined) but get no derivative methods of their own.
 
 use crate::engine::diff;
 use crate::engine::emit::{Code, Emitter, Scalar};
@@ -149,8 +150,18 @@ fn companions(ctx: &ImplContext<'_>, f: &syn::ImplItemFn) -> syn::Result<TokenSt
         lowerer.take_errors()?;
         return Ok(TokenStream::new());
     };
-    if signature.args.iter().any(|a| a.shape == Shape::Int) {
-        // A helper with integer arguments: callable and inlined, not differentiated itself.
+    // A helper with integer arguments, or with values of the geometry vocabulary, is callable
+    // and inlined, not differentiated itself: its derivative methods take flat arrays.
+    let helper = |shape: &Shape| {
+        let mut inner = shape;
+        while let Shape::Array(_, next) = inner {
+            inner = next;
+        }
+        matches!(inner, Shape::Int | Shape::Geo(_))
+    };
+    if signature.args.iter().any(|a| helper(&a.shape))
+        || signature.output.as_ref().is_some_and(helper)
+    {
         return Ok(TokenStream::new());
     }
     let Some(output_shape) = signature.output.clone() else {
