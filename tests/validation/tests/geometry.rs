@@ -680,5 +680,5 @@ fn a_ball_rolling_on_a_turntable_from_geometry_is_the_hand_written_one() {
             );
         }
     }
-    assert!(!TurntableBall::CONSERVATIVE && !TurntableBall::REVERSIBLE);
+    const { assert!(!TurntableBall::CONSERVATIVE && !TurntableBall::REVERSIBLE) };
 }
