@@ -130,37 +130,7 @@ impl<'a> Lowerer<'a, '_> {
                 let set = set.to_string();
                 self.inline_helper(env, &set, name, c)
             }
-            [name] => {
-                match env.get(name).map(|local| local.value.clone()) {
-                    // A local whose definition was already reported (a closure).
-                    Some(Value::Poison) => return Value::Poison,
-                    Some(other) => {
-                        return self.error(
-                            &c.func,
-                            format!(
-                                "`{name}` is a local holding {}, not a function",
-                                other.describe()
-                            ),
-                        );
-                    }
-                    None => {}
-                }
-                let message = match self.ctx.function(name) {
-                    Some(f) if f.sig.receiver().is_some() => format!(
-                        "`{name}` is a function of this impl that takes `self`: call it as `self.{name}(..)`"
-                    ),
-                    Some(_) => format!(
-                        "`{name}` is a function of this impl: call it as `Self::{name}(..)`"
-                    ),
-                    None => format!(
-                        "unknown function `{name}`: the macro differentiates the source of what a body \
-                         calls, and it sees only the functions of this impl block and the elementary \
-                         functions of `f64` ({ELEMENTARY}); move `{name}` into this impl and call it as \
-                         `Self::{name}(..)`"
-                    ),
-                };
-                self.error_once(format!("call {name}"), &c.func, message)
-            }
+            [name] => self.unqualified_call(env, name, c),
             _ => {
                 let path = segments.join("::");
                 let set = segments.len().checked_sub(2).map(|i| segments[i].as_str());
@@ -178,6 +148,40 @@ impl<'a> Lowerer<'a, '_> {
                 )
             }
         }
+    }
+
+    /// A call by a bare name, `name(..)`: never one the macro can inline (those are
+    /// `Self::name` or `self.name`); the error says what the name is.
+    fn unqualified_call(&mut self, env: &mut Env, name: &str, c: &syn::ExprCall) -> Value {
+        match env.get(name).map(|local| local.value.clone()) {
+            // A local whose definition was already reported (a closure).
+            Some(Value::Poison) => return Value::Poison,
+            Some(other) => {
+                return self.error(
+                    &c.func,
+                    format!(
+                        "`{name}` is a local holding {}, not a function",
+                        other.describe()
+                    ),
+                );
+            }
+            None => {}
+        }
+        let message = match self.ctx.function(name) {
+            Some(f) if f.sig.receiver().is_some() => format!(
+                "`{name}` is a function of this impl that takes `self`: call it as `self.{name}(..)`"
+            ),
+            Some(_) => {
+                format!("`{name}` is a function of this impl: call it as `Self::{name}(..)`")
+            }
+            None => format!(
+                "unknown function `{name}`: the macro differentiates the source of what a body \
+                 calls, and it sees only the functions of this impl block and the elementary \
+                 functions of `f64` ({ELEMENTARY}); move `{name}` into this impl and call it as \
+                 `Self::{name}(..)`"
+            ),
+        };
+        self.error_once(format!("call {name}"), &c.func, message)
     }
 
     fn elementary(

@@ -596,7 +596,6 @@ impl Lowerer<'_, '_> {
         let g = &mut *self.graph;
         let real = |i: usize| parts.get(i).and_then(Part::real);
         let vec3 = |i: usize| parts.get(i).and_then(Part::vector);
-        let point = |i: usize| parts.get(i).and_then(Part::point);
         Some(match (owner, name) {
             (Some(GeoKind::Vector), "new") => vector([real(0)?, real(1)?, real(2)?]),
             (Some(GeoKind::Vector), "zeros") => {
@@ -604,67 +603,24 @@ impl Lowerer<'_, '_> {
                 vector([zero; 3])
             }
             (Some(GeoKind::Vector), axis) => vector(unit(g, axis_index(axis))),
-            (Some(GeoKind::Rotation), "identity") => rotation(identity(g)),
-            (Some(GeoKind::Rotation), "from_axis_angle") => {
-                let k = normalize(g, vec3(0)?);
-                rotation(single(turn(g, k, real(1)?)))
-            }
-            (Some(GeoKind::Rotation), "from_euler_angles") => {
-                let (ex, ey, ez) = (unit(g, 0), unit(g, 1), unit(g, 2));
-                let z = single(turn(g, ez, real(2)?));
-                let y = single(turn(g, ey, real(1)?));
-                let x = single(turn(g, ex, real(0)?));
-                let zy = compose(g, &z, &y);
-                rotation(compose(g, &zy, &x))
-            }
-            (Some(GeoKind::Rotation), about) => {
-                let k = unit(g, axis_index(about.trim_start_matches("about_")));
-                rotation(single(turn(g, k, real(0)?)))
-            }
+            (Some(GeoKind::Rotation), _) => rotation(make_rotation(g, name, &parts)?),
             (Some(GeoKind::Inertia), "principal") => {
                 let zero = g.zero();
-                Value::Geo(Geo::Inertia([
-                    real(0)?,
-                    real(1)?,
-                    real(2)?,
-                    zero,
-                    zero,
-                    zero,
-                ]))
+                let [xx, yy, zz] = [real(0)?, real(1)?, real(2)?];
+                Value::Geo(Geo::Inertia([xx, yy, zz, zero, zero, zero]))
             }
-            (Some(GeoKind::Inertia), _) => Value::Geo(Geo::Inertia([
-                real(0)?,
-                real(1)?,
-                real(2)?,
-                real(3)?,
-                real(4)?,
-                real(5)?,
-            ])),
-            (Some(GeoKind::Body), "point_mass") => {
-                let zero = g.zero();
-                let orientation = identity(g);
-                Value::Geo(Geo::Body(Box::new(Body {
-                    mass: real(0)?,
-                    inertia: [zero; 6],
-                    centre: point(1)?,
-                    orientation,
-                })))
+            (Some(GeoKind::Inertia), _) => {
+                let moments = [real(0)?, real(1)?, real(2)?];
+                let products = [real(3)?, real(4)?, real(5)?];
+                let [xx, yy, zz] = moments;
+                let [xy, yz, zx] = products;
+                Value::Geo(Geo::Inertia([xx, yy, zz, xy, yz, zx]))
             }
             (Some(GeoKind::Body), _) => {
-                let (Some(Part::Geo(Geo::Inertia(inertia))), Some(Part::Geo(Geo::Rotation(r)))) =
-                    (parts.get(1), parts.get(3))
-                else {
-                    return None;
-                };
-                Value::Geo(Geo::Body(Box::new(Body {
-                    mass: real(0)?,
-                    inertia: *inertia,
-                    centre: point(2)?,
-                    orientation: (**r).clone(),
-                })))
+                Value::Geo(Geo::Body(Box::new(make_body(g, name, &parts)?)))
             }
             (Some(GeoKind::Contact), on) => {
-                let point = vec3(parts.len() - 1)?;
+                let point = vec3(parts.len().checked_sub(1)?)?;
                 let mut parts = parts.into_iter();
                 let body = parts.next()?.body()?;
                 let surface = match on {
@@ -908,6 +864,55 @@ impl Lowerer<'_, '_> {
             other => self.error(u, format!("a `{}` cannot be negated", other.kind().name())),
         }
     }
+}
+
+/// `Rotation3::name(..)` on checked arguments.
+fn make_rotation(g: &mut Graph, name: &str, parts: &[Part]) -> Option<Rotation> {
+    let real = |i: usize| parts.get(i).and_then(Part::real);
+    Some(match name {
+        "identity" => identity(g),
+        "from_axis_angle" => {
+            let k = normalize(g, parts.first()?.vector()?);
+            single(turn(g, k, real(1)?))
+        }
+        "from_euler_angles" => {
+            let (ex, ey, ez) = (unit(g, 0), unit(g, 1), unit(g, 2));
+            let z = single(turn(g, ez, real(2)?));
+            let y = single(turn(g, ey, real(1)?));
+            let x = single(turn(g, ex, real(0)?));
+            let zy = compose(g, &z, &y);
+            compose(g, &zy, &x)
+        }
+        about => {
+            let k = unit(g, axis_index(about.trim_start_matches("about_")));
+            single(turn(g, k, real(0)?))
+        }
+    })
+}
+
+/// `Body::name(..)` on checked arguments.
+fn make_body(g: &mut Graph, name: &str, parts: &[Part]) -> Option<Body> {
+    let mass = parts.first()?.real()?;
+    if name == "point_mass" {
+        let zero = g.zero();
+        return Some(Body {
+            mass,
+            inertia: [zero; 6],
+            centre: parts.get(1)?.point()?,
+            orientation: identity(g),
+        });
+    }
+    let (Some(Part::Geo(Geo::Inertia(inertia))), Some(Part::Geo(Geo::Rotation(r)))) =
+        (parts.get(1), parts.get(3))
+    else {
+        return None;
+    };
+    Some(Body {
+        mass,
+        inertia: *inertia,
+        centre: parts.get(2)?.point()?,
+        orientation: (**r).clone(),
+    })
 }
 
 /// a + b, remembered as a sum.

@@ -34,50 +34,13 @@ pub fn build<'a>(
     q: &[NodeId],
     v: &[NodeId],
 ) -> Option<Rows> {
-    let written = spec
-        .constraints
-        .map(|f| lower(lowerer, spec, f, t, vec![array(q), array(v)]));
-    let quasi_rows = lower(
-        lowerer,
-        spec,
-        spec.quasi_velocities,
-        t,
-        vec![array(q), array(v)],
-    );
-    let holonomic = spec
-        .holonomic
-        .as_ref()
-        .map(|h| lower(lowerer, spec, h.f, t, vec![array(q)]));
-    let contacts = contacts::build(lowerer, spec, t, q, v);
-    // Check whichever rows lowered, so that a mistake in one function does not hide one in
-    // the other; B and the equations are only built from rows that are all affine.
-    let mut affine = true;
-    if let (Some(f), Some(Some(rows))) = (spec.constraints, &written) {
-        affine &= check_affine(lowerer, f, rows, v, "constraint", "qd");
-    }
-    if let Some(rows) = &quasi_rows {
-        affine &= check_affine(
-            lowerer,
-            spec.quasi_velocities,
-            rows,
-            v,
-            "quasi-velocity",
-            "qd",
-        );
-    }
-    let written = match written {
-        Some(rows) => rows?,
-        None => Vec::new(),
-    };
-    let (quasi_rows, contacts) = (quasi_rows?, contacts?);
-    let holonomic = match holonomic {
-        Some(f) => Some(f?),
-        None => None,
-    };
-    if !affine {
-        return None;
-    }
-    let mut residual = holonomic.unwrap_or_default();
+    let Written {
+        constraints,
+        contacts,
+        quasi,
+        holonomic,
+    } = written(lowerer, spec, t, q, v)?;
+    let mut residual = holonomic;
     residual.extend(&contacts.heights);
     let g = &mut *lowerer.graph;
     let (velocity_rows, jacobian) = if residual.is_empty() {
@@ -86,11 +49,11 @@ pub fn build<'a>(
         let (rows, jacobian) = time_derivative(g, &residual, t, q, v);
         (rows, Some(jacobian))
     };
-    let all: Vec<NodeId> = written
+    let all: Vec<NodeId> = constraints
         .iter()
         .chain(&contacts.rows)
         .chain(&velocity_rows)
-        .chain(&quasi_rows)
+        .chain(&quasi)
         .copied()
         .collect();
     let (a, offset) = coefficients(g, &all, v);
@@ -114,6 +77,63 @@ pub fn build<'a>(
         structure,
         holonomic,
     })
+}
+
+/// The rows as the role functions give them, before the holonomic ones are differentiated.
+struct Written {
+    constraints: Vec<NodeId>,
+    contacts: contacts::ContactRows,
+    quasi: Vec<NodeId>,
+    /// f(t, q) of `#[holonomic]`.
+    holonomic: Vec<NodeId>,
+}
+
+/// Lower the functions that give rows, and check the affine ones: whichever lowered, so
+/// that a mistake in one function does not hide one in another. `None` after a mistake.
+fn written<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    t: NodeId,
+    q: &[NodeId],
+    v: &[NodeId],
+) -> Option<Written> {
+    let constraints = spec
+        .constraints
+        .map(|f| lower(lowerer, spec, f, t, vec![array(q), array(v)]));
+    let quasi = lower(
+        lowerer,
+        spec,
+        spec.quasi_velocities,
+        t,
+        vec![array(q), array(v)],
+    );
+    let holonomic = spec
+        .holonomic
+        .as_ref()
+        .map(|h| lower(lowerer, spec, h.f, t, vec![array(q)]));
+    let contacts = contacts::build(lowerer, spec, t, q, v);
+    // B and the equations are only built from rows that are all affine.
+    let mut affine = true;
+    if let (Some(f), Some(Some(rows))) = (spec.constraints, &constraints) {
+        affine &= check_affine(lowerer, f, rows, v, "constraint", "qd");
+    }
+    if let Some(rows) = &quasi {
+        affine &= check_affine(
+            lowerer,
+            spec.quasi_velocities,
+            rows,
+            v,
+            "quasi-velocity",
+            "qd",
+        );
+    }
+    let written = Written {
+        constraints: constraints.unwrap_or(Some(Vec::new()))?,
+        contacts: contacts?,
+        quasi: quasi?,
+        holonomic: holonomic.unwrap_or(Some(Vec::new()))?,
+    };
+    affine.then_some(written)
 }
 
 /// ḟ = ∂f/∂q·v + ∂f/∂t, and ∂f/∂q row by row.

@@ -177,29 +177,7 @@ pub fn check<'a>(
     );
     let (n, m) = (coordinates.len(), names.inputs.len());
     let energy = energy_roles(roles, lowerer, at, &mut ok);
-    // Rolling contacts are constraints: with them, `#[constraints]` is optional.
-    let constraints = match roles.get(Role::Contacts) {
-        Some(_) => roles.get(Role::Constraints),
-        None => required(
-            roles,
-            Role::Constraints,
-            lowerer,
-            at,
-            &mut ok,
-            "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
-            " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
-        ),
-    };
-    let quasi_velocities = required(
-        roles,
-        Role::QuasiVelocities,
-        lowerer,
-        at,
-        &mut ok,
-        "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
-         transformation ω = A(q)·qd",
-        "",
-    );
+    let (constraints, quasi_velocities) = rows_roles(roles, lowerer, at, &mut ok);
     if n == 0 {
         return None;
     }
@@ -264,6 +242,40 @@ pub fn check<'a>(
         },
         timed,
     })
+}
+
+/// The roles that give the rows of A: the constraints (required, unless rolling contacts
+/// give them) and the quasi-velocities (required).
+#[allow(clippy::type_complexity)]
+fn rows_roles<'r, 'a>(
+    roles: &'r Roles<'a>,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+) -> (Option<&'r RoleFn<'a>>, Option<&'r RoleFn<'a>>) {
+    let constraints = match roles.get(Role::Contacts) {
+        Some(_) => roles.get(Role::Constraints),
+        None => required(
+            roles,
+            Role::Constraints,
+            lowerer,
+            at,
+            ok,
+            "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
+            " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
+        ),
+    };
+    let quasi_velocities = required(
+        roles,
+        Role::QuasiVelocities,
+        lowerer,
+        at,
+        ok,
+        "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
+         transformation ω = A(q)·qd",
+        "",
+    );
+    (constraints, quasi_velocities)
 }
 
 /// The counts the signatures give: holonomic constraints, contacts, bodies and with them

@@ -171,35 +171,16 @@ pub(super) fn check_signature(
         return false;
     };
     let rendered = render(role, expected, output);
-    let mut ok = true;
     if sig.args.len() != expected.len() {
-        let why = match role {
-            Role::Holonomic => {
-                "; a holonomic constraint f(q) = 0 depends on the configuration (and, with a \
-                 leading `t: f64`, the time) only: the macro derives its velocity row"
-            }
-            Role::Bodies => {
-                "; a body's pose (its centre and orientation) is a function of the \
-                 configuration (and, with a leading `t: f64`, the time) only: the macro derives \
-                 its velocity and angular velocity"
-            }
-            Role::Contacts => {
-                "; where a body touches the ground is a function of the configuration (and, \
-                 with a leading `t: f64`, the time) only: the macro derives the velocity of the \
-                 body's material point there"
-            }
-            Role::Gravity => " (or with a leading `t: f64`): gravity is a vector of the parameters",
-            Role::Forces => "",
-            _ => " (or with a leading `t: f64`)",
-        };
         lowerer.push_error(syn::Error::new_spanned(
             &f.sig.inputs,
             format!(
                 "`#[{}]` takes {} besides `&self`, this function takes {}: expected \
-                 `{rendered}`{why}",
+                 `{rendered}`{}",
                 role.attribute(),
                 count(expected.len(), "argument"),
-                sig.args.len()
+                sig.args.len(),
+                why_these_arguments(role)
             ),
         ));
         return false;
@@ -208,6 +189,7 @@ pub(super) fn check_signature(
         lowerer.push_error(e);
         return false;
     }
+    let mut ok = true;
     for (arg, (name, shape)) in sig.args.iter().zip(expected) {
         if arg.shape != *shape {
             let why = match shape {
@@ -238,25 +220,61 @@ pub(super) fn check_signature(
     if let (Some(want), Some(got)) = (output, &sig.output)
         && want != got
     {
-        let (attribute, want, got) = (role.attribute(), want.describe(), got.describe());
-        let message = match (role, p) {
-            (Role::QuasiVelocities, Some(p)) => format!(
-                "`#[{attribute}]` must return {want}, found {got}: with {} and {}, {} complete the \
-                 constraints to ω = A(q)·qd",
-                count(coordinates.len(), "coordinate"),
-                count(p, "constraint"),
-                count(coordinates.len() - p, "quasi-velocity"),
-            ),
-            (Role::Velocities | Role::Forces, _) => format!(
-                "`#[{attribute}]` must return {want}, one per coordinate ({}); found {got}",
-                names_of(coordinates)
-            ),
-            _ => format!("`#[{attribute}]` must return {want}, found {got}"),
-        };
-        lowerer.push_error(error_at_output(f, message));
+        lowerer.push_error(error_at_output(
+            f,
+            wrong_output(role, want, got, coordinates, p),
+        ));
         ok = false;
     }
     ok && sig.output.is_some()
+}
+
+/// Why a role takes the arguments it does, for the message about their number.
+fn why_these_arguments(role: Role) -> &'static str {
+    match role {
+        Role::Holonomic => {
+            "; a holonomic constraint f(q) = 0 depends on the configuration (and, with a \
+             leading `t: f64`, the time) only: the macro derives its velocity row"
+        }
+        Role::Bodies => {
+            "; a body's pose (its centre and orientation) is a function of the configuration \
+             (and, with a leading `t: f64`, the time) only: the macro derives its velocity and \
+             angular velocity"
+        }
+        Role::Contacts => {
+            "; where a body touches the ground is a function of the configuration (and, with \
+             a leading `t: f64`, the time) only: the macro derives the velocity of the body's \
+             material point there"
+        }
+        Role::Gravity => " (or with a leading `t: f64`): gravity is a vector of the parameters",
+        Role::Forces => "",
+        _ => " (or with a leading `t: f64`)",
+    }
+}
+
+/// A role function returns `got` where `want` is needed.
+fn wrong_output(
+    role: Role,
+    want: &Shape,
+    got: &Shape,
+    coordinates: &[syn::Ident],
+    p: Option<usize>,
+) -> String {
+    let (attribute, want, got) = (role.attribute(), want.describe(), got.describe());
+    match (role, p) {
+        (Role::QuasiVelocities, Some(p)) => format!(
+            "`#[{attribute}]` must return {want}, found {got}: with {} and {}, {} complete the \
+             constraints to ω = A(q)·qd",
+            count(coordinates.len(), "coordinate"),
+            count(p, "constraint"),
+            count(coordinates.len() - p, "quasi-velocity"),
+        ),
+        (Role::Velocities | Role::Forces, _) => format!(
+            "`#[{attribute}]` must return {want}, one per coordinate ({}); found {got}",
+            names_of(coordinates)
+        ),
+        _ => format!("`#[{attribute}]` must return {want}, found {got}"),
+    }
 }
 
 /// The name an argument is written with, without the leading underscores that only silence
