@@ -236,6 +236,20 @@ pub enum Error {
     )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
+    /// The span to integrate is shorter than an adaptive step can resolve at its start time:
+    /// refused before the first step (not reported as a step that shrank).
+    #[error(
+        "the span from t = {} to t = {} ({}) is too short to integrate: at this time a step \
+         must exceed 16 ulps of t ({}); end later, or take the initial state as the result; \
+         state: {state}",
+        Num(*t0), Num(*t_end), Num(*t_end - *t0), Num(16.0 * f64::EPSILON * t0.abs())
+    )]
+    SpanTooShort {
+        t0: f64,
+        t_end: f64,
+        state: NamedValues,
+    },
+
     /// An integration used up its steps (`with_max_steps`) before the end, or — `planned` —
     /// its fixed or largest step would need more of them than the limit allows for the span,
     /// which is refused before the first step (then `steps` is the number needed, saturated
@@ -258,6 +272,25 @@ pub enum Error {
         value: f64,
         reason: &'static str,
     },
+
+    /// A run's span and sample interval give more samples than its limit
+    /// (`Simulation::max_samples`): refused before the run, which would not end in any
+    /// useful time.
+    #[error(
+        "samples every {} over a span of {} would be {} samples, more than the limit {} \
+         (`max_samples`); sample less often, shorten the run or raise the limit",
+        Num(*interval), Num(*span), Num(*samples), Num(*limit as f64)
+    )]
+    TooManySamples {
+        interval: f64,
+        span: f64,
+        samples: f64,
+        limit: u64,
+    },
+
+    /// An output column's name cannot be a column name (`Simulation::output`).
+    #[error("the output name {name:?} cannot name a column: {reason}")]
+    InvalidColumnName { name: String, reason: &'static str },
 
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
@@ -321,6 +354,32 @@ pub enum Error {
         name: String,
         /// The value given.
         value: f64,
+    },
+
+    /// A function of a system was given a time, state component or input that is not a
+    /// finite number.
+    #[error("`{function}` was given `{name}` = {}: it needs finite numbers", Num(*value))]
+    NonFiniteArgument {
+        /// The function called (`constraint_forces`).
+        function: &'static str,
+        /// `t`, or the name of the state component or input.
+        name: String,
+        value: f64,
+    },
+
+    /// The inputs of a run (its input function, or the constant inputs given) are not finite
+    /// numbers at time `t`.
+    #[error(
+        "the input `{name}` is {} at t = {}: the inputs of a run must be finite numbers; check \
+         the input function (or the constant inputs) at this time and state; state: {state}",
+        Num(*value), Num(*t)
+    )]
+    NonFiniteInput {
+        /// The input's name.
+        name: String,
+        value: f64,
+        t: f64,
+        state: NamedValues,
     },
 
     /// A derivative of a linearization is not a finite number: the model is not

@@ -4,6 +4,7 @@
 mod assembly;
 mod builder;
 mod crossing;
+mod driver;
 mod error;
 mod events;
 pub mod integrate;
@@ -38,8 +39,8 @@ pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use recorder::Output;
 pub use scalar::Scalar;
-pub use simulation::{Progress, Simulation};
+pub use simulation::{MAX_SAMPLES, PROGRESS_INTERVAL, Progress, Simulation};
 pub use sink::{CsvSink, Sink};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};
-pub use trajectory::{Stopped, Summary, Trajectory};
+pub use trajectory::{ENERGY_WARNING, EnergyScale, Stopped, Summary, Trajectory};
 pub use vector::Vector;

@@ -253,6 +253,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         constraints,
         dependent: Vec::new(),
         conservative: false,
+        constant_determinant: false,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -315,6 +315,7 @@ pub fn generate(
             .as_ref()
             .map_or_else(Vec::new, |h| h.dependent.clone()),
         conservative: eq.conservative,
+        constant_determinant: constant_determinant(eq, graph),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;
@@ -431,6 +432,21 @@ fn rhs_generic(cx: &Context<'_>, dims: Dims) -> syn::Result<(TokenStream, usize)
         },
         prepared.len(),
     ))
+}
+
+/// Whether det A(q, t) depends on the parameters alone, so that no motion can cross a
+/// configuration where A is singular: B is derived from A (not given) and no pivot or block
+/// determinant checked before it is used varies with t or q (a constant one is not checked).
+fn constant_determinant(eq: &Equations, graph: &Graph) -> bool {
+    let time_and_configuration: Vec<NodeId> = std::iter::once(eq.inputs.t)
+        .chain(eq.inputs.q.iter().copied())
+        .collect();
+    let active = graph.depends_on(&time_and_configuration);
+    eq.inverse_defect.is_none()
+        && eq
+            .transformation
+            .as_ref()
+            .is_none_or(|pivots| pivots.checks.iter().all(|c| !active[c.value.index()]))
 }
 
 /// The body of every method of the trait; `prepared` values are prepared for the

@@ -25,6 +25,8 @@ pub struct Header<'a> {
     pub constraints: Vec<String>,
     pub dependent: Vec<usize>,
     pub conservative: bool,
+    /// det A(q, t) depends on the parameters alone (`TRANSFORMATION_DETERMINANT_CONSTANT`).
+    pub constant_determinant: bool,
 }
 
 /// The body of each method (a block's contents).
@@ -105,7 +107,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         (&h.coordinates, &h.speeds, &h.inputs, &h.constraints);
     let state_names = coordinates.iter().chain(speeds);
     let dependent = h.dependent.iter().map(|&i| lit(i));
-    let conservative = h.conservative;
+    let (conservative, constant_determinant) = (h.conservative, h.constant_determinant);
     let result = quote!(::core::result::Result);
     let singularity = quote!(::hamel::Singularity);
     // `#[inline]` on every method: besides inlining, it makes their code generated only in the
@@ -159,6 +161,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             const DEPENDENT: &'static [usize] = &[#(#dependent),*];
             const CONSERVATIVE: bool = #conservative;
             const PREPARED_LEN: usize = #prepared_len;
+            const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
 
             #[inline]
             fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
@@ -185,7 +188,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
                 #power
             }
             #allow
-            fn constraint_forces(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
+            fn multipliers(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
                 #constraint_forces
             }
             #allow

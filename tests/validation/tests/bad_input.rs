@@ -642,11 +642,19 @@ fn invalid_settings_are_named() {
     }
     let e = sim()
         .end_time(1e3)
+        .sample_interval(1e-5)
+        .run_constant(&ok, u)
+        .unwrap_err();
+    assert_invalid_setting(&e, "sample interval", 1e-5);
+    assert_message(&e, &["more than 4 GiB in memory", "Simulation::stream"]);
+    // More samples than any run should have: refused before the run, streamed or not.
+    let e = sim()
+        .end_time(1e3)
         .sample_interval(1e-9)
         .run_constant(&ok, u)
         .unwrap_err();
-    assert_invalid_setting(&e, "sample interval", 1e-9);
-    assert_message(&e, &["more than 4 GiB in memory", "Simulation::stream"]);
+    assert!(matches!(e, Error::TooManySamples { .. }), "{e}");
+    assert_message(&e, &["1e12 samples", "`max_samples`"]);
 }
 
 // ---------------------------------------------------------------------------------------------
