@@ -3,6 +3,11 @@
 pub use crate::{
     DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Trajectory, hamel_system,
 };
+// What the guides' runs use beside them: events, streaming, progress, why a run stopped,
+// its summary, linearizations and their modes, the generated code's singularities.
+pub use crate::{
+    CsvSink, Event, Linearization, Mode, Progress, Singularity, Sink, Stopped, Summary,
+};
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
     constraints, forces, holonomic, kinetic_energy, lagrangian, potential_energy, quasi_lagrangian,
