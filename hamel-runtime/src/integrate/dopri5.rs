@@ -207,7 +207,7 @@ type Stages<V> = [V; 7];
 
 /// One attempted step from (t, y) with size h, `k[0]` given: its stages into `k`, and its
 /// fifth-order result.
-#[inline]
+#[inline(always)]
 fn attempt<O: Ode>(
     ode: &mut O,
     t: f64,
@@ -328,6 +328,7 @@ impl Controller {
     }
 
     /// The next step size after a step of size h with error err ≤ 1 was accepted.
+    #[inline]
     fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
         let fac11 = err.powf(EXPO1);
         let fac = (fac11 / self.facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
