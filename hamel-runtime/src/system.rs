@@ -171,6 +171,24 @@ pub trait HamelSystem: Parameters {
         self.rhs(t, x, u, dx)
     }
 
+    /// [`Self::rhs_prepared`] and [`Self::power`] at once: ẋ into `dx` (the same bits as
+    /// `rhs_prepared`), the power returned (as `power` to rounding: it may read values the
+    /// right-hand side shares). `#[hamel_system]` computes them in one pass, the power
+    /// reading the q̇ the right-hand side computes (a simulation of a model that is not
+    /// conservative calls this at every stage, to integrate the work done); the default
+    /// calls the two. No heap allocation.
+    fn rhs_power_prepared(
+        &self,
+        prepared: &[f64],
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+        dx: &mut Self::State,
+    ) -> Result<f64, Singularity> {
+        self.rhs_prepared(prepared, t, x, u, dx)?;
+        self.power(t, x, u)
+    }
+
     /// The generalized velocities q̇ = B(q, t)(ω − a(q, t)) of a state, ω = (0, speeds).
     fn generalized_velocities(
         &self,

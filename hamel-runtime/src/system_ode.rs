@@ -79,11 +79,10 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         let u = (self.inputs.borrow_mut())(t, &x);
         check_inputs::<S>(&u, t, &x)?;
         let mut dx = S::State::zeros();
-        let at = |s| S::singular(s, t, &x);
-        self.system
-            .rhs_prepared(&self.prepared, t, &x, &u, &mut dx)
-            .map_err(at)?;
-        let power = self.system.power(t, &x, &u).map_err(at)?;
+        let power = self
+            .system
+            .rhs_power_prepared(&self.prepared, t, &x, &u, &mut dx)
+            .map_err(|s| S::singular(s, t, &x))?;
         let n = S::State::LEN;
         dv.as_mut()[..n].copy_from_slice(dx.as_ref());
         dv.as_mut()[n] = power;

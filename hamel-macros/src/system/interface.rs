@@ -36,6 +36,7 @@ pub struct Bodies {
     pub prepared_len: usize,
     pub prepare: TokenStream,
     pub rhs_prepared: TokenStream,
+    pub rhs_power_prepared: TokenStream,
     pub generalized_velocities: TokenStream,
     pub energy: TokenStream,
     pub power: TokenStream,
@@ -61,6 +62,7 @@ impl Bodies {
             prepared_len: 0,
             prepare: never.clone(),
             rhs_prepared: never.clone(),
+            rhs_power_prepared: never.clone(),
             generalized_velocities: never.clone(),
             energy: never.clone(),
             power: never.clone(),
@@ -119,6 +121,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         prepared_len,
         prepare,
         rhs_prepared,
+        rhs_power_prepared,
         generalized_velocities,
         energy,
         power,
@@ -174,6 +177,10 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #[inline]
             fn rhs_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
                 #rhs_prepared
+            }
+            #[inline]
+            fn rhs_power_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<f64, #singularity> {
+                #rhs_power_prepared
             }
             #allow
             fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
