@@ -288,6 +288,28 @@ pub enum Error {
         limit: u64,
     },
 
+    /// A parameter table or a study's table (CSV) is malformed: `line` is its line (the
+    /// header is line 1), `column` the column's name (empty when the line as a whole is
+    /// wrong).
+    #[error("{}", Error::table_message(file, *line, column, problem))]
+    Table {
+        file: String,
+        line: usize,
+        column: String,
+        problem: String,
+    },
+
+    /// A shard specification `i/n` that is not one: `i` and `n` whole numbers, 0 ≤ i < n.
+    #[error(
+        "the shard `{spec}` {reason}: a shard is `i/n`, the i-th of n equal parts of the \
+         table's rows, counted from 0 (`--shard 0/8` … `--shard 7/8`)"
+    )]
+    InvalidShard { spec: String, reason: &'static str },
+
+    /// A case of a study panicked; the study went on without it.
+    #[error("case {case} panicked: {message}")]
+    CasePanicked { case: usize, message: String },
+
     /// An output column's name cannot be a column name (`Simulation::output`).
     #[error("the output name {name:?} cannot name a column: {reason}")]
     InvalidColumnName { name: String, reason: &'static str },
@@ -551,6 +573,15 @@ pub enum Error {
 }
 
 impl Error {
+    /// The message of [`Error::Table`], for `Display`.
+    fn table_message(file: &str, line: usize, column: &str, problem: &str) -> String {
+        if column.is_empty() {
+            format!("{file}, line {line}: {problem}")
+        } else {
+            format!("{file}, line {line}, column `{column}`: {problem}")
+        }
+    }
+
     /// The message of [`Error::TooManySteps`], for `Display`.
     fn too_many_steps_message(
         t: f64,

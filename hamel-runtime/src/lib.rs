@@ -5,6 +5,7 @@ mod assembly;
 mod builder;
 mod crossing;
 mod driver;
+pub mod ensemble;
 mod error;
 mod events;
 pub mod integrate;
@@ -26,6 +27,7 @@ mod vector;
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use crossing::{SingularCrossing, transformation_determinant};
+pub use ensemble::{Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table};
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{

@@ -2,6 +2,8 @@
 //! with the closed-form solution of its free motion.
 
 mod common;
+#[path = "simulation/ensembles.rs"]
+mod ensembles;
 
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
