@@ -63,12 +63,20 @@ impl Table {
                 self.errors.push(None);
             }
             Err(e) => {
-                for column in &mut self.columns {
-                    column.push(f64::NAN);
-                }
-                self.errors.push(Some(e.to_string()));
+                self.cases.pop();
+                self.push_failed(index, e.to_string());
             }
         }
+    }
+
+    /// Appends the row of case `index` that failed with the message `error` (its values
+    /// NaN): a row read back from a file.
+    pub fn push_failed(&mut self, index: u64, error: String) {
+        self.cases.push(index);
+        for column in &mut self.columns {
+            column.push(f64::NAN);
+        }
+        self.errors.push(Some(error));
     }
 
     /// The rows of `other` after this table's (the shards of a study, in order); its columns
