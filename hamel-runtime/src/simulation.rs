@@ -240,7 +240,11 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     }
 
     /// Runs with the inputs given as a function of time and state (a feedback law or a
-    /// schedule), recording at every sample time into a [`Trajectory`] in memory. A system
+    /// schedule), recording at every sample time into a [`Trajectory`] in memory. The
+    /// initial configuration must satisfy the holonomic constraints to
+    /// [`crate::HOLONOMIC_TOLERANCE`] of their scale ([`Error::HolonomicViolation`] names the
+    /// one it misses), and the inputs must be finite numbers wherever they are evaluated
+    /// ([`Error::NonFiniteInput`] names the input, the time and the state). A system
     /// that is not [`HamelSystem::CONSERVATIVE`] is integrated with the work done on it,
     /// Ẇ = [`HamelSystem::power`], outside the step-size control (so with the same steps),
     /// for the energy balance of the [`crate::Summary`] and the column `energy_balance`. The

@@ -221,3 +221,43 @@ impl ModeColumns {
         Ok(values)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Complex;
+
+    #[test]
+    fn mode_columns_name_eigenvalues_and_components() {
+        let mode = |re: f64, im: f64| Mode {
+            value: Complex::new(re, im),
+            vector: vec![
+                ("phi".into(), Complex::new(1.0, 0.0)),
+                ("delta".into(), Complex::new(0.5, -0.25)),
+            ],
+        };
+        let columns = ModeColumns::new(&["phi", "delta"]).vectors();
+        assert_eq!(
+            columns.names(),
+            [
+                "eig0_re",
+                "eig0_im",
+                "eig1_re",
+                "eig1_im",
+                "mode0_phi_re",
+                "mode0_phi_im",
+                "mode0_delta_re",
+                "mode0_delta_im",
+                "mode1_phi_re",
+                "mode1_phi_im",
+                "mode1_delta_re",
+                "mode1_delta_im"
+            ]
+        );
+        let values = columns.values(&[mode(0.1, 2.0), mode(0.1, -2.0)]).unwrap();
+        assert_eq!(values.len(), 12);
+        assert_eq!(&values[..6], [0.1, 2.0, 0.1, -2.0, 1.0, 0.0]);
+        assert_eq!(&values[6..8], [0.5, -0.25]);
+        assert!(columns.values(&[mode(0.0, 0.0)]).is_err());
+    }
+}

@@ -292,3 +292,51 @@ fn bad_tables_shards_and_directories_are_refused_naming_them() {
     check_writable(dir.join("new").join("results")).unwrap();
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Events and samples as columns: the skate on its circle passes x = 1.5 going one way at a
+/// time that depends on its speed; a sample time the run does not have is a row's error.
+#[test]
+fn outputs_keep_event_times_and_chosen_samples() {
+    let outputs = Outputs::new().event("x = 1.5").sample_at(0.5).summary();
+    // The summary first, then the events, then the samples, whatever the order asked in.
+    let names = outputs.names::<Skate>();
+    assert_eq!(names[0], "steps");
+    assert_eq!(names[9..12], ["x = 1.5_first", "x = 1.5_count", "x@0.5"]);
+    let rows = Ensemble::new(3)
+        .run(|i| {
+            let mut x0 = X0;
+            x0[3] = 1.0 + i as f64;
+            let run = Simulation::new(&super::SKATE, x0)
+                .end_time(1.0)
+                .sample_interval(0.25)
+                .event(hamel_runtime::Event::new("x = 1.5", |_, x: &[f64; 5]| {
+                    x[0] - 1.5
+                }))
+                .run_constant(&DormandPrince::new(1e-10, 1e-10), [0.0, 0.0])?;
+            outputs.values::<Skate>(&run)
+        })
+        .unwrap();
+    let first: Vec<f64> = rows.iter().map(|r| r.as_ref().unwrap()[9]).collect();
+    // Faster skates get there sooner; the count is one each.
+    assert!(first[0] > first[1] && first[1] > first[2], "{first:?}");
+    assert!(rows.iter().all(|r| r.as_ref().unwrap()[10] == 1.0));
+    // The state at t = 0.5 (its x), and the summary: steps taken, the stop time NaN (every
+    // run ran to its end).
+    let row = rows[0].as_ref().unwrap();
+    assert_eq!(row.len(), names.len());
+    assert!(
+        row[11] > X0[0] && row[0] > 0.0 && row[8].is_nan(),
+        "{row:?}"
+    );
+    let e = Outputs::new()
+        .sample_at(0.3)
+        .values::<Skate>(
+            &Simulation::new(&super::SKATE, X0)
+                .end_time(1.0)
+                .sample_interval(0.25)
+                .run_constant(&DormandPrince::new(1e-8, 1e-8), [0.0, 0.0])
+                .unwrap(),
+        )
+        .unwrap_err();
+    assert!(matches!(e, Error::InvalidSetting { name: "sample time", value, .. } if value == 0.3));
+}
