@@ -519,11 +519,13 @@ impl Integrator for DormandPrince {
         let mut k: Stages<O::State> = [O::State::zeros(); 7];
         ode.rhs(t0, x0, &mut k[0])?;
         stats.evaluations += 1;
+        let watching = samples.observer.watches_steps();
         let mut run = Run {
             ode,
             samples,
             stats,
             k,
+            watching,
         };
         match self.fixed_step {
             Some(h) => self.fixed(&mut run, (t0, *x0), (h, t_end))?,
@@ -543,6 +545,8 @@ struct Run<'a, O: Ode, T: ?Sized> {
     samples: Samples<'a, T, O::State>,
     stats: Stats,
     k: Stages<O::State>,
+    /// Whether the observer watches steps: asked once, before the first step (as RK4 does).
+    watching: bool,
 }
 
 impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
@@ -566,7 +570,7 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         let k = &self.k;
         // The continuous extension interpolates the step's own result, before projection.
         let mut extension = || Dense::new(t, h, (y, &y1), k);
-        let watched = self.samples.observer.watches_steps().then(&mut extension);
+        let watched = self.watching.then(&mut extension);
         let stop = match &watched {
             Some(dense) => {
                 let view = StepView {

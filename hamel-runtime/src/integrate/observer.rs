@@ -140,8 +140,9 @@ pub trait Observer<V> {
     /// integrator reporting that it stopped at t ([`super::Stats::stopped`]).
     fn sample(&mut self, t: f64, x: &V) -> Result<Control, Error>;
 
-    /// Whether [`Observer::step`] is to be called. Dense output can cost: a method without a
-    /// natural continuous extension (RK4) forms one with an extra evaluation per step.
+    /// Whether [`Observer::step`] is to be called; integrators ask once, before the first
+    /// step. Dense output can cost: a method without a natural continuous extension (RK4)
+    /// forms one with an extra evaluation per step.
     fn watches_steps(&self) -> bool {
         false
     }
