@@ -21,14 +21,25 @@
 //! variants are `ode_solvers`, `dormand-prince`, `simulation`, `simulation-bare` (no
 //! singular-crossing watch).
 //!
-//! Figures of record (201 rounds, 2-core shared machine; per-round ratio to `ode_solvers`,
-//! median and p10–p90):
+//! Figures of record (201 rounds on the shared 2-core machine at a quiet moment, load
+//! average about 1.5; per-round ratio to `ode_solvers`, median and p10–p90; ms a run of
+//! `ode_solvers` about 0.43):
 //!
 //! ```text
-//! before this work (i19 at 20a32f0):
-//!   DormandPrince alone            1.41   (issue 19's measurement)
-//!   Simulation, default monitors   2.6    (issue 19's measurement)
+//!                                   before (20a32f0)        after (i19)
+//! DormandPrince alone               1.222 (1.201–1.242)     1.042 (1.019–1.060)
+//! Simulation, default monitors      2.292 (2.246–2.337)     1.241 (1.205–1.267)
+//! Simulation, no crossing watch     1.833 (1.795–1.870)     1.237 (1.208–1.263)
 //! ```
+//!
+//! ("before" is this file built against the runtime at 20a32f0.) Instructions a run
+//! (callgrind, `profile <variant> 20`, per run): ode_solvers 5.54 M; DormandPrince 8.70 M
+//! before, 5.35 M after; Simulation 15.5 M before, 6.89 M after. Where the Simulation's
+//! remaining time goes: the 1001 samples' monitors (energy, q̇ and the constraint rows, each
+//! solving B and taking sines again: about 14 % of the run), the work integral (a ninth
+//! component and the power at every stage, fused with the right-hand side), and the
+//! integrator's own arithmetic, which matches ode_solvers' in instructions and costs a few
+//! per cent more time.
 
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, Error, Grid, HamelSystem, Integrator, Ode, Simulation};
