@@ -75,12 +75,15 @@ fn determinant_is_cos_phi() {
 #[test]
 fn the_watch_is_skipped_only_where_det_a_is_constant() {
     use hamel::models::{ChaplyginSleigh, KnifeEdge, MobileRobot, NTrailer2, WhippleBicycle};
-    assert!(!KnifeAlongX::TRANSFORMATION_DETERMINANT_CONSTANT);
-    assert!(!WhippleBicycle::TRANSFORMATION_DETERMINANT_CONSTANT);
-    assert!(!KnifeEdge::TRANSFORMATION_DETERMINANT_CONSTANT);
-    assert!(MobileRobot::TRANSFORMATION_DETERMINANT_CONSTANT);
-    assert!(ChaplyginSleigh::TRANSFORMATION_DETERMINANT_CONSTANT);
-    assert!(NTrailer2::TRANSFORMATION_DETERMINANT_CONSTANT);
+    let constant = [
+        KnifeAlongX::TRANSFORMATION_DETERMINANT_CONSTANT,
+        WhippleBicycle::TRANSFORMATION_DETERMINANT_CONSTANT,
+        KnifeEdge::TRANSFORMATION_DETERMINANT_CONSTANT,
+        MobileRobot::TRANSFORMATION_DETERMINANT_CONSTANT,
+        ChaplyginSleigh::TRANSFORMATION_DETERMINANT_CONSTANT,
+        NTrailer2::TRANSFORMATION_DETERMINANT_CONSTANT,
+    ];
+    assert_eq!(constant, [false, false, false, true, true, true]);
     let robot = MobileRobot::default();
     let q = [0.1, -0.2, 0.3, 0.4, -0.5];
     for phi in [0.0, 1.0, 2.0, 4.0] {
