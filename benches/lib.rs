@@ -45,9 +45,14 @@ pub mod interleave {
 
     /// How many calls of `f` take about [`BATCH_SECONDS`] (after a warm-up batch).
     pub fn calibrate(f: &mut dyn FnMut()) -> usize {
+        calibrate_to(f, BATCH_SECONDS)
+    }
+
+    /// How many calls of `f` take about `seconds` (after a warm-up batch).
+    pub fn calibrate_to(f: &mut dyn FnMut(), seconds: f64) -> usize {
         batch(10, f);
         let once = batch(100, f).max(1e-9);
-        ((BATCH_SECONDS / once) as usize).max(1)
+        ((seconds / once) as usize).max(1)
     }
 
     /// The median and the 10th and 90th percentiles of a sample.
@@ -89,7 +94,19 @@ pub mod interleave {
     /// runs one batch of every variant, round-robin, the first variant of a round moving on by
     /// one each round (so that none always runs first, or after the same neighbour).
     pub fn round_robin(variants: &mut [&mut dyn FnMut()]) -> Vec<Vec<f64>> {
-        let calls: Vec<usize> = variants.iter_mut().map(|f| calibrate(*f)).collect();
+        round_robin_batches(variants, BATCH_SECONDS)
+    }
+
+    /// [`round_robin`] with batches of about `batch_seconds`: longer ones for variants that
+    /// take a millisecond or more a call, so that one interruption does not make a round.
+    pub fn round_robin_batches(
+        variants: &mut [&mut dyn FnMut()],
+        batch_seconds: f64,
+    ) -> Vec<Vec<f64>> {
+        let calls: Vec<usize> = variants
+            .iter_mut()
+            .map(|f| calibrate_to(*f, batch_seconds))
+            .collect();
         let k = variants.len();
         (0..rounds())
             .map(|round| {

@@ -68,19 +68,21 @@ fn sweep(bike: &WhippleBicycle) -> Result<(String, Sweep), Error> {
     Ok((csv, all))
 }
 
-/// Table 2's layout: whole speeds, the four eigenvalues.
+/// Table 2's layout: whole speeds, the four eigenvalues in columns wide enough for
+/// imaginary parts of two digits (10.90681 at v = 10).
 fn table(all: &[(f64, Vec<Mode>)]) -> String {
     let mut text = String::from("   v     eigenvalues (1/s), least stable first\n");
     for (v, m) in all.iter().filter(|(v, _)| v.fract() == 0.0) {
-        let _ = write!(text, "{v:>4}  ");
+        let mut line = format!("{v:>4}  ");
         for mode in m {
             let l = mode.value;
             if l.im == 0.0 {
-                let _ = write!(text, "  {:>+9.5}          ", l.re);
+                let _ = write!(line, "  {:>+9.5}{:11}", l.re, "");
             } else {
-                let _ = write!(text, "  {:>+9.5} {:>+8.5}i", l.re, l.im);
+                let _ = write!(line, "  {:>+9.5} {:>+9.5}i", l.re, l.im);
             }
         }
+        text.push_str(line.trim_end());
         text.push('\n');
     }
     text

@@ -23,6 +23,7 @@ use hamel::{
     DormandPrince, GaussLegendre, HamelSystem, ImplicitMidpoint, Integrator, Parameters, Radau5,
     Rk4, Simulation, Trajectory,
 };
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -209,6 +210,9 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
 }
 
 fn run(s: &Settings) -> Result<(), hamel::Error> {
+    // The output file is created before the run, so that a directory that does not exist
+    // (or cannot be written) is an error at once, not after the whole run.
+    let csv = std::fs::File::create(&s.out).map_err(|e| io_error(&s.out, &e))?;
     let robot = &s.robot;
     let q = MobileRobot::coordinates_of(&s.state);
     let speeds = MobileRobot::speeds_of(&s.state);
@@ -242,7 +246,11 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
             hamel::NamedValues::new(MobileRobot::STATE, state)
         );
     }
-    trajectory.save_csv(&s.out)?;
+    let mut writer = std::io::BufWriter::new(csv);
+    trajectory
+        .write_csv(&mut writer)
+        .and_then(|()| writer.flush())
+        .map_err(|e| io_error(&s.out, &e))?;
     println!(
         "wrote {} rows to {} ({})",
         trajectory.len(),
@@ -281,6 +289,13 @@ fn simulate<I: Integrator>(
         .run_constant(integrator, s.torques);
     bar.clear();
     trajectory
+}
+
+fn io_error(path: &str, e: &std::io::Error) -> hamel::Error {
+    hamel::Error::Io {
+        path: path.to_string(),
+        message: e.to_string(),
+    }
 }
 
 /// The figure's file: the CSV's path with the extension `svg`.

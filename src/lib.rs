@@ -59,6 +59,8 @@ extern crate self as hamel;
 
 pub mod docs;
 pub mod models;
+#[cfg(feature = "parquet")]
+pub mod parquet;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod prelude;

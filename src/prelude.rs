@@ -4,6 +4,12 @@ pub use crate::{
     DormandPrince, Error, GaussLegendre, HamelSystem, ImplicitMidpoint, Parameters, Radau5, Rk4,
     Simulation, Trajectory, hamel_system,
 };
+// What the guides' runs use beside them: events, streaming, progress, why a run stopped,
+// its summary, linearizations and their modes, the generated code's singularities, studies.
+pub use crate::{
+    CsvSink, Ensemble, Event, Linearization, Mode, Outputs, Progress, Singularity, Sink, Stopped,
+    Summary, Table,
+};
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
     bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,

@@ -50,8 +50,24 @@ impl fmt::Display for SingularCrossing {
 /// affine in q̇); NaN if the rows are not n in all.
 pub fn transformation_determinant<S: HamelSystem>(system: &S, t: f64, q: &S::Coordinates) -> f64 {
     let n = S::Coordinates::LEN;
-    if S::Constraints::LEN + S::Speeds::LEN != n {
+    let mut entries = Vec::new();
+    if !transformation_matrix(system, t, q, &mut entries) {
         return f64::NAN;
+    }
+    nalgebra::DMatrix::from_column_slice(n, n, &entries).determinant()
+}
+
+/// A(q, t) into `a`, column by column (n² entries), read off the rows; false if the rows
+/// are not n in all.
+fn transformation_matrix<S: HamelSystem>(
+    system: &S,
+    t: f64,
+    q: &S::Coordinates,
+    a: &mut Vec<f64>,
+) -> bool {
+    let n = S::Coordinates::LEN;
+    if S::Constraints::LEN + S::Speeds::LEN != n {
+        return false;
     }
     let rows = |qd: &S::Coordinates| {
         let c = system.constraint_residual(t, q, qd);
@@ -59,7 +75,7 @@ pub fn transformation_determinant<S: HamelSystem>(system: &S, t: f64, q: &S::Coo
         (c, s)
     };
     let (c0, s0) = rows(&S::Coordinates::zeros());
-    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+    a.clear();
     let mut e = S::Coordinates::zeros();
     for j in 0..n {
         e.as_mut()[j] = 1.0;
@@ -71,29 +87,71 @@ pub fn transformation_determinant<S: HamelSystem>(system: &S, t: f64, q: &S::Coo
             .zip(c0.as_ref())
             .chain(s.as_ref().iter().zip(s0.as_ref()))
             .map(|(v, v0)| v - v0);
-        for (i, value) in column.enumerate() {
-            a[(i, j)] = value;
+        a.extend(column);
+    }
+    true
+}
+
+/// The sign of the determinant of the n × n matrix `a` (column by column), by Gaussian
+/// elimination with partial pivoting in place: −1, 1, or 0 for a singular matrix or a NaN.
+/// Written here because only the sign is wanted, once per step, and nalgebra's LU of a
+/// dynamically sized matrix allocates its permutation at every call.
+fn determinant_sign(a: &mut [f64], n: usize) -> f64 {
+    let at = |i: usize, j: usize| i + j * n;
+    let mut sign = 1.0;
+    for k in 0..n {
+        let pivot_row = (k..n)
+            .max_by(|&i, &r| a[at(i, k)].abs().total_cmp(&a[at(r, k)].abs()))
+            .unwrap_or(k);
+        let pivot = a[at(pivot_row, k)];
+        if pivot == 0.0 || pivot.is_nan() {
+            return 0.0;
+        }
+        if pivot_row != k {
+            for j in k..n {
+                a.swap(at(k, j), at(pivot_row, j));
+            }
+            sign = -sign;
+        }
+        if pivot < 0.0 {
+            sign = -sign;
+        }
+        for i in k + 1..n {
+            let factor = a[at(i, k)] / pivot;
+            for j in k + 1..n {
+                a[at(i, j)] -= factor * a[at(k, j)];
+            }
         }
     }
-    a.determinant()
+    sign
 }
 
 /// The sign of det A at the last check, and the crossings found so far.
 pub(crate) struct CrossingWatch {
     sign: f64,
     pub crossings: Vec<SingularCrossing>,
+    /// A's entries, reused at every check: no allocation per step.
+    entries: Vec<f64>,
 }
 
 impl CrossingWatch {
     pub fn new<S: HamelSystem>(system: &S, t0: f64, x0: &S::State) -> Self {
-        CrossingWatch {
-            sign: sign(transformation_determinant(
-                system,
-                t0,
-                &S::coordinates_of(x0),
-            )),
+        let n = S::Coordinates::LEN;
+        let mut watch = CrossingWatch {
+            sign: 0.0,
             crossings: Vec::new(),
+            entries: Vec::with_capacity(n * n),
+        };
+        watch.sign = watch.sign_at(system, t0, &S::coordinates_of(x0));
+        watch
+    }
+
+    /// The sign of det A(q, t): −1, 1, or 0 where it is zero or NaN (or the rows are not n).
+    fn sign_at<S: HamelSystem>(&mut self, system: &S, t: f64, q: &S::Coordinates) -> f64 {
+        if !transformation_matrix(system, t, q, &mut self.entries) {
+            return 0.0;
         }
+        determinant_sign(&mut self.entries, S::Coordinates::LEN)
     }
 
     /// Checks the end of one accepted step; a sign change is located in the step.
@@ -103,15 +161,15 @@ impl CrossingWatch {
         view: &StepView<'_, V>,
         state: impl Fn(&V) -> S::State,
     ) {
-        let det =
-            |t: f64, x: &S::State| transformation_determinant(system, t, &S::coordinates_of(x));
-        let after = sign(det(view.t1, &state(view.x1)));
+        let after = self.sign_at(system, view.t1, &S::coordinates_of(&state(view.x1)));
         // A zero (or NaN) determinant at a step's end keeps the last sign: the next nonzero
         // one tells whether the configuration was crossed or only touched.
         if after == 0.0 {
             return;
         }
         if self.sign != 0.0 && after != self.sign {
+            let det =
+                |t: f64, x: &S::State| transformation_determinant(system, t, &S::coordinates_of(x));
             let tolerance = 1e-12 * (view.t1 - view.t);
             let mut g = |s: f64| Ok(det(s, &state(&view.dense.at(s))));
             // The sign change within the step is certain, so a failure to bracket it on the
@@ -127,13 +185,21 @@ impl CrossingWatch {
     }
 }
 
-/// −1, 1, or 0 for a zero or NaN.
-fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
+#[cfg(test)]
+mod tests {
+    use super::determinant_sign;
+
+    #[test]
+    fn determinant_signs_by_elimination() {
+        // Column by column: [[2, 1], [1, 3]] has det 5; swapping its rows, −5.
+        assert_eq!(determinant_sign(&mut [2.0, 1.0, 1.0, 3.0], 2), 1.0);
+        assert_eq!(determinant_sign(&mut [1.0, 2.0, 3.0, 1.0], 2), -1.0);
+        // A pivot that needs a row swap: [[0, 1, 0], [1, 0, 0], [0, 0, −2]], det 2.
+        let mut a = [0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -2.0];
+        assert_eq!(determinant_sign(&mut a, 3), 1.0);
+        // Singular and NaN.
+        assert_eq!(determinant_sign(&mut [1.0, 2.0, 2.0, 4.0], 2), 0.0);
+        assert_eq!(determinant_sign(&mut [f64::NAN, 0.0, 0.0, 1.0], 2), 0.0);
+        assert_eq!(determinant_sign(&mut [], 0), 1.0);
     }
 }

@@ -275,6 +275,20 @@ pub enum Error {
         state: NamedValues,
     },
 
+    /// The span to integrate is shorter than an adaptive step can resolve at its start time:
+    /// refused before the first step (not reported as a step that shrank).
+    #[error(
+        "the span from t = {} to t = {} ({}) is too short to integrate: at this time a step \
+         must exceed 16 ulps of t ({}); end later, or take the initial state as the result; \
+         state: {state}",
+        Num(*t0), Num(*t_end), Num(*t_end - *t0), Num(16.0 * f64::EPSILON * t0.abs())
+    )]
+    SpanTooShort {
+        t0: f64,
+        t_end: f64,
+        state: NamedValues,
+    },
+
     /// An integration used up its steps (`with_max_steps`) before the end, or — `planned` —
     /// its fixed or largest step would need more of them than the limit allows for the span,
     /// which is refused before the first step (then `steps` is the number needed, saturated
@@ -297,6 +311,47 @@ pub enum Error {
         value: f64,
         reason: &'static str,
     },
+
+    /// A run's span and sample interval give more samples than its limit
+    /// (`Simulation::max_samples`): refused before the run, which would not end in any
+    /// useful time.
+    #[error(
+        "samples every {} over a span of {} would be {} samples, more than the limit {} \
+         (`max_samples`); sample less often, shorten the run or raise the limit",
+        Num(*interval), Num(*span), Num(*samples), Num(*limit as f64)
+    )]
+    TooManySamples {
+        interval: f64,
+        span: f64,
+        samples: f64,
+        limit: u64,
+    },
+
+    /// A parameter table or a study's table (CSV) is malformed: `line` is its line (the
+    /// header is line 1), `column` the column's name (empty when the line as a whole is
+    /// wrong).
+    #[error("{}", Error::table_message(file, *line, column, problem))]
+    Table {
+        file: String,
+        line: usize,
+        column: String,
+        problem: String,
+    },
+
+    /// A shard specification `i/n` that is not one: `i` and `n` whole numbers, 0 ≤ i < n.
+    #[error(
+        "the shard `{spec}` {reason}: a shard is `i/n`, the i-th of n equal parts of the \
+         table's rows, counted from 0 (`--shard 0/8` … `--shard 7/8`)"
+    )]
+    InvalidShard { spec: String, reason: &'static str },
+
+    /// A case of a study panicked; the study went on without it.
+    #[error("case {case} panicked: {message}")]
+    CasePanicked { case: usize, message: String },
+
+    /// An output column's name cannot be a column name (`Simulation::output`).
+    #[error("the output name {name:?} cannot name a column: {reason}")]
+    InvalidColumnName { name: String, reason: &'static str },
 
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
@@ -360,6 +415,32 @@ pub enum Error {
         name: String,
         /// The value given.
         value: f64,
+    },
+
+    /// A function of a system was given a time, state component or input that is not a
+    /// finite number.
+    #[error("`{function}` was given `{name}` = {}: it needs finite numbers", Num(*value))]
+    NonFiniteArgument {
+        /// The function called (`constraint_forces`).
+        function: &'static str,
+        /// `t`, or the name of the state component or input.
+        name: String,
+        value: f64,
+    },
+
+    /// The inputs of a run (its input function, or the constant inputs given) are not finite
+    /// numbers at time `t`.
+    #[error(
+        "the input `{name}` is {} at t = {}: the inputs of a run must be finite numbers; check \
+         the input function (or the constant inputs) at this time and state; state: {state}",
+        Num(*value), Num(*t)
+    )]
+    NonFiniteInput {
+        /// The input's name.
+        name: String,
+        value: f64,
+        t: f64,
+        state: NamedValues,
     },
 
     /// A derivative of a linearization is not a finite number: the model is not
@@ -531,6 +612,15 @@ pub enum Error {
 }
 
 impl Error {
+    /// The message of [`Error::Table`], for `Display`.
+    fn table_message(file: &str, line: usize, column: &str, problem: &str) -> String {
+        if column.is_empty() {
+            format!("{file}, line {line}: {problem}")
+        } else {
+            format!("{file}, line {line}, column `{column}`: {problem}")
+        }
+    }
+
     /// The message of [`Error::TooManySteps`], for `Display`.
     fn too_many_steps_message(
         t: f64,

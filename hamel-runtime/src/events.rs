@@ -76,11 +76,6 @@ impl<'s, S: HamelSystem> Event<'s, S> {
         &self.name
     }
 
-    /// Whether there are events to watch.
-    pub(crate) fn is_empty(events: &[Self]) -> bool {
-        events.is_empty()
-    }
-
     /// Whether a change of sign from `before` to `after` counts.
     fn crossed(&self, before: f64, after: f64) -> bool {
         let (rising, falling) = (before < 0.0 && after >= 0.0, before > 0.0 && after <= 0.0);

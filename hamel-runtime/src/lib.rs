@@ -4,6 +4,8 @@
 mod assembly;
 mod builder;
 mod crossing;
+mod driver;
+pub mod ensemble;
 mod error;
 mod events;
 pub mod geometry;
@@ -26,6 +28,7 @@ mod vector;
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use crossing::{SingularCrossing, transformation_determinant};
+pub use ensemble::{Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table};
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{
@@ -39,8 +42,8 @@ pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use recorder::Output;
 pub use scalar::Scalar;
-pub use simulation::{Progress, Simulation};
+pub use simulation::{MAX_SAMPLES, PROGRESS_INTERVAL, Progress, Simulation};
 pub use sink::{CsvSink, Sink};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};
-pub use trajectory::{Stopped, Summary, Trajectory};
+pub use trajectory::{ENERGY_WARNING, EnergyScale, Stopped, Summary, Trajectory};
 pub use vector::Vector;

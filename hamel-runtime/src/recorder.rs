@@ -1,5 +1,6 @@
 //! Recording a simulation's samples into a [`Sink`] with the monitors of its [`Summary`]: the
-//! constraint and holonomic residuals, the energy drift and the energy balance.
+//! constraint and holonomic residuals, the energy drift and the energy balance. Everything
+//! here runs at the samples only, never at the integrator's stages.
 
 use std::cell::RefCell;
 
@@ -8,7 +9,8 @@ use crate::events::{EventRecord, StateFunction};
 use crate::integrate::Stats;
 use crate::sink::Sink;
 use crate::system::HamelSystem;
-use crate::trajectory::{Stopped, Summary};
+use crate::trajectory::{EnergyScale, Stopped, Summary};
+use crate::vector::Vector;
 
 /// A named output column computed from the time and state (a contact point's position).
 pub struct Output<'s, S: HamelSystem> {
@@ -44,6 +46,69 @@ impl<S: HamelSystem> Columns<'_, '_, S> {
         }
         names
     }
+
+    /// The outputs' names must be usable as column names: not empty, without a CSV
+    /// separator, quote or line break, and none repeated or already a column of the run.
+    pub fn check(&self) -> Result<(), Error> {
+        let names = self.names();
+        for output in self.outputs {
+            let name = output.name.as_str();
+            let reason = if name.is_empty() {
+                Some("a column needs a name")
+            } else if name.contains([',', '"', '\n', '\r']) {
+                Some("a column name may not contain a comma, a quote or a line break (CSV)")
+            } else if name.trim() != name {
+                Some("a column name may not begin or end with white space")
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                return Err(Error::InvalidColumnName {
+                    name: name.to_string(),
+                    reason,
+                });
+            }
+            if names.iter().filter(|n| *n == name).count() > 1 {
+                return Err(Error::DuplicateName {
+                    kind: "column",
+                    name: name.to_string(),
+                    context: "an output's name must differ from the other outputs' and from \
+                              the columns every run records (t, the state, the inputs, energy, \
+                              energy_balance, lambda_<constraint>)",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The inputs u must be finite: the first that is not is named, with the time and state.
+/// Called at every stage, so the check is inline and the error built out of line.
+#[inline]
+pub(crate) fn check_inputs<S: HamelSystem>(
+    u: &S::Inputs,
+    t: f64,
+    x: &S::State,
+) -> Result<(), Error> {
+    if u.as_ref().iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(non_finite_input::<S>(u, t, x))
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn non_finite_input<S: HamelSystem>(u: &S::Inputs, t: f64, x: &S::State) -> Error {
+    let i = u.as_ref().iter().position(|v| !v.is_finite()).unwrap_or(0);
+    Error::NonFiniteInput {
+        name: S::INPUTS
+            .get(i)
+            .map_or_else(|| format!("u{i}"), |n| (*n).to_string()),
+        value: u.as_ref()[i],
+        t,
+        state: S::named_state(x),
+    }
 }
 
 /// Records the samples and keeps the monitors' running maxima.
@@ -55,6 +120,9 @@ pub(crate) struct Recorder<'a, 's, S: HamelSystem, F> {
     summary: Summary,
     /// max |W| so far, for the scale of the relative energy balance.
     max_work: f64,
+    /// The largest kinetic energy T₂ so far (conservative systems only): the scale of a
+    /// drift whose E₀ is small beside the motion.
+    max_kinetic: f64,
     row: Vec<f64>,
 }
 
@@ -79,6 +147,7 @@ where
             sink,
             summary: Summary::new::<S>(),
             max_work: 0.0,
+            max_kinetic: 0.0,
             row: Vec::with_capacity(names.len()),
         })
     }
@@ -88,12 +157,16 @@ where
     pub fn record(&mut self, t: f64, x: &S::State, work: f64) -> Result<(), Error> {
         let at = |s: Singularity| S::singular(s, t, x);
         let system = self.system;
+        let u = (self.inputs.borrow_mut())(t, x);
+        check_inputs::<S>(&u, t, x)?;
         let energy = system.energy(t, x).map_err(at)?;
         let q = S::coordinates_of(x);
         let qd = system.generalized_velocities(t, x).map_err(at)?;
         let residual = system.constraint_residual(t, &q, &qd);
         let holonomic = system.holonomic_residual(t, &q);
-        let u = (self.inputs.borrow_mut())(t, x);
+        if S::CONSERVATIVE {
+            self.max_kinetic = nan_max(self.max_kinetic, kinetic_energy(system, t, x, energy)?);
+        }
 
         let first = self.summary.samples == 0;
         let e0 = if first {
@@ -114,7 +187,7 @@ where
             self.row.push(balance);
         }
         if self.columns.forces {
-            let lambda = system.constraint_forces(t, x, &u).map_err(at)?;
+            let lambda = system.multipliers(t, x, &u).map_err(at)?;
             self.row.extend_from_slice(lambda.as_ref());
         }
         self.sink.row(&self.row)?;
@@ -135,18 +208,16 @@ where
             summary.max_holonomic_residual = nan_max(summary.max_holonomic_residual, f.abs());
         }
         summary.max_energy_drift = nan_max(summary.max_energy_drift, (energy - e0).abs());
-        summary.relative_energy_drift = summary.max_energy_drift / e0.abs().max(f64::MIN_POSITIVE);
         summary.work = work;
         let balance = energy - e0 - work;
         summary.max_energy_balance = nan_max(summary.max_energy_balance, balance.abs());
-        // The energies that take part in the balance: E₀, the change E − E₀ and the work W.
-        // E₀ alone would not do: it may be 0 (a body at rest set moving by its inputs), and
-        // the balance is a difference of the other two.
-        let scale = e0
-            .abs()
-            .max(summary.max_energy_drift)
-            .max(self.max_work)
-            .max(f64::MIN_POSITIVE);
+        summary.energy_scale = if S::CONSERVATIVE {
+            EnergyScale::conservative(e0, self.max_kinetic)
+        } else {
+            EnergyScale::forced(e0, summary.max_energy_drift, self.max_work)
+        };
+        let scale = summary.energy_scale.value().max(f64::MIN_POSITIVE);
+        summary.relative_energy_drift = summary.max_energy_drift / scale;
         summary.relative_energy_balance = summary.max_energy_balance / scale;
     }
 
@@ -175,6 +246,23 @@ where
         summary.evaluations = stats.evaluations;
         Ok(summary)
     }
+}
+
+/// T₂ = E(q, s) − E(q, 0), the energy of the motion with speeds s above that of the same
+/// configuration at rest: for a conservative system, whose rows have no affine part, the
+/// kinetic energy quadratic in the velocities, ½ sᵀM s (E = T₂ − T₀ + V).
+fn kinetic_energy<S: HamelSystem>(
+    system: &S,
+    t: f64,
+    x: &S::State,
+    energy: f64,
+) -> Result<f64, Error> {
+    let mut at_rest = *x;
+    at_rest.as_mut()[S::Coordinates::LEN..].fill(0.0);
+    let resting = system
+        .energy(t, &at_rest)
+        .map_err(|s| S::singular(s, t, x))?;
+    Ok(energy - resting)
 }
 
 /// The larger of two numbers, NaN if either is: a monitor must not hide a NaN (`f64::max`

@@ -1,17 +1,20 @@
 //! The simulation driver: checks a run's settings, integrates a [`HamelSystem`] with any
 //! [`Integrator`], records the samples into a [`Trajectory`] or streams them into a
 //! [`Sink`], with energy and constraint monitors, events, extra output columns and a
-//! progress callback that can cancel the run.
+//! progress callback that can cancel the run. What the integrator reports goes to the
+//! run's observer ([`crate::driver`]).
 
 use std::cell::RefCell;
 use std::ops::ControlFlow;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use crate::assembly;
 use crate::crossing::CrossingWatch;
+use crate::driver::{Driver, ProgressFn, States};
 use crate::error::Error;
 use crate::events::{EVENT_TOLERANCE, Event, Watch};
-use crate::integrate::{Control, Grid, Integrator, Observer, SampleTimes, StepView};
-use crate::recorder::{Columns, Output, Recorder};
+use crate::integrate::{Grid, Integrator, SampleTimes};
+use crate::recorder::{Columns, Output, Recorder, check_inputs};
 use crate::sink::Sink;
 use crate::system::HamelSystem;
 use crate::system_ode::{BalanceOde, PlainOde, extend, prepared, project_coordinates, split};
@@ -38,15 +41,17 @@ impl Progress {
     }
 }
 
-/// A progress callback: `ControlFlow::Break(())` cancels the run.
-type ProgressFn<'s> = Box<dyn Fn(&Progress) -> ControlFlow<()> + 's>;
-
-/// How often, at most, the progress callback is called.
-const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
+/// How often, at most, the progress callback is called (besides at the start and the end).
+pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
 
 /// Samples × columns above which an in-memory run is refused (8 bytes each: 4 GiB), in favour
 /// of streaming them ([`Simulation::stream`]).
 const MAX_IN_MEMORY: f64 = 512.0 * 1024.0 * 1024.0;
+
+/// The default limit on the samples of one run (`Simulation::max_samples`): 10¹⁰, hours of
+/// writing at the fastest, so that a sample interval far too small for the span is an error
+/// before the run instead of a run that does not end.
+pub const MAX_SAMPLES: u64 = 10_000_000_000;
 
 /// A run of a system from an initial state: x0 at `t0`, recorded every `dt_out` until
 /// `t_end` (defaults: from 0 to 10, every 0.01).
@@ -63,6 +68,7 @@ pub struct Simulation<'s, S: HamelSystem> {
     forces: bool,
     progress: Option<ProgressFn<'s>>,
     watch_crossings: bool,
+    max_samples: u64,
 }
 
 impl<'s, S: HamelSystem> Simulation<'s, S> {
@@ -82,6 +88,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             forces: false,
             watch_crossings: true,
             progress: None,
+            max_samples: MAX_SAMPLES,
         }
     }
 
@@ -132,7 +139,9 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     }
 
     /// Records one more column, `name`, computed from the time and the state at every sample
-    /// (a contact point's position, a distance).
+    /// (a contact point's position, a distance). The name must be new (not `energy`, not a
+    /// state's or another output's) and free of commas, quotes and line breaks, or the run is
+    /// the error [`Error::DuplicateName`] or [`Error::InvalidColumnName`].
     pub fn output(
         mut self,
         name: impl Into<String>,
@@ -156,17 +165,27 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     /// configuration where A(q, t) is singular (default: on). A crossing is flagged in
     /// [`crate::Summary::singular_crossings`] (and printed with the summary): the run goes on,
     /// but its results after it are unreliable. The check costs n + 1 evaluations of the rows
-    /// and one n × n determinant per step.
+    /// and the sign of an n × n determinant per step, and nothing for a model whose det A
+    /// depends on the parameters alone
+    /// ([`HamelSystem::TRANSFORMATION_DETERMINANT_CONSTANT`]), which never crosses one.
     pub fn watch_singular_crossings(mut self, on: bool) -> Self {
         self.watch_crossings = on;
         self
     }
 
-    /// Calls `f` with the run's progress, every 50 ms of computing at most and once at the
+    /// Calls `f` with the run's progress: at the start, then every 50 ms of computing at most
+    /// (between steps, and between the samples of a step that holds many), and once at the
     /// end; `ControlFlow::Break(())` cancels the run there: it ends at the time reached, its
     /// summary says so ([`crate::Summary::stopped`]), and what was recorded is kept.
     pub fn on_progress(mut self, f: impl Fn(&Progress) -> ControlFlow<()> + 's) -> Self {
         self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// The most samples the run may have (default [`MAX_SAMPLES`], 10¹⁰): a run whose span
+    /// and sample interval give more is the error [`Error::TooManySamples`] before it starts.
+    pub fn max_samples(mut self, n: u64) -> Self {
+        self.max_samples = n;
         self
     }
 
@@ -195,6 +214,15 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                 reason: "it must be a positive finite number, at most 10¹⁵ of which fill the span",
             });
         }
+        let count = ((t_end - t0) / dt).ceil() + 1.0;
+        if count > self.max_samples as f64 {
+            return Err(Error::TooManySamples {
+                interval: dt,
+                span: t_end - t0,
+                samples: count,
+                limit: self.max_samples,
+            });
+        }
         if !(self.event_tolerance.is_finite() && self.event_tolerance >= 0.0) {
             return Err(Error::InvalidSetting {
                 name: "event tolerance",
@@ -212,7 +240,11 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     }
 
     /// Runs with the inputs given as a function of time and state (a feedback law or a
-    /// schedule), recording at every sample time into a [`Trajectory`] in memory. A system
+    /// schedule), recording at every sample time into a [`Trajectory`] in memory. The
+    /// initial configuration must satisfy the holonomic constraints to
+    /// [`crate::HOLONOMIC_TOLERANCE`] of their scale ([`Error::HolonomicViolation`] names the
+    /// one it misses), and the inputs must be finite numbers wherever they are evaluated
+    /// ([`Error::NonFiniteInput`] names the input, the time and the state). A system
     /// that is not [`HamelSystem::CONSERVATIVE`] is integrated with the work done on it,
     /// Ẇ = [`HamelSystem::power`], outside the step-size control (so with the same steps),
     /// for the energy balance of the [`crate::Summary`] and the column `energy_balance`. The
@@ -223,10 +255,8 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         inputs: impl FnMut(f64, &S::State) -> S::Inputs,
     ) -> Result<Trajectory, Error> {
         let grid = self.samples()?;
-        let columns = Columns {
-            outputs: &self.outputs,
-            forces: self.forces,
-        };
+        let columns = self.columns();
+        columns.check()?;
         let size = grid.count() as f64 * columns.names().len() as f64;
         if size > MAX_IN_MEMORY {
             return Err(Error::InvalidSetting {
@@ -236,7 +266,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                          file with `Simulation::stream` and a `CsvSink`, or sample less often",
             });
         }
-        let mut trajectory = Trajectory::new(Vec::new(), Summary::new::<S>());
+        let mut trajectory = Trajectory::expecting(grid.count(), Summary::new::<S>());
         let summary = self.drive(integrator, inputs, &grid, &mut trajectory)?;
         trajectory.set_summary(summary);
         Ok(trajectory)
@@ -261,42 +291,43 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         sink: &mut dyn Sink,
     ) -> Result<Summary, Error> {
         let grid = self.samples()?;
+        self.columns().check()?;
         self.drive(integrator, inputs, &grid, sink)
     }
 
-    /// The run itself: the initial state checked, the inputs shared between the ODE and the
-    /// recorder, the plain or the work-extended ODE integrated.
+    /// What the run records besides the time and the state.
+    fn columns(&self) -> Columns<'_, 's, S> {
+        Columns {
+            outputs: &self.outputs,
+            forces: self.forces,
+        }
+    }
+
+    /// The run itself: the initial state and inputs checked, the inputs shared between the
+    /// ODE and the recorder, the plain or the work-extended ODE integrated.
     fn drive<I: Integrator, F: FnMut(f64, &S::State) -> S::Inputs>(
         &self,
         integrator: &I,
-        inputs: F,
+        mut inputs: F,
         grid: &Grid,
         sink: &mut dyn Sink,
     ) -> Result<Summary, Error> {
         let x0 = self.initial_state()?;
+        check_inputs::<S>(&inputs(self.t0, &x0), self.t0, &x0)?;
         let inputs = RefCell::new(inputs);
-        let columns = Columns {
-            outputs: &self.outputs,
-            forces: self.forces,
-        };
-        let recorder = Recorder::new(self.system, &inputs, columns, sink)?;
+        let recorder = Recorder::new(self.system, &inputs, self.columns(), sink)?;
         let watch = Watch::new(&self.events, self.event_tolerance, self.t0, &x0)?;
-        let (system, project) = (self.system, self.project);
-        let crossings = self
-            .watch_crossings
+        let crossings = (self.watch_crossings && !S::TRANSFORMATION_DETERMINANT_CONSTANT)
             .then(|| CrossingWatch::new(self.system, self.t0, &x0));
-        let mut observer = Driver {
-            system: self.system,
+        let mut driver = Driver::new(
+            self.system,
             recorder,
-            watch,
+            (watch, !self.events.is_empty()),
             crossings,
-            watching_events: !Event::is_empty(&self.events),
-            progress: self.progress.as_ref(),
-            started: Instant::now(),
-            reported: Instant::now(),
-            span: (self.t0, self.t_end),
-            steps: 0,
-        };
+            self.progress.as_ref(),
+            (self.t0, self.t_end),
+        );
+        let (system, project) = (self.system, self.project);
         let stats = if S::CONSERVATIVE {
             let mut ode = PlainOde {
                 system,
@@ -305,7 +336,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                 project,
             };
             let mut states = States {
-                driver: &mut observer,
+                driver: &mut driver,
                 split: |x: &S::State| (*x, 0.0),
             };
             integrator.integrate_observed(&mut ode, self.t0, &x0, grid, &mut states)?
@@ -318,20 +349,12 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             };
             let v0 = extend::<S>(&x0)?;
             let mut states = States {
-                driver: &mut observer,
+                driver: &mut driver,
                 split: split::<S>,
             };
             integrator.integrate_observed(&mut ode, self.t0, &v0, grid, &mut states)?
         };
-        observer.report_progress(observer.span.1.min(stats.stopped.unwrap_or(f64::INFINITY)));
-        let mut summary = observer.recorder.finish(stats)?;
-        if let Some(mut watch) = observer.crossings {
-            // A step cut short by a terminal event or a cancel was checked to its end.
-            let end = stats.stopped.unwrap_or(f64::INFINITY);
-            watch.crossings.retain(|c| c.t <= end);
-            summary.singular_crossings = watch.crossings;
-        }
-        Ok(summary)
+        driver.finish(stats)
     }
 
     /// The checked initial state, its dependent coordinates re-solved when projecting.
@@ -347,97 +370,20 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             });
         }
         // A closed-form inverse B(q) that does not invert A(q) would make every step wrong.
-        self.system
-            .check_configuration(self.t0, &S::coordinates_of(&self.x0))?;
+        let q0 = S::coordinates_of(&self.x0);
+        self.system.check_configuration(self.t0, &q0)?;
+        // A start off the holonomic constraints is a state no motion passes through (and
+        // its projection would silently move it). A constraint that is not a number there
+        // is left to the first evaluation, which names the state as outside the geometry.
+        let residual = self.system.holonomic_residual(self.t0, &q0);
+        if residual.as_ref().iter().all(|f| f.is_finite()) {
+            assembly::check(self.system, self.t0, &q0)?;
+        }
         let mut x0 = self.x0;
         if self.project {
             let t0 = self.t0;
             project_coordinates(self.system, t0, x0.as_mut(), || S::named_state(&self.x0))?;
         }
         Ok(x0)
-    }
-}
-
-/// What the integrator reports to, for one run: the recorder, the events and the progress.
-struct Driver<'a, 's, 'e, S: HamelSystem, F> {
-    system: &'s S,
-    recorder: Recorder<'a, 's, S, F>,
-    watch: Watch<'e, 's, S>,
-    crossings: Option<CrossingWatch>,
-    watching_events: bool,
-    progress: Option<&'a ProgressFn<'s>>,
-    started: Instant,
-    reported: Instant,
-    span: (f64, f64),
-    steps: usize,
-}
-
-impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Driver<'_, '_, '_, S, F> {
-    /// Calls the progress callback; whether it asked to stop.
-    fn report_progress(&mut self, t: f64) -> bool {
-        let Some(progress) = self.progress else {
-            return false;
-        };
-        self.reported = Instant::now();
-        let p = Progress {
-            t,
-            t0: self.span.0,
-            t_end: self.span.1,
-            steps: self.steps,
-            elapsed: self.started.elapsed(),
-        };
-        progress(&p).is_break()
-    }
-}
-
-/// The driver as an observer of the integrator's states (the plain state, or the state and
-/// the work), which `split` separates.
-struct States<'d, D, G> {
-    driver: &'d mut D,
-    split: G,
-}
-
-impl<'a, 's, 'e, S, F, V, G> Observer<V> for States<'_, Driver<'a, 's, 'e, S, F>, G>
-where
-    S: HamelSystem,
-    F: FnMut(f64, &S::State) -> S::Inputs,
-    V: crate::vector::Vector,
-    G: Fn(&V) -> (S::State, f64),
-{
-    fn sample(&mut self, t: f64, v: &V) -> Result<(), Error> {
-        let (x, work) = (self.split)(v);
-        self.driver.recorder.record(t, &x, work)
-    }
-
-    fn watches_steps(&self) -> bool {
-        self.driver.watching_events
-            || self.driver.progress.is_some()
-            || self.driver.crossings.is_some()
-    }
-
-    fn step(&mut self, view: &StepView<'_, V>) -> Result<Control, Error> {
-        let driver = &mut *self.driver;
-        driver.steps += 1;
-        if let Some(crossings) = &mut driver.crossings {
-            let split = &self.split;
-            crossings.step(driver.system, view, |v| split(v).0);
-        }
-        if driver.watching_events {
-            let split = &self.split;
-            for event in driver.watch.step(view, |v| split(v).0)? {
-                driver.recorder.event(&event)?;
-                if event.terminal {
-                    return Ok(Control::Stop(event.t));
-                }
-            }
-        }
-        if driver.progress.is_some()
-            && driver.reported.elapsed() >= PROGRESS_INTERVAL
-            && driver.report_progress(view.t1)
-        {
-            driver.recorder.cancelled(view.t1);
-            return Ok(Control::Stop(view.t1));
-        }
-        Ok(Control::Continue)
     }
 }

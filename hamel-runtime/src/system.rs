@@ -140,6 +140,13 @@ pub trait HamelSystem: Parameters {
     /// ([`Self::prepare`]); 0 for a system that prepares nothing.
     const PREPARED_LEN: usize = 0;
 
+    /// Whether det A(q, t) — the constraint rows over the quasi-velocity rows — depends on the
+    /// parameters alone, so that no motion can cross a configuration where A is singular and
+    /// a simulation need not watch for one ([`crate::Simulation::watch_singular_crossings`]).
+    /// `#[hamel_system]` knows it when it derives B from A; the default, `false`, keeps the
+    /// watch.
+    const TRANSFORMATION_DETERMINANT_CONSTANT: bool = false;
+
     /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
     fn rhs(
         &self,
@@ -174,6 +181,24 @@ pub trait HamelSystem: Parameters {
         self.rhs(t, x, u, dx)
     }
 
+    /// [`Self::rhs_prepared`] and [`Self::power`] at once: ẋ into `dx` (the same bits as
+    /// `rhs_prepared`), the power returned (as `power` to rounding: it may read values the
+    /// right-hand side shares). `#[hamel_system]` computes them in one pass, the power
+    /// reading the q̇ the right-hand side computes (a simulation of a model that is not
+    /// conservative calls this at every stage, to integrate the work done); the default
+    /// calls the two. No heap allocation.
+    fn rhs_power_prepared(
+        &self,
+        prepared: &[f64],
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+        dx: &mut Self::State,
+    ) -> Result<f64, Singularity> {
+        self.rhs_prepared(prepared, t, x, u, dx)?;
+        self.power(t, x, u)
+    }
+
     /// The generalized velocities q̇ = B(q, t)(ω − a(q, t)) of a state, ω = (0, speeds).
     fn generalized_velocities(
         &self,
@@ -190,16 +215,40 @@ pub trait HamelSystem: Parameters {
     /// affine or moving constraints, and of an explicit time dependence of L).
     fn power(&self, t: f64, x: &Self::State, u: &Self::Inputs) -> Result<f64, Singularity>;
 
-    /// The constraint forces: the Lagrange multipliers λ of
-    /// d/dt ∂L/∂q̇ − ∂L/∂q = f + A_cᵀ λ, one per constraint row. The generalized reaction
-    /// force is A_cᵀ λ; λ_j has the units of a force (or torque) divided by those of row j's
-    /// velocity terms per unit velocity, e.g. newtons for a row that is a velocity in m/s.
-    fn constraint_forces(
+    /// The Lagrange multipliers λ of d/dt ∂L/∂q̇ − ∂L/∂q = f + A_cᵀ λ, one per constraint
+    /// row, as generated: no check of the arguments (see [`Self::constraint_forces`], which
+    /// checks them first).
+    fn multipliers(
         &self,
         t: f64,
         x: &Self::State,
         u: &Self::Inputs,
     ) -> Result<Self::Constraints, Singularity>;
+
+    /// The constraint forces: the Lagrange multipliers λ of
+    /// d/dt ∂L/∂q̇ − ∂L/∂q = f + A_cᵀ λ, one per constraint row ([`Self::multipliers`]). The
+    /// generalized reaction force is A_cᵀ λ; λ_j has the units of a force (or torque)
+    /// divided by those of row j's velocity terms per unit velocity, e.g. newtons for a row
+    /// that is a velocity in m/s.
+    ///
+    /// Errors: [`Error::NonFiniteArgument`] naming a time, state component or input that is
+    /// not finite; [`Error::InvalidParameter`]; [`Error::HolonomicViolation`] naming the
+    /// holonomic constraint the configuration misses (by more than
+    /// [`crate::HOLONOMIC_TOLERANCE`] of its scale, as for [`Self::state_from_speeds`]): the
+    /// multipliers of a state no motion passes through mean nothing; the singularity met,
+    /// named with the time and state ([`Self::singular`]).
+    fn constraint_forces(
+        &self,
+        t: f64,
+        x: &Self::State,
+        u: &Self::Inputs,
+    ) -> Result<Self::Constraints, Error> {
+        check_arguments::<Self>("constraint_forces", t, x, u)?;
+        self.validate()?;
+        assembly::check(self, t, &Self::coordinates_of(x))?;
+        self.multipliers(t, x, u)
+            .map_err(|s| Self::singular(s, t, x))
+    }
 
     /// The constraint rows A_c(q, t) q̇ + a_c(q, t) (zero on every admissible motion).
     fn constraint_residual(
@@ -400,6 +449,29 @@ pub const INVERSE_TOLERANCE: f64 = 1e-9;
 /// Relative tolerance on the constraint residual of initial velocities (scaled by the
 /// largest velocity component, or 1): rounding, not modelling, errors pass.
 pub const CONSTRAINT_TOLERANCE: f64 = 1e-10;
+
+/// The time, state and inputs given to `function` must be finite: the first that is not is
+/// named.
+fn check_arguments<S: HamelSystem + ?Sized>(
+    function: &'static str,
+    t: f64,
+    x: &S::State,
+    u: &S::Inputs,
+) -> Result<(), Error> {
+    let named = core::iter::once(("t", t))
+        .chain(S::STATE.iter().copied().zip(x.as_ref().iter().copied()))
+        .chain(S::INPUTS.iter().copied().zip(u.as_ref().iter().copied()));
+    for (name, value) in named {
+        if !value.is_finite() {
+            return Err(Error::NonFiniteArgument {
+                function,
+                name: name.to_string(),
+                value,
+            });
+        }
+    }
+    Ok(())
+}
 
 fn check_finite(names: &[&str], values: &[f64], prefix: &str) -> Result<(), Error> {
     for (name, v) in names.iter().zip(values) {

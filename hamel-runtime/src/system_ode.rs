@@ -8,6 +8,7 @@ use crate::assembly;
 use crate::error::Error;
 use crate::integrate::Ode;
 use crate::named::NamedValues;
+use crate::recorder::check_inputs;
 use crate::system::HamelSystem;
 use crate::vector::Vector;
 
@@ -38,6 +39,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
 
     fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
         let u = (self.inputs.borrow_mut())(t, x);
+        check_inputs::<S>(&u, t, x)?;
         self.system
             .rhs_prepared(&self.prepared, t, x, &u, dx)
             .map_err(|s| S::singular(s, t, x))
@@ -80,12 +82,12 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
     fn rhs(&mut self, t: f64, v: &S::Extended, dv: &mut S::Extended) -> Result<(), Error> {
         let (x, _) = split::<S>(v);
         let u = (self.inputs.borrow_mut())(t, &x);
+        check_inputs::<S>(&u, t, &x)?;
         let mut dx = S::State::zeros();
-        let at = |s| S::singular(s, t, &x);
-        self.system
-            .rhs_prepared(&self.prepared, t, &x, &u, &mut dx)
-            .map_err(at)?;
-        let power = self.system.power(t, &x, &u).map_err(at)?;
+        let power = self
+            .system
+            .rhs_power_prepared(&self.prepared, t, &x, &u, &mut dx)
+            .map_err(|s| S::singular(s, t, &x))?;
         let n = S::State::LEN;
         dv.as_mut()[..n].copy_from_slice(dx.as_ref());
         dv.as_mut()[n] = power;

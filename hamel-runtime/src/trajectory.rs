@@ -27,10 +27,15 @@ pub struct Summary {
     pub max_constraint_residual: f64,
     /// The energy at the first sample.
     pub initial_energy: f64,
-    /// max |E − E₀| over the samples.
+    /// max |E − E₀| over the samples: for a conservative system the integration's error in
+    /// the energy (its drift), for a forced one the energy's change.
     pub max_energy_drift: f64,
-    /// max |E − E₀| / max(|E₀|, f64::MIN_POSITIVE).
+    /// max |E − E₀| relative to [`Self::energy_scale`] (the error measure of a conservative
+    /// system; for a forced one the energy balance is).
     pub relative_energy_drift: f64,
+    /// What the relative energy figures are relative to, and its value: |E₀|, unless the
+    /// energy in motion is larger (a model whose E₀ is 0, or small beside its motion).
+    pub energy_scale: EnergyScale,
     /// Whether the system is `CONSERVATIVE`: then no work is done on it, W ≡ 0, and the
     /// energy balance is the energy drift.
     pub conservative: bool,
@@ -44,8 +49,9 @@ pub struct Summary {
     /// max |E − E₀ − W| over the samples: the energy balance, which holds exactly for the
     /// true motion, so this is the integration's error in the energy.
     pub max_energy_balance: f64,
-    /// max |E − E₀ − W| / max(|E₀|, max |E − E₀|, max |W|, f64::MIN_POSITIVE): relative to the
-    /// largest energy in the balance (E₀ alone may be 0, for a body at rest set moving).
+    /// max |E − E₀ − W| relative to [`Self::energy_scale`]: for a forced system the largest
+    /// energy in the balance, |E₀|, max |E − E₀| or max |W| (E₀ alone may be 0, for a body
+    /// at rest set moving).
     pub relative_energy_balance: f64,
     /// Why the run ended before its end time, if it did.
     pub stopped: Option<Stopped>,
@@ -53,6 +59,72 @@ pub struct Summary {
     /// the results are unreliable although the run returned `Ok`.
     pub singular_crossings: Vec<SingularCrossing>,
 }
+
+/// The energy a run's relative energy figures are relative to ([`Summary::energy_scale`]),
+/// with its value: the largest of the energies that take part, each a scale that means
+/// something where the others may not (E₀ is 0 for a body at rest set moving, or where the
+/// potential's zero happens to be).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EnergyScale {
+    /// |E₀|, the initial energy's magnitude.
+    InitialEnergy(f64),
+    /// The largest kinetic energy over the samples, E(q, s) − E(q, 0) (conservative systems).
+    KineticEnergy(f64),
+    /// The largest change max |E − E₀| over the samples (forced systems).
+    EnergyChange(f64),
+    /// The largest |W|, the work done on the system (forced systems).
+    Work(f64),
+}
+
+impl EnergyScale {
+    /// The scale's value.
+    pub fn value(&self) -> f64 {
+        match *self {
+            EnergyScale::InitialEnergy(v)
+            | EnergyScale::KineticEnergy(v)
+            | EnergyScale::EnergyChange(v)
+            | EnergyScale::Work(v) => v,
+        }
+    }
+
+    /// A conservative system's: |E₀| or the largest kinetic energy, whichever is larger.
+    pub(crate) fn conservative(e0: f64, max_kinetic: f64) -> EnergyScale {
+        if max_kinetic > e0.abs() {
+            EnergyScale::KineticEnergy(max_kinetic)
+        } else {
+            EnergyScale::InitialEnergy(e0.abs())
+        }
+    }
+
+    /// A forced system's: |E₀|, the largest change of E or the largest |W|, whichever is
+    /// largest.
+    pub(crate) fn forced(e0: f64, max_change: f64, max_work: f64) -> EnergyScale {
+        let mut scale = EnergyScale::InitialEnergy(e0.abs());
+        if max_change > scale.value() {
+            scale = EnergyScale::EnergyChange(max_change);
+        }
+        if max_work > scale.value() {
+            scale = EnergyScale::Work(max_work);
+        }
+        scale
+    }
+}
+
+impl fmt::Display for EnergyScale {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            EnergyScale::InitialEnergy(_) => f.write_str("|E₀|"),
+            EnergyScale::KineticEnergy(v) => write!(f, "the largest kinetic energy, {}", Num(v)),
+            EnergyScale::EnergyChange(v) => write!(f, "the largest energy change, {}", Num(v)),
+            EnergyScale::Work(v) => write!(f, "the largest |work done|, {}", Num(v)),
+        }
+    }
+}
+
+/// The relative error in the energy above which a summary flags the run
+/// ([`Summary::energy_inaccurate`]): 1 % of the energy's scale, far beyond what an
+/// integration at any sensible tolerance or step leaves.
+pub const ENERGY_WARNING: f64 = 1e-2;
 
 /// Why a run ended before its end time.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +156,7 @@ impl Summary {
             initial_energy: f64::NAN,
             max_energy_drift: 0.0,
             relative_energy_drift: 0.0,
+            energy_scale: EnergyScale::InitialEnergy(0.0),
             conservative: S::CONSERVATIVE,
             holonomic_constraints: S::K,
             max_holonomic_residual: 0.0,
@@ -93,6 +166,26 @@ impl Summary {
             stopped: None,
             singular_crossings: Vec::new(),
         }
+    }
+}
+
+impl Summary {
+    /// The run's relative error in the energy: the drift of a conservative system, the
+    /// balance E − E₀ − W of a forced one, each relative to [`Self::energy_scale`].
+    pub fn energy_error(&self) -> f64 {
+        if self.conservative {
+            self.relative_energy_drift
+        } else {
+            self.relative_energy_balance
+        }
+    }
+
+    /// Whether the energy error exceeds [`ENERGY_WARNING`] (or is NaN): the integration is
+    /// far less accurate than its results look; use a smaller step or tolerance. The
+    /// summary's `Display` says so.
+    pub fn energy_inaccurate(&self) -> bool {
+        let error = self.energy_error();
+        error.is_nan() || error > ENERGY_WARNING
     }
 }
 
@@ -107,13 +200,21 @@ impl fmt::Display for Summary {
             "max constraint residual  {:.3e}",
             self.max_constraint_residual
         )?;
-        writeln!(f, "initial energy           {}", self.initial_energy)?;
-        writeln!(f, "max energy drift         {:.3e}", self.max_energy_drift)?;
-        write!(
-            f,
-            "relative energy drift    {:.3e}",
-            self.relative_energy_drift
-        )?;
+        write!(f, "initial energy           {}", self.initial_energy)?;
+        if self.conservative {
+            write!(
+                f,
+                "\nmax energy drift         {:.3e}\nrelative energy drift    {:.3e} of {}",
+                self.max_energy_drift, self.relative_energy_drift, self.energy_scale
+            )?;
+        } else {
+            // A forced system's energy changes: its error is the balance below.
+            write!(
+                f,
+                "\nmax energy change        {:.3e}",
+                self.max_energy_drift
+            )?;
+        }
         if self.holonomic_constraints > 0 {
             write!(
                 f,
@@ -130,8 +231,17 @@ impl fmt::Display for Summary {
             )?;
             write!(
                 f,
-                "\nrelative energy balance  {:.3e}",
-                self.relative_energy_balance
+                "\nrelative energy balance  {:.3e} of {}",
+                self.relative_energy_balance, self.energy_scale
+            )?;
+        }
+        if self.energy_inaccurate() {
+            write!(
+                f,
+                "\nwarning: the energy's relative error, {:.3e}, exceeds {ENERGY_WARNING}: the \
+                 integration is far less accurate than it looks; use a smaller step or \
+                 tolerance",
+                self.energy_error()
             )?;
         }
         if let Some(stopped) = &self.stopped {
@@ -155,13 +265,19 @@ pub struct Trajectory {
     columns: Vec<Vec<f64>>,
     events: Vec<EventRecord>,
     summary: Summary,
+    /// The rows the producer said to expect: reserved in every column at `begin` (and then
+    /// 0 again), so that recording never moves a column.
+    expected_rows: usize,
 }
 
 /// A trajectory collects a simulation's samples and events in memory.
 impl Sink for Trajectory {
     fn begin(&mut self, columns: &[String]) -> Result<(), Error> {
         self.names = columns.to_vec();
-        self.columns = vec![Vec::new(); columns.len()];
+        let rows = std::mem::take(&mut self.expected_rows);
+        self.columns = (0..columns.len())
+            .map(|_| Vec::with_capacity(rows))
+            .collect();
         Ok(())
     }
 
@@ -185,6 +301,15 @@ impl Trajectory {
             columns,
             events: Vec::new(),
             summary,
+            expected_rows: 0,
+        }
+    }
+
+    /// An empty trajectory that expects `rows` samples (a simulation knows how many).
+    pub(crate) fn expecting(rows: usize, summary: Summary) -> Self {
+        Trajectory {
+            expected_rows: rows,
+            ..Trajectory::new(Vec::new(), summary)
         }
     }
 
@@ -317,6 +442,7 @@ mod tests {
             initial_energy: 2.5,
             max_energy_drift: 3e-12,
             relative_energy_drift: 1.2e-12,
+            energy_scale: EnergyScale::InitialEnergy(2.5),
             conservative: true,
             holonomic_constraints: 0,
             max_holonomic_residual: 0.0,
@@ -412,8 +538,9 @@ mod tests {
         let text = summary().to_string();
         assert_eq!(text.lines().count(), 8);
         assert!(text.starts_with("steps                    12\n"));
-        assert!(text.contains("relative energy drift    1.200e-12"));
+        assert!(text.contains("relative energy drift    1.200e-12 of |E₀|"));
         assert!(!text.contains("balance") && !text.contains("holonomic"));
+        assert!(!text.contains("warning"));
     }
 
     #[test]
@@ -430,25 +557,89 @@ mod tests {
             "{text}"
         );
 
+        // A forced system: its energy changes, and the balance is its error.
         let forced = Summary {
             conservative: false,
             work: -1.2345678,
             max_energy_balance: 2e-13,
             relative_energy_balance: 8e-14,
+            energy_scale: EnergyScale::Work(2.5),
             ..holonomic
         };
         let text = forced.to_string();
-        assert_eq!(text.lines().count(), 12);
+        assert_eq!(text.lines().count(), 11);
         assert!(
-            text.starts_with(&summary().to_string()),
-            "existing lines unchanged"
+            text.contains("\nmax energy change        3.000e-12\n"),
+            "{text}"
         );
+        assert!(!text.contains("drift"), "{text}");
         assert!(
             text.ends_with(
                 "max holonomic residual   4.500e-14\nwork                     -1.235\n\
-                 max energy balance       2.000e-13\nrelative energy balance  8.000e-14"
+                 max energy balance       2.000e-13\nrelative energy balance  8.000e-14 of the \
+                 largest |work done|, 2.5"
             ),
             "{text}"
+        );
+    }
+
+    #[test]
+    fn an_inaccurate_energy_is_flagged() {
+        // A fixed-step RK4 run with a step far too large: the issue's 1.2e6.
+        let drifting = Summary {
+            max_energy_drift: 3e6,
+            relative_energy_drift: 1.2e6,
+            ..summary()
+        };
+        assert!(drifting.energy_inaccurate());
+        let text = drifting.to_string();
+        assert!(
+            text.ends_with(
+                "warning: the energy's relative error, 1.200e6, exceeds 0.01: the integration \
+                 is far less accurate than it looks; use a smaller step or tolerance"
+            ),
+            "{text}"
+        );
+        // A forced system is judged by its balance, not by how much its energy changed.
+        let forced = Summary {
+            conservative: false,
+            relative_energy_drift: 17.0,
+            relative_energy_balance: 3e-10,
+            ..summary()
+        };
+        assert!(!forced.energy_inaccurate());
+        assert!(
+            Summary {
+                relative_energy_balance: 0.5,
+                ..forced
+            }
+            .energy_inaccurate()
+        );
+        assert!(!summary().energy_inaccurate());
+    }
+
+    #[test]
+    fn energy_scales_take_the_largest_energy() {
+        assert_eq!(
+            EnergyScale::conservative(-2.0, 1.0),
+            EnergyScale::InitialEnergy(2.0)
+        );
+        assert_eq!(
+            EnergyScale::conservative(0.0, 1.0),
+            EnergyScale::KineticEnergy(1.0)
+        );
+        assert_eq!(
+            EnergyScale::forced(0.0, 0.0, 0.0),
+            EnergyScale::InitialEnergy(0.0)
+        );
+        assert_eq!(
+            EnergyScale::forced(1.0, 3.0, 2.0),
+            EnergyScale::EnergyChange(3.0)
+        );
+        assert_eq!(EnergyScale::forced(1.0, 3.0, 4.0), EnergyScale::Work(4.0));
+        assert_eq!(
+            EnergyScale::KineticEnergy(1.5).to_string(),
+            "the largest kinetic energy, 1.5"
         );
     }
 }

@@ -140,12 +140,7 @@ impl HamelSystem for CrankSkate {
     }
 
     /// The blade's centripetal force −m v ω; the massless crank transmits nothing.
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        x: &[f64; 6],
-        _u: &[f64; 2],
-    ) -> Result<[f64; 2], Singularity> {
+    fn multipliers(&self, _t: f64, x: &[f64; 6], _u: &[f64; 2]) -> Result<[f64; 2], Singularity> {
         Ok([-self.mass * x[4] * x[5], 0.0])
     }
 

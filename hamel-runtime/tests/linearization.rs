@@ -151,12 +151,7 @@ impl HamelSystem for Chain {
         Ok(u[0] * x[3] - dissipated)
     }
 
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        _x: &[f64; 6],
-        _u: &[f64; 1],
-    ) -> Result<[f64; 0], Singularity> {
+    fn multipliers(&self, _t: f64, _x: &[f64; 6], _u: &[f64; 1]) -> Result<[f64; 0], Singularity> {
         Ok([])
     }
 
@@ -471,12 +466,7 @@ impl HamelSystem for CartPendulum {
         Ok(u[0] * x[2] - self.friction * x[3] * x[3])
     }
 
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        _x: &[f64; 4],
-        _u: &[f64; 1],
-    ) -> Result<[f64; 0], Singularity> {
+    fn multipliers(&self, _t: f64, _x: &[f64; 4], _u: &[f64; 1]) -> Result<[f64; 0], Singularity> {
         Ok([])
     }
 
@@ -873,12 +863,7 @@ impl<const D: usize> HamelSystem for SpringCrank<D> {
     }
 
     /// The massless end: 0 − ∂L/∂y = k y = λ, the spring's force carried by the constraint.
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        x: &[f64; 3],
-        _u: &[f64; 1],
-    ) -> Result<[f64; 1], Singularity> {
+    fn multipliers(&self, _t: f64, x: &[f64; 3], _u: &[f64; 1]) -> Result<[f64; 1], Singularity> {
         Ok([self.stiffness * x[1]])
     }
 
@@ -1022,12 +1007,7 @@ impl HamelSystem for MinimalCrank {
         Ok(u[0] * x[1])
     }
 
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        _x: &[f64; 2],
-        _u: &[f64; 1],
-    ) -> Result<[f64; 0], Singularity> {
+    fn multipliers(&self, _t: f64, _x: &[f64; 2], _u: &[f64; 1]) -> Result<[f64; 0], Singularity> {
         Ok([])
     }
 

@@ -2,9 +2,15 @@
 //! with the closed-form solution of its free motion.
 
 mod common;
+#[path = "simulation/ensembles.rs"]
+mod ensembles;
+
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
 
 use hamel_runtime::{
-    DormandPrince, Error, HamelSystem, NamedValues, Parameters, Rk4, Simulation, Singularity,
+    DormandPrince, Error, HamelSystem, MAX_SAMPLES, NamedValues, Parameters, Rk4, Simulation,
+    Singularity, Stopped,
 };
 
 /// A skate: a rigid body on the plane at (x, y) with heading θ, whose blade cannot slide
@@ -120,12 +126,7 @@ impl<const C: bool> HamelSystem for Skate<C> {
 
     /// m ẍ = F cos θ + λ sin θ with ẍ = v̇ cos θ − v ω sin θ and m v̇ = F: λ = −m v ω, the
     /// centripetal force of the turn.
-    fn constraint_forces(
-        &self,
-        _t: f64,
-        x: &[f64; 5],
-        _u: &[f64; 2],
-    ) -> Result<[f64; 1], Singularity> {
+    fn multipliers(&self, _t: f64, x: &[f64; 5], _u: &[f64; 2]) -> Result<[f64; 1], Singularity> {
         Ok([-self.mass * x[3] * x[4]])
     }
 
@@ -437,11 +438,6 @@ fn bad_settings_and_initial_values_are_errors_naming_them() {
             "sample interval",
             -0.1,
         ),
-        (
-            Simulation::new(&SKATE, X0).sample_interval(1e-12),
-            "sample interval",
-            1e-12,
-        ),
     ] {
         match run(sim) {
             Err(Error::InvalidSetting { name, value: v, .. }) => {
@@ -449,6 +445,19 @@ fn bad_settings_and_initial_values_are_errors_naming_them() {
             }
             other => panic!("expected {setting} = {value} to be invalid, got {other:?}"),
         }
+    }
+    // More samples than the limit: refused before the run, with the count.
+    match run(Simulation::new(&SKATE, X0).sample_interval(1e-12)) {
+        Err(Error::TooManySamples {
+            interval,
+            samples,
+            limit,
+            ..
+        }) => {
+            assert_eq!((interval, limit), (1e-12, hamel_runtime::MAX_SAMPLES));
+            assert!((samples - 1e13).abs() <= 2.0, "{samples}");
+        }
+        other => panic!("expected too many samples, got {other:?}"),
     }
     // A parameter that is not a number is caught before anything runs ...
     let broken: Skate = Skate {
@@ -535,8 +544,11 @@ fn the_work_done_balances_the_energy() {
     assert_eq!((s.steps, s.rejected, s.evaluations), (27, 0, 164));
 }
 
-/// From rest, E₀ = 0: the drift relative to E₀ is meaningless, the balance relative to the
-/// energy that changed hands is not. A constant force and torque do W = (F² / 2m + τ² / 2I)t².
+/// From rest, E₀ = 0: the drift relative to E₀ is meaningless (it printed 2.9e307), the
+/// balance relative to the energy that changed hands is not. A constant force and torque do
+/// W = (F² / 2m + τ² / 2I)t². Both relative figures are now relative to the largest energy
+/// in the balance, here the work, and the summary says so; the change of a forced system's
+/// energy is not printed as a drift.
 #[test]
 fn the_balance_of_a_body_set_moving_from_rest() {
     let rest = [1.0, -0.5, 0.3, 0.0, 0.0];
@@ -555,7 +567,14 @@ fn the_balance_of_a_body_set_moving_from_rest() {
         summary.work
     );
     assert!((summary.max_energy_drift - work).abs() <= 1e-12 * work);
-    assert!(summary.relative_energy_drift > 1e300);
+    // Before: max |E − E₀| / f64::MIN_POSITIVE > 1e300. Now relative to the work done.
+    assert!(
+        matches!(summary.energy_scale, hamel_runtime::EnergyScale::Work(w) | hamel_runtime::EnergyScale::EnergyChange(w) if (w - work).abs() <= 1e-9 * work),
+        "{:?}",
+        summary.energy_scale
+    );
+    assert!((summary.relative_energy_drift - 1.0).abs() < 1e-9);
+    assert!(!summary.energy_inaccurate());
     assert!(summary.max_energy_balance <= 1e-9, "{summary}");
     assert!(
         summary.relative_energy_balance <= summary.max_energy_balance / work * (1.0 + 1e-12),
@@ -563,7 +582,11 @@ fn the_balance_of_a_body_set_moving_from_rest() {
     );
     let text = summary.to_string();
     assert!(text.contains("\nwork                     4.36\n"), "{text}");
-    assert!(!text.contains("holonomic"), "{text}");
+    assert!(
+        !text.contains("holonomic") && !text.contains("drift"),
+        "{text}"
+    );
+    assert!(text.contains("of the largest"), "{text}");
 }
 
 /// The hand-derived Jacobian against central differences of the right-hand side, at a state
@@ -579,4 +602,232 @@ fn the_skates_jacobian_is_the_derivative_of_its_rate() {
     );
     println!("relative difference from central differences: A {da:.1e}, B {db:.1e}");
     assert!(da <= 1e-8 && db <= 1e-8, "{da:e} {db:e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Runs that must end, and mistakes that must be errors (issue 20). Each test says what the
+// case gave before.
+// ---------------------------------------------------------------------------------------------
+
+/// A sink that counts rows and keeps nothing: a stream of billions of samples.
+#[derive(Default)]
+struct Counting {
+    rows: u64,
+}
+
+impl hamel_runtime::Sink for Counting {
+    fn begin(&mut self, _columns: &[String]) -> Result<(), Error> {
+        Ok(())
+    }
+    fn row(&mut self, _values: &[f64]) -> Result<(), Error> {
+        self.rows += 1;
+        Ok(())
+    }
+}
+
+/// Runs `f` on a thread of its own and waits at most `limit` for it: a hang fails the test
+/// instead of the suite.
+fn within<T: Send + 'static>(limit: Duration, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = send.send(f());
+    });
+    receive
+        .recv_timeout(limit)
+        .unwrap_or_else(|_| panic!("the run did not end within {limit:?}"))
+}
+
+/// A stream over 1 s with samples every `interval` and a progress callback that cancels
+/// after `after` of computing: the summary (or error), and how long after the cancel the
+/// run returned.
+fn cancelled_stream(
+    interval: f64,
+    max_samples: u64,
+    after: Duration,
+) -> (Result<hamel_runtime::Summary, Error>, Option<Duration>) {
+    let cancelled_at = std::cell::Cell::new(None::<Instant>);
+    let mut sink = Counting::default();
+    let result = Simulation::new(&SKATE, X0)
+        .end_time(1.0)
+        .sample_interval(interval)
+        .max_samples(max_samples)
+        .on_progress(|p| {
+            if p.elapsed >= after {
+                cancelled_at.set(Some(Instant::now()));
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        })
+        .stream(
+            &DormandPrince::new(1e-8, 1e-8),
+            |_, _| [0.0, 0.0],
+            &mut sink,
+        );
+    (result, cancelled_at.get().map(|at| at.elapsed()))
+}
+
+/// Before: samples every 1e-12 over 1 s, cancelled after 3 s, had not returned after 20 s
+/// (the one step held 10¹² samples and progress was consulted between steps only). Now the
+/// count is checked before the run like the step limits, and with the limit raised the run
+/// is cancelled between the samples of its step.
+#[test]
+fn a_trillion_samples_are_refused_or_cancelled_at_once() {
+    let limit = Duration::from_secs(20);
+    let (refused, _) = within(limit, || {
+        cancelled_stream(1e-12, MAX_SAMPLES, Duration::ZERO)
+    });
+    match refused {
+        Err(Error::TooManySamples { samples, limit, .. }) => {
+            assert!(samples >= 1e12 && limit == MAX_SAMPLES, "{samples}");
+        }
+        other => panic!("expected too many samples, got {other:?}"),
+    }
+    let (cancelled, since) = within(limit, || {
+        cancelled_stream(1e-12, u64::MAX, Duration::from_millis(100))
+    });
+    let summary = cancelled.expect("a cancelled run is Ok");
+    assert!(
+        matches!(summary.stopped, Some(Stopped::Cancelled { .. })),
+        "{summary}"
+    );
+    let since = since.expect("the callback cancelled");
+    assert!(
+        since < Duration::from_secs(1),
+        "returned {since:?} after the cancel"
+    );
+}
+
+/// Before: 10⁹ samples took 18 s to cancel. Now the run ends within 1 s of the cancel.
+#[test]
+fn a_billion_samples_end_within_a_second_of_the_cancel() {
+    let (result, since) = within(Duration::from_secs(20), || {
+        cancelled_stream(1e-9, MAX_SAMPLES, Duration::from_millis(100))
+    });
+    let summary = result.expect("a cancelled run is Ok");
+    match summary.stopped {
+        Some(Stopped::Cancelled { t }) => assert!(t > 0.0 && t < 1.0, "{t}"),
+        ref other => panic!("expected a cancel, got {other:?}"),
+    }
+    assert!(summary.samples > 1 && (summary.samples as f64) < 1e9);
+    let since = since.expect("the callback cancelled");
+    assert!(
+        since < Duration::from_secs(1),
+        "returned {since:?} after the cancel"
+    );
+}
+
+/// Before: a callback that answered `Break` at once did not cancel a run shorter than 50 ms
+/// (it was first called after 50 ms). Now it is called at the start.
+#[test]
+fn a_cancel_at_once_cancels_even_a_short_run() {
+    let calls = std::cell::Cell::new(0);
+    let trajectory = Simulation::new(&SKATE, X0)
+        .end_time(1.0)
+        .on_progress(|_| {
+            calls.set(calls.get() + 1);
+            ControlFlow::Break(())
+        })
+        .run_constant(&DormandPrince::new(1e-8, 1e-8), [0.0, 0.0])
+        .unwrap();
+    let summary = trajectory.summary();
+    assert_eq!(summary.stopped, Some(Stopped::Cancelled { t: 0.0 }));
+    assert_eq!((trajectory.len(), summary.steps), (1, 0));
+    // Once at the start, once at the end.
+    assert_eq!(calls.get(), 2);
+}
+
+/// Before: `output("energy", ..)` and `output("x", ..)` duplicated columns (`column("energy")`
+/// then returned the user's), and `output("t,y", ..)` broke the CSV header (9 names for 8
+/// columns). Now each is an error naming the output.
+#[test]
+fn output_names_that_clash_or_break_the_csv_are_errors() {
+    let dp = DormandPrince::new(1e-8, 1e-8);
+    let with = |name: &str| {
+        Simulation::new(&SKATE, X0)
+            .end_time(0.1)
+            .output(name.to_string(), |_, x: &[f64; 5]| x[0])
+            .output("tip", |_, x: &[f64; 5]| x[1])
+    };
+    for clash in [
+        "energy",
+        "x",
+        "theta",
+        "energy_balance",
+        "tip",
+        "t",
+        "force",
+    ] {
+        let e = with(clash).run_constant(&dp, [0.0, 0.0]).unwrap_err();
+        match &e {
+            Error::DuplicateName { kind, name, .. } => {
+                assert_eq!((*kind, name.as_str()), ("column", clash))
+            }
+            other => panic!("`{clash}`: expected a duplicate name, got {other:?}"),
+        }
+        assert!(e.to_string().contains(&format!("`{clash}`")), "{e}");
+    }
+    for bad in ["t,y", "a\"b", "two\nlines", "", " padded"] {
+        let mut sink = Counting::default();
+        let e = with(bad)
+            .stream(&dp, |_, _| [0.0, 0.0], &mut sink)
+            .unwrap_err();
+        match &e {
+            Error::InvalidColumnName { name, .. } => assert_eq!(name, bad),
+            other => panic!("{bad:?}: expected an invalid column name, got {other:?}"),
+        }
+        assert_eq!(sink.rows, 0, "refused before any row");
+    }
+    // A new name is fine.
+    with("nose").run_constant(&dp, [0.0, 0.0]).unwrap();
+}
+
+/// Before: a NaN from the input function went into the right-hand side and was reported as
+/// whatever it broke first (for a generated model, "the reduced mass matrix ... outside the
+/// model's geometry"). Now the input is named, with the time and the state.
+#[test]
+fn a_non_finite_input_is_named() {
+    let dp = DormandPrince::new(1e-8, 1e-8);
+    let e = Simulation::new(&SKATE, X0)
+        .run(&dp, |t, _| [0.0, if t > 0.5 { f64::NAN } else { 0.1 }])
+        .unwrap_err();
+    match &e {
+        Error::NonFiniteInput { name, value, t, .. } => {
+            assert_eq!(name, "torque");
+            assert!(value.is_nan() && *t > 0.5, "{t}");
+        }
+        other => panic!("expected a non-finite input, got {other:?}"),
+    }
+    assert!(e.to_string().contains("the input `torque` is NaN"), "{e}");
+    // Constant inputs are checked before the run, at the start time.
+    let e = Simulation::new(&SKATE, X0)
+        .start_time(0.25)
+        .run_constant(&Rk4::new(0.1), [f64::INFINITY, 0.0])
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::NonFiniteInput { name, t, .. } if name == "force" && *t == 0.25),
+        "{e:?}"
+    );
+}
+
+/// Before: a span of 1e-15 at t = 1 reported "step size underflow ... the step shrank to
+/// 1.11e-15", which was the whole span. Now the span is named as too short.
+#[test]
+fn a_span_too_short_to_integrate_says_so() {
+    let e = Simulation::new(&SKATE, X0)
+        .start_time(1.0)
+        .end_time(1.0 + 1e-15)
+        .run_constant(&DormandPrince::new(1e-8, 1e-8), [0.0, 0.0])
+        .unwrap_err();
+    match &e {
+        Error::SpanTooShort { t0, t_end, .. } => assert_eq!((*t0, *t_end), (1.0, 1.0 + 1e-15)),
+        other => panic!("expected a span too short, got {other:?}"),
+    }
+    assert!(e.to_string().contains("too short to integrate"), "{e}");
+    // A fixed step covers any span.
+    Simulation::new(&SKATE, X0)
+        .start_time(1.0)
+        .end_time(1.0 + 1e-15)
+        .run_constant(&Rk4::new(0.1), [0.0, 0.0])
+        .unwrap();
 }

@@ -252,6 +252,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         dependent: Vec::new(),
         conservative: false,
         reversible: false,
+        constant_determinant: false,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -26,6 +26,8 @@ pub struct Header<'a> {
     pub dependent: Vec<usize>,
     pub conservative: bool,
     pub reversible: bool,
+    /// det A(q, t) depends on the parameters alone (`TRANSFORMATION_DETERMINANT_CONSTANT`).
+    pub constant_determinant: bool,
 }
 
 /// The body of each method (a block's contents).
@@ -35,6 +37,7 @@ pub struct Bodies {
     pub prepared_len: usize,
     pub prepare: TokenStream,
     pub rhs_prepared: TokenStream,
+    pub rhs_power_prepared: TokenStream,
     pub generalized_velocities: TokenStream,
     pub energy: TokenStream,
     pub power: TokenStream,
@@ -60,6 +63,7 @@ impl Bodies {
             prepared_len: 0,
             prepare: never.clone(),
             rhs_prepared: never.clone(),
+            rhs_power_prepared: never.clone(),
             generalized_velocities: never.clone(),
             energy: never.clone(),
             power: never.clone(),
@@ -107,6 +111,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
     let state_names = coordinates.iter().chain(speeds);
     let dependent = h.dependent.iter().map(|&i| lit(i));
     let (conservative, reversible) = (h.conservative, h.reversible);
+    let constant_determinant = h.constant_determinant;
     let result = quote!(::core::result::Result);
     let singularity = quote!(::hamel::Singularity);
     // `#[inline]` on every method: besides inlining, it makes their code generated only in the
@@ -118,6 +123,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         prepared_len,
         prepare,
         rhs_prepared,
+        rhs_power_prepared,
         generalized_velocities,
         energy,
         power,
@@ -161,6 +167,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             const CONSERVATIVE: bool = #conservative;
             const REVERSIBLE: bool = #reversible;
             const PREPARED_LEN: usize = #prepared_len;
+            const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
 
             #[inline]
             fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
@@ -173,6 +180,10 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #[inline]
             fn rhs_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
                 #rhs_prepared
+            }
+            #[inline]
+            fn rhs_power_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<f64, #singularity> {
+                #rhs_power_prepared
             }
             #allow
             fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
@@ -187,7 +198,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
                 #power
             }
             #allow
-            fn constraint_forces(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
+            fn multipliers(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
                 #constraint_forces
             }
             #allow

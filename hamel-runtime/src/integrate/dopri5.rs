@@ -200,89 +200,75 @@ const BETA: f64 = 0.04;
 const EXPO1: f64 = 0.2 - BETA * 0.75;
 const FACOLD_MIN: f64 = 1e-4;
 
-/// One attempted step from (t, y) with size h: its stages and its fifth-order result.
-struct Step<V> {
-    h: f64,
-    /// k[0] = f(t, y) (carried over from the previous step), …, k[6] = f(t + h, y1).
-    k: [V; 7],
-    y1: V,
-}
+/// The seven stages of a step from (t, y) with size h: `k[0]` = f(t, y) (the last stage of
+/// the step before, FSAL), …, `k[6]` = f(t + h, y1). One set lives through an integration and
+/// every attempt overwrites stages 2 to 7: no copies, no allocation.
+type Stages<V> = [V; 7];
 
+/// One attempted step from (t, y) with size h, `k[0]` given: its stages into `k`, and its
+/// fifth-order result.
+#[inline(always)]
 fn attempt<O: Ode>(
     ode: &mut O,
     t: f64,
     y: &O::State,
-    k1: &O::State,
+    k: &mut Stages<O::State>,
     h: f64,
     stats: &mut Stats,
-) -> Result<Step<O::State>, Error> {
-    let mut k2 = O::State::zeros();
-    let mut k3 = O::State::zeros();
-    let mut k4 = O::State::zeros();
-    let mut k5 = O::State::zeros();
-    let mut k6 = O::State::zeros();
-    let mut k7 = O::State::zeros();
+) -> Result<O::State, Error> {
     stats.evaluations += 6;
-    ode.rhs(t + C2 * h, &combine(y, h, &[(A21, k1)]), &mut k2)?;
-    ode.rhs(
-        t + C3 * h,
-        &combine(y, h, &[(A31, k1), (A32, &k2)]),
-        &mut k3,
-    )?;
+    let [k1, k2, k3, k4, k5, k6, k7] = k;
+    ode.rhs(t + C2 * h, &combine(y, h, &[(A21, k1)]), k2)?;
+    ode.rhs(t + C3 * h, &combine(y, h, &[(A31, k1), (A32, k2)]), k3)?;
     ode.rhs(
         t + C4 * h,
-        &combine(y, h, &[(A41, k1), (A42, &k2), (A43, &k3)]),
-        &mut k4,
+        &combine(y, h, &[(A41, k1), (A42, k2), (A43, k3)]),
+        k4,
     )?;
     ode.rhs(
         t + C5 * h,
-        &combine(y, h, &[(A51, k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
-        &mut k5,
+        &combine(y, h, &[(A51, k1), (A52, k2), (A53, k3), (A54, k4)]),
+        k5,
     )?;
     let t1 = t + h;
-    ode.rhs(
-        t1,
-        &combine(
-            y,
-            h,
-            &[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
-        ),
-        &mut k6,
-    )?;
+    let stage6 = combine(
+        y,
+        h,
+        &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)],
+    );
+    ode.rhs(t1, &stage6, k6)?;
     let y1 = combine(
         y,
         h,
-        &[(A71, k1), (A73, &k3), (A74, &k4), (A75, &k5), (A76, &k6)],
+        &[(A71, k1), (A73, k3), (A74, k4), (A75, k5), (A76, k6)],
     );
-    ode.rhs(t1, &y1, &mut k7)?;
-    Ok(Step {
-        h,
-        k: [*k1, k2, k3, k4, k5, k6, k7],
-        y1,
-    })
+    ode.rhs(t1, &y1, k7)?;
+    Ok(y1)
 }
 
 /// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|),
 /// over the first `len` components (`Ode::controlled_components`). NaN if the step produced a
 /// non-finite value there (and then the step is rejected).
-fn error_norm<V: Vector>(y: &V, step: &Step<V>, rtol: f64, atol: f64, len: usize) -> f64 {
+#[inline]
+fn error_norm<V: Vector>(
+    (y, y1): (&V, &V),
+    k: &Stages<V>,
+    h: f64,
+    (rtol, atol): (f64, f64),
+    len: usize,
+) -> f64 {
     let len = len.min(V::LEN);
     if len == 0 {
         return 0.0;
     }
-    let [k1, _, k3, k4, k5, k6, k7] = &step.k;
-    let e = combine(
-        &V::zeros(),
-        step.h,
-        &[(E1, k1), (E3, k3), (E4, k4), (E5, k5), (E6, k6), (E7, k7)],
-    );
-    let sum: f64 = (0..len)
-        .map(|i| {
-            let (y0, y1) = (y.as_ref()[i], step.y1.as_ref()[i]);
-            let sc = atol + rtol * y0.abs().max(y1.abs());
-            (e.as_ref()[i] / sc).powi(2)
-        })
-        .sum();
+    let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
+    let (y, y1) = (y.as_ref(), y1.as_ref());
+    let mut sum = 0.0;
+    for i in 0..len {
+        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+        let sc = atol + rtol * y[i].abs().max(y1[i].abs());
+        sum += (e / sc).powi(2);
+    }
     (sum / len as f64).sqrt()
 }
 
@@ -296,21 +282,18 @@ struct Dense<V> {
 }
 
 impl<V: Vector> Dense<V> {
-    fn new(t: f64, y: &V, step: &Step<V>) -> Self {
-        let [k1, _, k3, k4, k5, k6, k7] = &step.k;
-        let h = step.h;
+    fn new(t: f64, h: f64, (y, y1): (&V, &V), k: &Stages<V>) -> Self {
+        let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
         let mut r = [*y, V::zeros(), V::zeros(), V::zeros(), V::zeros()];
-        r[4] = combine(
-            &V::zeros(),
-            h,
-            &[(D1, k1), (D3, k3), (D4, k4), (D5, k5), (D6, k6), (D7, k7)],
-        );
+        let (y, y1) = (y.as_ref(), y1.as_ref());
         for i in 0..V::LEN {
-            let ydiff = step.y1.as_ref()[i] - y.as_ref()[i];
-            let bspl = h * k1.as_ref()[i] - ydiff;
+            let ydiff = y1[i] - y[i];
+            let bspl = h * k1[i] - ydiff;
             r[1].as_mut()[i] = ydiff;
             r[2].as_mut()[i] = bspl;
-            r[3].as_mut()[i] = ydiff - h * k7.as_ref()[i] - bspl;
+            r[3].as_mut()[i] = ydiff - h * k7[i] - bspl;
+            r[4].as_mut()[i] =
+                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
         }
         Dense { t, h, r }
     }
@@ -319,10 +302,9 @@ impl<V: Vector> Dense<V> {
         let theta = (s - self.t) / self.h;
         let theta1 = 1.0 - theta;
         let mut out = V::zeros();
-        let [r1, r2, r3, r4, r5] = &self.r;
+        let [r1, r2, r3, r4, r5] = self.r.each_ref().map(|v| v.as_ref());
         for (i, o) in out.as_mut().iter_mut().enumerate() {
-            let c = |r: &V| r.as_ref()[i];
-            *o = c(r1) + theta * (c(r2) + theta1 * (c(r3) + theta * (c(r4) + theta1 * c(r5))));
+            *o = r1[i] + theta * (r2[i] + theta1 * (r3[i] + theta * (r4[i] + theta1 * r5[i])));
         }
         out
     }
@@ -346,6 +328,7 @@ impl Controller {
     }
 
     /// The next step size after a step of size h with error err ≤ 1 was accepted.
+    #[inline]
     fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
         let fac11 = err.powf(EXPO1);
         let fac = (fac11 / self.facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
@@ -441,34 +424,53 @@ impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
     /// Reports the samples in the accepted step from (t, y) to t1 — up to `stop` when the
     /// observer ends the integration within the step: at t1 the step's result as projected,
     /// `y1`; inside the step the continuous extension, projected; at a stop the extension
-    /// there, projected, as the last sample.
+    /// there, projected, as the last sample. The extension is formed (`dense`) only if a
+    /// sample falls inside the step. Returns the time the observer stopped at, if it did: at
+    /// `stop`, or at a sample it asked to end with.
     fn report<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
         (t1, y1): (f64, &V),
-        dense: &Dense<V>,
+        dense: &mut dyn FnMut() -> Dense<V>,
+        formed: Option<&Dense<V>>,
         stop: Option<f64>,
-    ) -> Result<(), Error> {
+    ) -> Result<Option<f64>, Error> {
         let end = stop.unwrap_or(t1);
+        let mut made = None;
         while let Some(s) = self
             .upcoming()
             .filter(|s| *s <= end && (stop.is_none() || *s < end))
         {
-            if s == t1 {
-                self.observer.sample(s, y1)?;
+            let control = if s == t1 {
+                self.observer.sample(s, y1)?
             } else {
-                let mut value = dense.at(s);
+                let extension = match formed {
+                    Some(d) => d,
+                    None => made.get_or_insert_with(&mut *dense),
+                };
+                let mut value = extension.at(s);
                 ode.project(s, &mut value)?;
-                self.observer.sample(s, &value)?;
-            }
+                self.observer.sample(s, &value)?
+            };
             self.next += 1;
+            if let Control::Stop(_) = control {
+                return Ok(Some(s));
+            }
         }
         if let Some(ts) = stop {
-            let mut value = if ts == t1 { *y1 } else { dense.at(ts) };
+            let mut value = if ts == t1 {
+                *y1
+            } else {
+                match formed {
+                    Some(d) => d.at(ts),
+                    None => made.get_or_insert_with(&mut *dense).at(ts),
+                }
+            };
             ode.project(ts, &mut value)?;
-            self.observer.sample(ts, &value)?;
+            // The run ends here whatever the observer answers.
+            let _ = self.observer.sample(ts, &value)?;
         }
-        Ok(())
+        Ok(stop)
     }
 }
 
@@ -490,8 +492,12 @@ impl Integrator for DormandPrince {
             observer,
         };
         while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
-            samples.observer.sample(s, x0)?;
+            let control = samples.observer.sample(s, x0)?;
             samples.next += 1;
+            if let Control::Stop(_) = control {
+                stats.stopped = Some(s);
+                return Ok(stats);
+            }
         }
         let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
             return Ok(stats);
@@ -502,113 +508,135 @@ impl Integrator for DormandPrince {
         if needed > self.max_steps as f64 {
             return Err(too_many_steps_planned(ode, t0, smallest, x0, needed));
         }
+        if self.fixed_step.is_none() && t_end - t0 < UNDERFLOW_ULPS * f64::EPSILON * t0.abs() {
+            return Err(Error::SpanTooShort {
+                t0,
+                t_end,
+                state: ode.describe(x0),
+            });
+        }
 
-        let mut f0 = O::State::zeros();
-        ode.rhs(t0, x0, &mut f0)?;
+        let mut k: Stages<O::State> = [O::State::zeros(); 7];
+        ode.rhs(t0, x0, &mut k[0])?;
         stats.evaluations += 1;
-        let start = Start {
-            t: t0,
-            y: *x0,
-            f: f0,
+        let watching = samples.observer.watches_steps();
+        let mut run = Run {
+            ode,
+            samples,
+            stats,
+            k,
+            watching,
         };
         match self.fixed_step {
-            Some(h) => self.fixed(ode, start, (h, t_end), &mut samples, &mut stats)?,
-            None => self.adaptive(ode, start, t_end, &mut samples, &mut stats)?,
+            Some(h) => self.fixed(&mut run, (t0, *x0), (h, t_end))?,
+            None => self.adaptive(&mut run, (t0, *x0), t_end)?,
         }
-        Ok(stats)
+        Ok(run.stats)
     }
 }
 
-/// A state and its derivative there.
-type StateAndSlope<V> = (V, V);
+/// Below this many ulps of t, t + h no longer differs from t by more than a few roundings.
+const UNDERFLOW_ULPS: f64 = 16.0;
 
-/// Completes an accepted step from (t, y) to t1: checks its result, projects it
-/// (`Ode::project`), reports it (if the observer watches steps) and the samples it covers,
-/// and returns the state the next step starts from with its derivative: the step's last
-/// stage (FSAL), or, if the projection moved the state, a new evaluation there, counted
-/// (none after the `last` step). `None` when the observer stopped the integration.
-fn complete<O: Ode, T: SampleTimes + ?Sized>(
-    ode: &mut O,
-    (t, y): (f64, &O::State),
-    (t1, last): (f64, bool),
-    step: &Step<O::State>,
-    samples: &mut Samples<'_, T, O::State>,
-    stats: &mut Stats,
-) -> Result<Option<StateAndSlope<O::State>>, Error> {
-    check_state(ode, t1, &step.y1)?;
-    stats.steps += 1;
-    let mut y1 = step.y1;
-    let moved = ode.project(t1, &mut y1)?;
-    let dense = Dense::new(t, y, step);
-    let control = if samples.observer.watches_steps() {
-        let view = StepView {
-            t,
-            x: y,
-            t1,
-            x1: &y1,
-            dense: &dense,
+/// One integration: the ODE, the samples and their observer, the cost so far and the stages
+/// of the current step.
+struct Run<'a, O: Ode, T: ?Sized> {
+    ode: &'a mut O,
+    samples: Samples<'a, T, O::State>,
+    stats: Stats,
+    k: Stages<O::State>,
+    /// Whether the observer watches steps: asked once, before the first step (as RK4 does).
+    watching: bool,
+}
+
+impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
+    /// Completes an accepted step from (t, y) to t1 whose result is `y1`: checks it, projects
+    /// it (`Ode::project`), reports it (if the observer watches steps) and the samples it
+    /// covers, and makes `k[0]` the slope the next step starts from: the step's last stage
+    /// (FSAL), or, if the projection moved the state, a new evaluation there, counted (none
+    /// after the `last` step). Returns the state the next step starts from, or `None` when
+    /// the observer stopped the integration.
+    fn complete(
+        &mut self,
+        (t, y): (f64, &O::State),
+        (t1, last): (f64, bool),
+        y1: O::State,
+        h: f64,
+    ) -> Result<Option<O::State>, Error> {
+        check_state(&*self.ode, t1, &y1)?;
+        self.stats.steps += 1;
+        let mut y1_projected = y1;
+        let moved = self.ode.project(t1, &mut y1_projected)?;
+        let k = &self.k;
+        // The continuous extension interpolates the step's own result, before projection.
+        let mut extension = || Dense::new(t, h, (y, &y1), k);
+        let watched = self.watching.then(&mut extension);
+        let stop = match &watched {
+            Some(dense) => {
+                let view = StepView {
+                    t,
+                    x: y,
+                    t1,
+                    x1: &y1_projected,
+                    dense,
+                };
+                match self.samples.observer.step(&view)? {
+                    Control::Continue => None,
+                    Control::Stop(ts) => Some(ts.clamp(t, t1)),
+                }
+            }
+            None => None,
         };
-        samples.observer.step(&view)?
-    } else {
-        Control::Continue
-    };
-    let stop = match control {
-        Control::Continue => None,
-        Control::Stop(ts) => Some(ts.clamp(t, t1)),
-    };
-    samples.report(ode, (t1, &y1), &dense, stop)?;
-    if stop.is_some() {
-        stats.stopped = stop;
-        return Ok(None);
+        let stopped = self.samples.report(
+            &mut *self.ode,
+            (t1, &y1_projected),
+            &mut extension,
+            watched.as_ref(),
+            stop,
+        )?;
+        if stopped.is_some() {
+            self.stats.stopped = stopped;
+            return Ok(None);
+        }
+        if moved && !last {
+            self.ode.rhs(t1, &y1_projected, &mut self.k[0])?;
+            self.stats.evaluations += 1;
+        } else {
+            self.k[0] = self.k[6];
+        }
+        Ok(Some(y1_projected))
     }
-    let mut f1 = step.k[6];
-    if moved && !last {
-        ode.rhs(t1, &y1, &mut f1)?;
-        stats.evaluations += 1;
-    }
-    Ok(Some((y1, f1)))
-}
-
-/// Where the steps start: the initial point and the derivative there.
-struct Start<V> {
-    t: f64,
-    y: V,
-    f: V,
 }
 
 impl DormandPrince {
     fn adaptive<O: Ode, T: SampleTimes + ?Sized>(
         &self,
-        ode: &mut O,
-        start: Start<O::State>,
+        run: &mut Run<'_, O, T>,
+        (t0, y0): (f64, O::State),
         t_end: f64,
-        samples: &mut Samples<'_, T, O::State>,
-        stats: &mut Stats,
     ) -> Result<(), Error> {
-        let hmax = self.max_step.min(t_end - start.t);
-        let floor = self.min_step * (t_end - start.t);
+        let hmax = self.max_step.min(t_end - t0);
+        let floor = self.min_step * (t_end - t0);
         let mut h = match self.initial_step {
             Some(h) => h.min(hmax),
-            None => initial_step(ode, start.t, &start.y, &start.f, self, hmax, stats)?,
+            None => initial_step(run.ode, t0, &y0, &run.k[0], self, hmax, &mut run.stats)?,
         };
         let mut controller = Controller::new();
-        let Start {
-            mut t,
-            mut y,
-            f: mut k1,
-        } = start;
+        let (mut t, mut y) = (t0, y0);
+        let len = run.ode.controlled_components();
         loop {
-            if stats.steps + stats.rejected >= self.max_steps {
-                return Err(too_many_steps(ode, t, h, &y, stats.steps + stats.rejected));
+            let tried = run.stats.steps + run.stats.rejected;
+            if tried >= self.max_steps {
+                return Err(too_many_steps(&*run.ode, t, h, &y, tried));
             }
-            // Below 16 ulps of t, t + h no longer differs from t by more than a few roundings;
-            // below the floor the run would crawl: the solution (or the tolerance) asks for
-            // more than the method can give.
-            if h < 16.0 * f64::EPSILON * t.abs() || h < floor || h < 1e-300 {
+            // Below a few ulps of t the steps no longer advance; below the floor the run
+            // would crawl: the solution (or the tolerance) asks for more than the method
+            // can give.
+            if h < UNDERFLOW_ULPS * f64::EPSILON * t.abs() || h < floor || h < 1e-300 {
                 return Err(Error::StepSizeUnderflow {
                     t,
                     h,
-                    state: ode.describe(&y),
+                    state: run.ode.describe(&y),
                 });
             }
             // Stretch the last step by up to 1% rather than leave a sliver (Hairer's rule).
@@ -616,23 +644,21 @@ impl DormandPrince {
             if last {
                 h = t_end - t;
             }
-            let step = attempt(ode, t, &y, &k1, h, stats)?;
-            let len = ode.controlled_components();
-            let err = error_norm(&y, &step, self.rtol, self.atol, len);
+            let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
+            let err = error_norm((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
             if err <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
-                let Some((y1, f1)) = complete(ode, (t, &y), (t1, last), &step, samples, stats)?
-                else {
+                let Some(next) = run.complete((t, &y), (t1, last), y1, h)? else {
                     return Ok(());
                 };
                 let h_new = controller.accepted(h, err, hmax);
-                (t, y, k1) = (t1, y1, f1);
+                (t, y) = (t1, next);
                 if last {
                     return Ok(());
                 }
                 h = h_new;
             } else {
-                stats.rejected += 1;
+                run.stats.rejected += 1;
                 h = controller.rejected(h, err);
             }
         }
@@ -640,17 +666,11 @@ impl DormandPrince {
 
     fn fixed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
-        ode: &mut O,
-        start: Start<O::State>,
+        run: &mut Run<'_, O, T>,
+        (t0, y0): (f64, O::State),
         (h_max, t_end): (f64, f64),
-        samples: &mut Samples<'_, T, O::State>,
-        stats: &mut Stats,
     ) -> Result<(), Error> {
-        let Start {
-            t: t0,
-            mut y,
-            f: mut k1,
-        } = start;
+        let mut y = y0;
         let (n, h) = equal_steps(t_end - t0, h_max);
         for i in 0..n {
             // Times from the start, not accumulated; the last step ends exactly on t_end.
@@ -660,9 +680,9 @@ impl DormandPrince {
             } else {
                 t_end
             };
-            let step = attempt(ode, t, &y, &k1, h, stats)?;
-            match complete(ode, (t, &y), (t1, i + 1 == n), &step, samples, stats)? {
-                Some(next) => (y, k1) = next,
+            let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
+            match run.complete((t, &y), (t1, i + 1 == n), y1, h)? {
+                Some(next) => y = next,
                 None => return Ok(()),
             }
         }
@@ -712,12 +732,12 @@ mod tests {
     fn continuous_extension_interpolates_the_step() {
         let mut stats = Stats::default();
         let (t, y, h) = (0.3, [0.3f64.sin(), 0.3f64.cos()], 0.25);
-        let mut k1 = [0.0; 2];
-        Circle.rhs(t, &y, &mut k1).unwrap();
-        let step = attempt(&mut Circle, t, &y, &k1, h, &mut stats).unwrap();
-        let dense = Dense::new(t, &y, &step);
+        let mut k = [[0.0; 2]; 7];
+        Circle.rhs(t, &y, &mut k[0]).unwrap();
+        let y1 = attempt(&mut Circle, t, &y, &mut k, h, &mut stats).unwrap();
+        let dense = Dense::new(t, h, (&y, &y1), &k);
         assert_eq!(dense.at(t), y);
-        for (a, b) in dense.at(t + h).iter().zip(&step.y1) {
+        for (a, b) in dense.at(t + h).iter().zip(&y1) {
             // y + (y1 − y): equal up to the rounding of the difference.
             assert!((a - b).abs() <= 2.0 * f64::EPSILON);
         }

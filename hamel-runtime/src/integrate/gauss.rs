@@ -345,7 +345,10 @@ fn integrate_fixed<O: Ode, T: SampleTimes + ?Sized, const S: usize>(
             }
             t = sample;
         }
-        run.observer.sample(sample, &x)?;
+        if let Control::Stop(_) = run.observer.sample(sample, &x)? {
+            run.stats.stopped = Some(sample);
+            break;
+        }
     }
     Ok(run.stats)
 }
@@ -401,7 +404,8 @@ impl<O: Ode, const S: usize> Run<'_, '_, O, S> {
                     let ts = ts.clamp(start, end);
                     let mut value = if ts == end { next } else { collocation.at(ts) };
                     self.ode.project(ts, &mut value)?;
-                    self.observer.sample(ts, &value)?;
+                    // The run ends here whatever the observer answers.
+                    let _ = self.observer.sample(ts, &value)?;
                     self.stats.stopped = Some(ts);
                     return Ok(None);
                 }

@@ -118,13 +118,16 @@ pub struct StepView<'a, V> {
     pub dense: &'a dyn Interpolant<V>,
 }
 
-/// What the observer of a step wants next.
+/// What the observer of a step or a sample wants next.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[must_use = "an observer may ask to stop the integration"]
 pub enum Control {
     Continue,
-    /// End the integration at this time, within the step just reported (a terminal event, a
-    /// cancelled run): the integrator reports the samples before it, then the solution at
-    /// this time as the last sample.
+    /// From [`Observer::step`]: end the integration at this time, within the step just
+    /// reported (a terminal event, a cancelled run): the integrator reports the samples
+    /// before it, then the solution at this time as the last sample. From
+    /// [`Observer::sample`]: end it at that sample (a run cancelled while a step holds many
+    /// samples); the time given is not read.
     Stop(f64),
 }
 
@@ -133,11 +136,13 @@ pub enum Control {
 /// and is returned as is. ([`super::Integrator::integrate`] takes a closure that observes the
 /// samples only.)
 pub trait Observer<V> {
-    /// The solution x at sample time t.
-    fn sample(&mut self, t: f64, x: &V) -> Result<(), Error>;
+    /// The solution x at sample time t; [`Control::Stop`] ends the integration there, the
+    /// integrator reporting that it stopped at t ([`super::Stats::stopped`]).
+    fn sample(&mut self, t: f64, x: &V) -> Result<Control, Error>;
 
-    /// Whether [`Observer::step`] is to be called. Dense output can cost: a method without a
-    /// natural continuous extension (RK4) forms one with an extra evaluation per step.
+    /// Whether [`Observer::step`] is to be called; integrators ask once, before the first
+    /// step. Dense output can cost: a method without a natural continuous extension (RK4)
+    /// forms one with an extra evaluation per step.
     fn watches_steps(&self) -> bool {
         false
     }

@@ -206,7 +206,12 @@ impl Integrator for Radau5 {
             observer,
         };
         while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
-            samples.observer.sample(s, x0)?;
+            if let Control::Stop(_) = samples.observer.sample(s, x0)? {
+                return Ok(Stats {
+                    stopped: Some(s),
+                    ..Stats::default()
+                });
+            }
             samples.next += 1;
         }
         let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
@@ -582,7 +587,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             Control::Continue => None,
             Control::Stop(ts) => Some(ts.clamp(t, t1)),
         };
-        samples.report(self.ode, (t1, &y1), &step, stop)?;
+        let stop = samples.report(self.ode, (t1, &y1), &step, stop)?;
         if stop.is_some() {
             self.stats.stopped = stop;
             return Ok(Next::Done);
@@ -614,34 +619,40 @@ impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
     /// Reports the samples in the accepted step ending at t1 — up to `stop` when the observer
     /// ends the integration within it: at t1 the step's result as projected, inside the step
     /// the collocation polynomial, projected; at a stop the polynomial there, projected, as
-    /// the last sample.
+    /// the last sample. Returns where the integration stops: at `stop`, or at a sample whose
+    /// observer asked to.
     fn report<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
         (t1, y1): (f64, &V),
         dense: &dyn Interpolant<V>,
         stop: Option<f64>,
-    ) -> Result<(), Error> {
+    ) -> Result<Option<f64>, Error> {
         let end = stop.unwrap_or(t1);
         while let Some(s) = self
             .upcoming()
             .filter(|s| *s <= end && (stop.is_none() || *s < end))
         {
-            if s == t1 {
-                self.observer.sample(s, y1)?;
+            let control = if s == t1 {
+                self.observer.sample(s, y1)?
             } else {
                 let mut value = dense.at(s);
                 ode.project(s, &mut value)?;
-                self.observer.sample(s, &value)?;
-            }
+                self.observer.sample(s, &value)?
+            };
             self.next += 1;
+            // A run cancelled while a step holds many samples ends at the sample.
+            if let Control::Stop(_) = control {
+                return Ok(Some(s));
+            }
         }
         if let Some(ts) = stop {
             let mut value = if ts == t1 { *y1 } else { dense.at(ts) };
             ode.project(ts, &mut value)?;
-            self.observer.sample(ts, &value)?;
+            // The run ends here whatever the observer answers.
+            let _ = self.observer.sample(ts, &value)?;
         }
-        Ok(())
+        Ok(stop)
     }
 }
 

@@ -85,7 +85,10 @@ impl Integrator for Rk4 {
                 }
                 t = sample;
             }
-            run.observer.sample(sample, &x)?;
+            if let Control::Stop(_) = run.observer.sample(sample, &x)? {
+                run.stats.stopped = Some(sample);
+                break;
+            }
         }
         Ok(run.stats)
     }
@@ -185,7 +188,8 @@ impl<O: Ode> Run<'_, O> {
                 let ts = ts.clamp(t, t1);
                 let mut value = if ts == t1 { *x1 } else { dense.at(ts) };
                 self.ode.project(ts, &mut value)?;
-                self.observer.sample(ts, &value)?;
+                // The run ends here whatever the observer answers.
+                let _ = self.observer.sample(ts, &value)?;
                 Ok(Some(ts))
             }
         }

@@ -38,7 +38,7 @@ mod xorshift;
 
 use affine_multipliers::{Mechanism, Real, Reference, reference};
 use hamel::models::{BallOnTurntable, NTrailer2};
-use hamel::{HamelSystem, Singularity, Vector, hamel_system};
+use hamel::{HamelSystem, Vector, hamel_system};
 use std::f64::consts::PI;
 use xorshift::XorShift;
 
@@ -621,7 +621,7 @@ fn state_of<S: HamelSystem<Coordinates = [f64; N]>, const N: usize>(
 }
 
 /// The value of a generated method, which must not meet a singularity at the samples.
-fn regular<T>(result: Result<T, Singularity>, t: f64, x: &impl std::fmt::Debug) -> T {
+fn regular<T, E: std::fmt::Debug>(result: Result<T, E>, t: f64, x: &impl std::fmt::Debug) -> T {
     result.unwrap_or_else(|e| panic!("singular at t = {t}, x = {x:?}: {e:?}"))
 }
 

@@ -642,11 +642,19 @@ fn invalid_settings_are_named() {
     }
     let e = sim()
         .end_time(1e3)
+        .sample_interval(1e-5)
+        .run_constant(&ok, u)
+        .unwrap_err();
+    assert_invalid_setting(&e, "sample interval", 1e-5);
+    assert_message(&e, &["more than 4 GiB in memory", "Simulation::stream"]);
+    // More samples than any run should have: refused before the run, streamed or not.
+    let e = sim()
+        .end_time(1e3)
         .sample_interval(1e-9)
         .run_constant(&ok, u)
         .unwrap_err();
-    assert_invalid_setting(&e, "sample interval", 1e-9);
-    assert_message(&e, &["more than 4 GiB in memory", "Simulation::stream"]);
+    assert!(matches!(e, Error::TooManySamples { .. }), "{e}");
+    assert_message(&e, &["1e12 samples", "`max_samples`"]);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1063,4 +1071,167 @@ fn a_non_finite_value_is_not_called_singular() {
         "{e}"
     );
     assert_message(&e, &["at t = 0", "A(q)", "phi = 1.571"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. Answers that were Ok with garbage, and messages that blamed the wrong thing (issue 20)
+// ---------------------------------------------------------------------------------------------
+
+/// The bicycle upright at 4 m/s, and the same state with its pitch θ 0.1 rad off: its front
+/// wheel then floats above the ground (the holonomic constraint `front_z` misses by the
+/// wheel's height).
+fn bicycle_on_and_off_the_ground() -> (WhippleBicycle, [f64; 11], [f64; 11]) {
+    let bike = WhippleBicycle::default();
+    let on = bike
+        .state_builder()
+        .set("rear_wheel_rate", -4.0 / bike.r_r)
+        .build()
+        .unwrap();
+    let mut off = on;
+    off[WhippleBicycle::THETA] += 0.1;
+    (bike, on, off)
+}
+
+/// Before: a run started off the holonomic surface returned `Ok`; only the summary's
+/// `max_holonomic_residual` showed it, while `linearize` refused the same state. Now the run
+/// refuses it too, naming the constraint.
+#[test]
+fn a_run_off_the_holonomic_surface_names_the_constraint() {
+    let (bike, on, off) = bicycle_on_and_off_the_ground();
+    let sim = |x| Simulation::new(&bike, x).end_time(0.1);
+    sim(on)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.0, 0.0])
+        .unwrap();
+    for project in [false, true] {
+        let e = sim(off)
+            .project_holonomic(project)
+            .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.0, 0.0])
+            .unwrap_err();
+        match &e {
+            Error::HolonomicViolation {
+                constraint,
+                residual,
+                ..
+            } => {
+                assert_eq!(constraint, "front_z");
+                assert!(residual.abs() > 1e-3, "{residual}");
+            }
+            other => panic!("expected a holonomic violation, got {other:?}"),
+        }
+        assert_message(&e, &["holonomic constraint `front_z`", "theta = 0.1"]);
+    }
+    // The same as linearize says.
+    let e = bike.linearize(0.0, &off, &[0.0, 0.0]).unwrap_err();
+    assert!(matches!(e, Error::HolonomicViolation { .. }), "{e}");
+}
+
+/// Before: `constraint_forces` with inputs [NaN, inf] returned [NaN, NaN], and at a state off
+/// the holonomic surface it returned numbers. Now both are errors naming the value or the
+/// constraint.
+#[test]
+fn constraint_forces_refuse_what_no_motion_passes_through() {
+    let (bike, on, off) = bicycle_on_and_off_the_ground();
+    let lambda = bike.constraint_forces(0.0, &on, &[0.0, 0.0]).unwrap();
+    assert!(lambda.iter().all(|l| l.is_finite()));
+    let e = bike
+        .constraint_forces(0.0, &on, &[f64::NAN, f64::INFINITY])
+        .unwrap_err();
+    match &e {
+        Error::NonFiniteArgument {
+            function,
+            name,
+            value,
+        } => {
+            assert_eq!(
+                (*function, name.as_str()),
+                ("constraint_forces", "roll_torque")
+            );
+            assert!(value.is_nan());
+        }
+        other => panic!("expected a non-finite argument, got {other:?}"),
+    }
+    assert_message(&e, &["`constraint_forces`", "`roll_torque` = NaN"]);
+    let mut nan_state = on;
+    nan_state[WhippleBicycle::N + WhippleBicycle::STEER_RATE] = f64::NAN;
+    let e = bike
+        .constraint_forces(0.0, &nan_state, &[0.0, 0.0])
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::NonFiniteArgument { name, .. } if name == "steer_rate"),
+        "{e}"
+    );
+    let e = bike.constraint_forces(0.0, &off, &[0.0, 0.0]).unwrap_err();
+    assert!(
+        matches!(&e, Error::HolonomicViolation { constraint, .. } if constraint == "front_z"),
+        "{e}"
+    );
+    // The generated multipliers, unchecked, are what they were.
+    assert!(bike.multipliers(0.0, &off, &[0.0, 0.0]).is_ok());
+}
+
+/// Before: a NaN from the input function reached the right-hand side and was reported as
+/// "the reduced mass matrix, for `w4` ... outside the model's geometry". Now the input is
+/// named, at the time the function returned it.
+#[test]
+fn a_nan_input_is_not_blamed_on_the_mass_matrix() {
+    let robot = MobileRobot::default();
+    let x0 = robot
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
+        .unwrap();
+    let e = Simulation::new(&robot, x0)
+        .end_time(1.0)
+        .run(&DormandPrince::new(1e-8, 1e-10), |t, _| {
+            [if t < 0.5 { 0.1 } else { f64::NAN }, 0.0]
+        })
+        .unwrap_err();
+    match &e {
+        Error::NonFiniteInput { name, t, .. } => {
+            assert_eq!(name, "tau1");
+            assert!(*t >= 0.5, "{t}");
+        }
+        other => panic!("expected a non-finite input, got {other:?}"),
+    }
+    let text = assert_message(&e, &["the input `tau1` is NaN", "state: x = "]);
+    assert!(!text.contains("mass matrix"), "{text}");
+}
+
+/// Before: the relative energy drift of a conservative run with RK4 steps far too large was
+/// 1.2e6, printed like any other figure. Now the summary flags it; a forced system is judged
+/// by its energy balance, not by the change of its energy (which printed 17 beside a balance
+/// of 3e-10).
+#[test]
+fn an_energy_error_beyond_a_percent_is_flagged() {
+    let sleigh = ChaplyginSleigh::default();
+    let x0 = sleigh
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.0], &[1.0, 2.0])
+        .unwrap();
+    let coarse = Simulation::new(&sleigh, x0)
+        .end_time(20.0)
+        .sample_interval(1.5)
+        .run_constant(&Rk4::new(1.5), [])
+        .unwrap();
+    let s = coarse.summary();
+    assert!(s.conservative && s.energy_inaccurate(), "{s}");
+    let text = s.to_string();
+    println!("{text}");
+    assert!(
+        text.contains("\nwarning: the energy's relative error"),
+        "{text}"
+    );
+    // The robot driven by its motors: the energy changes by O(1), the balance holds.
+    let robot = MobileRobot::default();
+    let x0 = robot
+        .state_from_velocities(0.0, &ROBOT_Q, &robot_admissible_qd())
+        .unwrap();
+    let driven = Simulation::new(&robot, x0)
+        .end_time(2.0)
+        .run_constant(&DormandPrince::new(1e-10, 1e-12), [0.3, -0.2])
+        .unwrap();
+    let s = driven.summary();
+    assert!(s.relative_energy_drift > 1e-3, "{s}");
+    assert!(
+        s.relative_energy_balance < 1e-8 && !s.energy_inaccurate(),
+        "{s}"
+    );
+    assert!(!s.to_string().contains("drift"), "{s}");
 }

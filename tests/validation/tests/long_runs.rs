@@ -305,8 +305,8 @@ fn recorder(
     }
 }
 
-/// A short run (milliseconds: no interval of 50 ms passes) calls back once at its end, with
-/// t = t_end, fraction 1 and the run's step count; a run started at t0 ≠ 0 reports fractions
+/// A short run (milliseconds: no interval of 50 ms passes) calls back at its start and once
+/// at its end, with t = t_end, fraction 1 and the run's step count; a run started at t0 ≠ 0 reports fractions
 /// of its own span. A run ended by a terminal event makes its last call at the event.
 #[test]
 fn progress_reports_the_end_of_a_run() {
@@ -320,6 +320,10 @@ fn progress_reports_the_end_of_a_run() {
         .unwrap();
     let calls = calls.into_inner();
     check_calls(&calls, (2.0, 6.0));
+    assert_eq!(
+        (calls[0].t, calls[0].fraction, calls[0].steps),
+        (2.0, 0.0, 0)
+    );
     let last = calls.last().unwrap();
     assert_eq!((last.t, last.fraction), (6.0, 1.0));
     assert_eq!(last.steps, run.summary().steps);
@@ -341,9 +345,9 @@ fn progress_reports_the_end_of_a_run() {
 }
 
 /// `Break` cancels a run that would take many seconds: it returns `Ok` with the samples up to
-/// the time the callback was called at (a step's end), where the last row is; `stopped` is
-/// `Cancelled` at that time; the callback was called at least every 50 ms before and once
-/// more at the end with that time. The state in the last row is the closed-form motion's.
+/// the time the callback was called at (a step's end, or a sample), where the last row is;
+/// `stopped` is `Cancelled` at that time; the callback was called at the start, then at
+/// least every 50 ms, and once more at the end with that time. The state in the last row is the closed-form motion's.
 /// Once with Dormand–Prince (the stop falls inside the sample grid, between samples) and once
 /// with RK4 (steps land on its sub-steps).
 #[test]
@@ -358,33 +362,34 @@ fn progress_break_cancels_a_run() {
     cancel_case("Rk4 1e-4", &Rk4::new(1e-4), 1e3);
 }
 
-/// A run of the level knife edge to `t_end` with `integrator`, cancelled at the third
-/// progress call, and its checks.
+/// A run of the level knife edge to `t_end` with `integrator`, cancelled at the fourth
+/// progress call (the third after the one at the start), and its checks.
 fn cancel_case<I: Integrator>(what: &str, integrator: &I, t_end: f64) {
     let (sys, s, x0) = level_knife();
     let calls = RefCell::new(Vec::new());
     let sim = Simulation::new(&sys, x0)
         .end_time(t_end)
         .sample_interval(t_end / 1e4)
-        .on_progress(recorder(&calls, Some(3)));
+        .on_progress(recorder(&calls, Some(4)));
     let (result, elapsed) = timed(|| sim.run_constant(integrator, []));
     let trajectory = result.unwrap_or_else(|e| panic!("{what}: {e}"));
     let calls = calls.borrow().clone();
     check_calls(&calls, (0.0, t_end));
     assert_eq!(
         calls.len(),
-        4,
-        "{what}: three calls, the third cancels, one at the end"
+        5,
+        "{what}: one call at the start, three more, the last cancels, one at the end"
     );
-    let cancel = calls[2];
+    assert_eq!((calls[0].t, calls[0].steps), (0.0, 0), "{what}: {calls:?}");
+    let cancel = calls[3];
     assert_eq!(
-        calls[3].t, cancel.t,
+        calls[4].t, cancel.t,
         "{what}: the final call is at the stop"
     );
     assert!(
-        calls[0].elapsed >= Duration::from_millis(50)
-            && calls[2].elapsed >= Duration::from_millis(150),
-        "{what}: at most every 50 ms: {calls:?}"
+        calls[1].elapsed >= Duration::from_millis(50)
+            && calls[3].elapsed >= Duration::from_millis(150),
+        "{what}: at most every 50 ms after the start: {calls:?}"
     );
     assert!(cancel.t < t_end);
     assert_eq!(

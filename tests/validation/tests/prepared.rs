@@ -1,7 +1,9 @@
 //! The right-hand side with its parameter-only values prepared once (`prepare`,
 //! `rhs_prepared`, what a simulation calls) against `rhs`, which computes them at every call:
 //! the same bits for every catalogue model at seeded random states, the plain `rhs` for a
-//! slice of the wrong length, and values prepared for other parameters are really read.
+//! slice of the wrong length, and values prepared for other parameters are really read. The
+//! right-hand side fused with the power (`rhs_power_prepared`, what a simulation of a forced
+//! model calls) gives the bits of `rhs_prepared`, and `power` to rounding.
 
 #[path = "common/xorshift.rs"]
 mod xorshift;
@@ -59,6 +61,27 @@ fn same_bits<S: HamelSystem>(name: &str, system: &S, seed: u64) -> usize {
         let (x, u) = sample::<S>(&mut rng);
         let [plain, fast] = both(system, &values, &x, &u);
         assert_eq!(plain, fast, "{name} at x = {x:?}, u = {u:?}");
+        // The right-hand side and the power in one pass: the bits of each alone.
+        let mut dx = S::State::zeros();
+        let fused = system.rhs_power_prepared(&values, 0.0, &x, &u, &mut dx);
+        let power = system.power(0.0, &x, &u);
+        let bits = |d: &S::State| d.as_ref().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        match (fused, power) {
+            (Ok(p), Ok(alone)) => {
+                // Computed from shared values, the power may round differently.
+                let scale = alone.abs().max(1.0);
+                assert!((p - alone).abs() <= 1e-13 * scale, "{name}: {p} vs {alone}");
+                assert_eq!(
+                    format!("Ok(()) {:?}", bits(&dx)),
+                    fast,
+                    "{name} at x = {x:?}"
+                );
+            }
+            (fused, _) => assert!(
+                fast.starts_with("Err") && fused.is_err(),
+                "{name}: {fused:?}"
+            ),
+        }
         let mut dx = S::State::zeros();
         regular += usize::from(system.rhs(0.0, &x, &u, &mut dx).is_ok());
     }

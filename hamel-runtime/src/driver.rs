@@ -1,0 +1,180 @@
+//! What the integrator reports to during one simulation: the samples go to the recorder;
+//! accepted steps, when anything watches them, to the events, the singular-crossing watch and
+//! the progress callback, which may end the run.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use crate::crossing::CrossingWatch;
+use crate::error::Error;
+use crate::events::Watch;
+use crate::integrate::{Control, Observer, Stats, StepView};
+use crate::recorder::Recorder;
+use crate::simulation::{PROGRESS_INTERVAL, Progress};
+use crate::system::HamelSystem;
+use crate::trajectory::Summary;
+
+/// A progress callback: `ControlFlow::Break(())` cancels the run.
+pub(crate) type ProgressFn<'s> = Box<dyn Fn(&Progress) -> ControlFlow<()> + 's>;
+
+/// Samples between two looks at the clock when a step holds many: a look costs about as much
+/// as recording a sample, and this many samples take well under a millisecond.
+const SAMPLES_PER_CLOCK: u32 = 256;
+
+/// The observer of one run: the recorder, the events, the crossing watch and the progress.
+pub(crate) struct Driver<'a, 's, 'e, S: HamelSystem, F> {
+    system: &'s S,
+    recorder: Recorder<'a, 's, S, F>,
+    watch: Watch<'e, 's, S>,
+    watching_events: bool,
+    crossings: Option<CrossingWatch>,
+    progress: Option<&'a ProgressFn<'s>>,
+    started: Instant,
+    /// When the progress callback was last called; `None` before the first call, which the
+    /// first sample makes (so that a run cancelled at once does not run).
+    reported: Option<Instant>,
+    /// Samples since the clock was last read.
+    unclocked: u32,
+    span: (f64, f64),
+    steps: usize,
+}
+
+impl<'a, 's, 'e, S, F> Driver<'a, 's, 'e, S, F>
+where
+    S: HamelSystem,
+    F: FnMut(f64, &S::State) -> S::Inputs,
+{
+    pub fn new(
+        system: &'s S,
+        recorder: Recorder<'a, 's, S, F>,
+        (watch, watching_events): (Watch<'e, 's, S>, bool),
+        crossings: Option<CrossingWatch>,
+        progress: Option<&'a ProgressFn<'s>>,
+        span: (f64, f64),
+    ) -> Self {
+        Driver {
+            system,
+            recorder,
+            watch,
+            watching_events,
+            crossings,
+            progress,
+            started: Instant::now(),
+            reported: None,
+            unclocked: 0,
+            span,
+            steps: 0,
+        }
+    }
+
+    /// Whether the progress callback is due: never called yet, or not for a while.
+    fn progress_due(&mut self) -> bool {
+        self.unclocked = 0;
+        self.progress.is_some()
+            && self
+                .reported
+                .is_none_or(|last| last.elapsed() >= PROGRESS_INTERVAL)
+    }
+
+    /// Calls the progress callback at time t; whether it asked to stop.
+    fn report_progress(&mut self, t: f64) -> bool {
+        let Some(progress) = self.progress else {
+            return false;
+        };
+        self.reported = Some(Instant::now());
+        let p = Progress {
+            t,
+            t0: self.span.0,
+            t_end: self.span.1,
+            steps: self.steps,
+            elapsed: self.started.elapsed(),
+        };
+        progress(&p).is_break()
+    }
+
+    /// Whether the run is to be cancelled at t: the progress callback, if due, asked to stop
+    /// (the run is then recorded as cancelled at t).
+    fn cancelled_at(&mut self, t: f64) -> bool {
+        let cancel = self.progress_due() && self.report_progress(t);
+        if cancel {
+            self.recorder.cancelled(t);
+        }
+        cancel
+    }
+
+    /// The summary of the integration that ended with `stats`: the progress callback called
+    /// a last time, the crossings found before the end.
+    pub fn finish(mut self, stats: Stats) -> Result<Summary, Error> {
+        let reached = self.span.1.min(stats.stopped.unwrap_or(f64::INFINITY));
+        // The run is over: a cancel now changes nothing.
+        let _ = self.report_progress(reached);
+        let mut summary = self.recorder.finish(stats)?;
+        if let Some(mut watch) = self.crossings {
+            // A step cut short by a terminal event or a cancel was checked to its end.
+            let end = stats.stopped.unwrap_or(f64::INFINITY);
+            watch.crossings.retain(|c| c.t <= end);
+            summary.singular_crossings = watch.crossings;
+        }
+        Ok(summary)
+    }
+}
+
+/// The driver as an observer of the integrator's states (the plain state, or the state and
+/// the work), which `split` separates.
+pub(crate) struct States<'d, D, G> {
+    pub driver: &'d mut D,
+    pub split: G,
+}
+
+impl<'a, 's, 'e, S, F, V, G> Observer<V> for States<'_, Driver<'a, 's, 'e, S, F>, G>
+where
+    S: HamelSystem,
+    F: FnMut(f64, &S::State) -> S::Inputs,
+    V: crate::vector::Vector,
+    G: Fn(&V) -> (S::State, f64),
+{
+    fn sample(&mut self, t: f64, v: &V) -> Result<Control, Error> {
+        let (x, work) = (self.split)(v);
+        let driver = &mut *self.driver;
+        driver.recorder.record(t, &x, work)?;
+        if driver.progress.is_none() {
+            return Ok(Control::Continue);
+        }
+        // Progress is due at the first sample, and looked at every so many samples: a step
+        // may hold billions of them.
+        driver.unclocked += 1;
+        let look = driver.reported.is_none() || driver.unclocked >= SAMPLES_PER_CLOCK;
+        if look && driver.cancelled_at(t) {
+            return Ok(Control::Stop(t));
+        }
+        Ok(Control::Continue)
+    }
+
+    fn watches_steps(&self) -> bool {
+        self.driver.watching_events
+            || self.driver.progress.is_some()
+            || self.driver.crossings.is_some()
+    }
+
+    fn step(&mut self, view: &StepView<'_, V>) -> Result<Control, Error> {
+        let driver = &mut *self.driver;
+        driver.steps += 1;
+        if let Some(crossings) = &mut driver.crossings {
+            let split = &self.split;
+            crossings.step(driver.system, view, |v| split(v).0);
+        }
+        if driver.watching_events {
+            let split = &self.split;
+            for event in driver.watch.step(view, |v| split(v).0)? {
+                driver.recorder.event(&event)?;
+                if event.terminal {
+                    return Ok(Control::Stop(event.t));
+                }
+            }
+        }
+        if driver.cancelled_at(view.t1) {
+            return Ok(Control::Stop(view.t1));
+        }
+        Ok(Control::Continue)
+    }
+}

@@ -1,0 +1,270 @@
+//! Studies: one computation — a simulation, a linearization, a search for a critical speed —
+//! run for many cases (parameter sets, initial states, input functions) on every core, as
+//! Julia's `EnsembleProblem` does, with rows that pandas and polars read as they are.
+//!
+//! * [`Ensemble`] runs a case function in parallel (rayon) and returns one result per case,
+//!   in case order: identical for any number of threads, because each case is computed
+//!   alone, from its index. A case that fails — an `Err`, or a panic — is a row carrying its
+//!   error; it never aborts the study.
+//! * [`Table`] is a study's result: named `f64` columns, the case index and the error of each
+//!   row, written to CSV (here) or Parquet (`hamel::parquet`, feature `parquet`).
+//! * [`Outputs`] and [`ModeColumns`] choose what a row keeps of a run or of a linearization:
+//!   the final state, the summary, event times, chosen samples; eigenvalues and modes.
+//! * [`ParameterTable`] reads a study's cases from CSV, and [`Shard`] splits them among the
+//!   tasks of a batch engine (a Slurm job array, Ray or Dask tasks): "run row i, write a
+//!   result", each shard written whole or not at all ([`write_complete`]).
+
+mod select;
+mod shard;
+mod table;
+
+pub use select::{ModeColumns, Outputs};
+pub use shard::{Shard, check_writable, is_complete, write_complete};
+pub use table::{ParameterTable, Table};
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use crate::error::Error;
+
+/// How often, at most, a study's progress callback is called (besides at the end).
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Where a study is, for its progress callback.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StudyProgress {
+    /// Cases finished (successfully or not).
+    pub done: usize,
+    /// Cases that ended in an error so far.
+    pub failed: usize,
+    /// Cases in the study.
+    pub total: usize,
+    /// Wall-clock time since the study started.
+    pub elapsed: Duration,
+}
+
+impl StudyProgress {
+    /// The fraction of the cases done, in [0, 1].
+    pub fn fraction(&self) -> f64 {
+        if self.total == 0 {
+            1.0
+        } else {
+            self.done as f64 / self.total as f64
+        }
+    }
+}
+
+/// A progress callback; it may be called from any of the study's threads.
+type StudyProgressFn<'a> = Box<dyn Fn(&StudyProgress) + Send + Sync + 'a>;
+
+/// A study of `cases` cases, run in parallel:
+///
+/// ```
+/// use hamel_runtime::Ensemble;
+///
+/// // The case function gets the case's index and returns its result.
+/// let squares = Ensemble::new(5).threads(2).run(|i| Ok((i * i) as f64))?;
+/// assert_eq!(squares.iter().map(|r| *r.as_ref().unwrap()).sum::<f64>(), 30.0);
+/// # Ok::<(), hamel_runtime::Error>(())
+/// ```
+pub struct Ensemble<'a> {
+    cases: usize,
+    threads: Option<usize>,
+    progress: Option<StudyProgressFn<'a>>,
+}
+
+impl<'a> Ensemble<'a> {
+    /// A study of `cases` cases, numbered 0 … cases − 1, on rayon's global pool (every core)
+    /// unless [`Self::threads`] says otherwise.
+    pub fn new(cases: usize) -> Self {
+        Ensemble {
+            cases,
+            threads: None,
+            progress: None,
+        }
+    }
+
+    /// Runs the study on a pool of its own with `n` threads (≥ 1): for a study that must
+    /// leave cores free, and for checking that the results do not depend on the count.
+    pub fn threads(mut self, n: usize) -> Self {
+        self.threads = Some(n);
+        self
+    }
+
+    /// Calls `f` with the study's progress, every 100 ms at most and once at the end (from
+    /// whichever thread finished a case: `f` must be `Sync`; a progress bar of `indicatif`
+    /// is).
+    pub fn on_progress(mut self, f: impl Fn(&StudyProgress) + Send + Sync + 'a) -> Self {
+        self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// The number of cases.
+    pub fn cases(&self) -> usize {
+        self.cases
+    }
+
+    /// Runs `case(i)` for every case i, in parallel, and returns the results in case order.
+    /// A case that returns an error, or panics ([`Error::CasePanicked`], with the panic's
+    /// message), gives its error in its place; the others run on. The outer `Err` is for the
+    /// study's own settings (a thread count of 0, or a pool the system cannot start).
+    pub fn run<T: Send>(
+        &self,
+        case: impl Fn(usize) -> Result<T, Error> + Sync,
+    ) -> Result<Vec<Result<T, Error>>, Error> {
+        let tracker = Tracker::new(self.cases, self.progress.as_deref());
+        let work = || {
+            (0..self.cases)
+                .into_par_iter()
+                .map(|i| {
+                    let result = guarded(i, &case);
+                    tracker.finished(result.is_err());
+                    result
+                })
+                .collect::<Vec<_>>()
+        };
+        let results = match self.threads {
+            None => work(),
+            Some(0) => {
+                return Err(Error::InvalidSetting {
+                    name: "threads",
+                    value: 0.0,
+                    reason: "a study needs at least one thread",
+                });
+            }
+            Some(n) => rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| Error::Io {
+                    path: format!("a pool of {n} threads"),
+                    message: e.to_string(),
+                })?
+                .install(work),
+        };
+        tracker.report();
+        Ok(results)
+    }
+
+    /// Runs the study into a [`Table`] with the columns `names`: `case(i)` gives row i's
+    /// values, one per column (a row of another length is an error in its place); a failed
+    /// case's row is NaN, with its error.
+    pub fn table(
+        &self,
+        names: Vec<String>,
+        case: impl Fn(usize) -> Result<Vec<f64>, Error> + Sync,
+    ) -> Result<Table, Error> {
+        self.table_of(names, (0..self.cases).map(|i| i as u64).collect(), case)
+    }
+
+    /// [`Self::table`] for cases whose indices in a larger study are `indices` (a shard's
+    /// rows): `case` gets the position in `indices`, the table records the index.
+    pub fn table_of(
+        &self,
+        names: Vec<String>,
+        indices: Vec<u64>,
+        case: impl Fn(usize) -> Result<Vec<f64>, Error> + Sync,
+    ) -> Result<Table, Error> {
+        if indices.len() != self.cases {
+            return Err(Error::DimensionMismatch {
+                what: format!(
+                    "{} case indices for a study of {} cases",
+                    indices.len(),
+                    self.cases
+                ),
+            });
+        }
+        // Names that cannot be columns are refused before anything runs.
+        let mut table = Table::new(names)?;
+        let width = table.names().len();
+        let rows = self.run(|i| {
+            let values = case(i)?;
+            if values.len() == width {
+                Ok(values)
+            } else {
+                Err(Error::DimensionMismatch {
+                    what: format!("case {i} gave {} values for {width} columns", values.len()),
+                })
+            }
+        })?;
+        for (index, row) in indices.into_iter().zip(rows) {
+            table.push(index, row);
+        }
+        Ok(table)
+    }
+}
+
+/// `case(i)`, its panic caught and turned into an error: one case must not end the study.
+fn guarded<T>(i: usize, case: &(impl Fn(usize) -> Result<T, Error> + Sync)) -> Result<T, Error> {
+    match catch_unwind(AssertUnwindSafe(|| case(i))) {
+        Ok(result) => result,
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "(no message)".to_string());
+            Err(Error::CasePanicked { case: i, message })
+        }
+    }
+}
+
+/// Counts finished cases across threads and calls the progress callback now and then.
+struct Tracker<'p, 'a> {
+    total: usize,
+    done: AtomicUsize,
+    failed: AtomicUsize,
+    started: Instant,
+    /// When the callback was last called; locked only to call it, by one thread at a time.
+    last: Mutex<Instant>,
+    progress: Option<&'p (dyn Fn(&StudyProgress) + Send + Sync + 'a)>,
+}
+
+impl<'p, 'a> Tracker<'p, 'a> {
+    fn new(
+        total: usize,
+        progress: Option<&'p (dyn Fn(&StudyProgress) + Send + Sync + 'a)>,
+    ) -> Self {
+        let now = Instant::now();
+        Tracker {
+            total,
+            done: AtomicUsize::new(0),
+            failed: AtomicUsize::new(0),
+            started: now,
+            last: Mutex::new(now),
+            progress,
+        }
+    }
+
+    /// One more case finished; the callback is called if it is due and no other thread is
+    /// calling it.
+    fn finished(&self, failed: bool) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+        if failed {
+            self.failed.fetch_add(1, Ordering::Relaxed);
+        }
+        if self.progress.is_none() {
+            return;
+        }
+        if let Ok(mut last) = self.last.try_lock() {
+            if last.elapsed() >= PROGRESS_INTERVAL {
+                *last = Instant::now();
+                self.report();
+            }
+        }
+    }
+
+    fn report(&self) {
+        if let Some(progress) = self.progress {
+            progress(&StudyProgress {
+                done: self.done.load(Ordering::Relaxed),
+                failed: self.failed.load(Ordering::Relaxed),
+                total: self.total,
+                elapsed: self.started.elapsed(),
+            });
+        }
+    }
+}
