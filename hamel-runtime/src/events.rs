@@ -43,7 +43,22 @@ pub struct Event<'s, S: HamelSystem> {
 }
 
 impl<'s, S: HamelSystem> Event<'s, S> {
+    /// An event of the model `system` that records every sign change of g (either way) and
+    /// lets the run go on. The model fixes the state's type, so that g needs no annotation:
+    /// `Event::on(&bike, "fallen", |_, x| x[WhippleBicycle::PHI].abs() - 1.0).terminal()`
+    /// (`hamel::docs::running` has a runnable example).
+    pub fn on(
+        system: &'s S,
+        name: impl Into<String>,
+        g: impl Fn(f64, &S::State) -> f64 + 's,
+    ) -> Self {
+        let _ = system;
+        Event::new(name, g)
+    }
+
     /// An event that records every sign change of g (either way) and lets the run go on.
+    /// Where the model is not otherwise fixed, g's state needs its type written
+    /// (`|t, x: &[f64; 8]| ..`); [`Event::on`] takes it from the model.
     pub fn new(name: impl Into<String>, g: impl Fn(f64, &S::State) -> f64 + 's) -> Self {
         Event {
             name: name.into(),
