@@ -463,6 +463,23 @@ impl<'a> Roles<'a> {
     pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {
         self.by_role.get(&role)
     }
+
+    /// Roles, but neither an energy nor constraints: the block is a piece of a model whose
+    /// other roles are in another impl block (with `#[hamel_system]` too, or it would not be
+    /// read), so it is not the model, and it gets no stand-in of the model when it has mistakes:
+    /// the other block's would clash with it.
+    pub fn is_fragment(&self) -> bool {
+        let holds = |roles: &[Role]| roles.iter().any(|r| self.by_role.contains_key(r));
+        !self.by_role.is_empty()
+            && !holds(&[
+                Role::Lagrangian,
+                Role::KineticEnergy,
+                Role::PotentialEnergy,
+                Role::QuasiLagrangian,
+                Role::Bodies,
+            ])
+            && !holds(&[Role::Constraints, Role::Holonomic, Role::Contacts])
+    }
 }
 
 /// The coordinates named in `#[holonomic(determines(theta, phi))]` or
