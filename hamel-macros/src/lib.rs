@@ -26,7 +26,7 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 /// `#[hamel_system(coordinates(..), speeds(..), inputs(..), constraints(..))]` names the
 /// coordinates (required), the free quasi-velocities (default `w{p+1}`…`w{n}`), the inputs
 /// (default none) and the constraint rows, those of `#[constraints]` then those of
-/// `#[holonomic]` (default `blade[0]`: the function's name and the row), and role attributes
+/// `#[holonomic]` (default `blade0`: the function's name and the row), and role attributes
 /// mark the functions:
 ///
 /// * the energy, in one of three forms: `#[lagrangian]` L(q, q̇), or `#[kinetic_energy]`

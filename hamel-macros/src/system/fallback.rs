@@ -218,15 +218,15 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
     let (n, p, m) = dims;
     let k = sketch.holonomic.as_ref().map_or(0, |(_, k)| *k).min(p);
     // The names as the model would have them: those of `constraints(..)`, when there are as
-    // many as rows, or else the functions' (`blade[0]`).
+    // many as rows, or else the functions' (`blade0`).
     let constraints = match &sketch.constraints {
         Some(names) if names.len() == p => names.clone(),
         _ => {
             let mut rows: Vec<String> = (0..p - k)
-                .map(|i| format!("{}[{i}]", sketch.constraint_fn))
+                .map(|i| format!("{}{i}", sketch.constraint_fn))
                 .collect();
             if let Some((name, _)) = &sketch.holonomic {
-                rows.extend((0..k).map(|i| format!("{name}[{i}]")));
+                rows.extend((0..k).map(|i| format!("{name}{i}")));
             }
             rows
         }

@@ -289,10 +289,13 @@ pub fn generate(
         |ids: &[syn::Ident]| -> Vec<String> { ids.iter().map(|i| i.unraw().to_string()).collect() };
     let row_names = |f: &syn::ImplItemFn, count: usize| -> Vec<String> {
         (0..count)
-            .map(|i| format!("{}[{i}]", f.sig.ident.unraw()))
+            .map(|i| super::equations::constraint_row(f, i))
             .collect()
     };
-    // Named in `constraints(..)`, or after the functions: `blade[0]`, then `contact[0]`.
+    // Named in `constraints(..)`, or after the functions and the rows' indices, as an indexed
+    // group is (`theta[3]` is `theta0`…): `blade0`, then `wheel0_x`, `wheel0_y`, `rail0`,
+    // `wheel0_height`. Each is then an identifier, and so is its force column in a CSV header
+    // (`lambda_blade0`).
     let constraints = match &spec.constraint_names {
         Some(names) => plain(names),
         None => {
@@ -304,7 +307,7 @@ pub fn generate(
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
                 rows.extend(
-                    (0..c.count).flat_map(|i| [format!("{name}[{i}].x"), format!("{name}[{i}].y")]),
+                    (0..c.count).flat_map(|i| [format!("{name}{i}_x"), format!("{name}{i}_y")]),
                 );
             }
             if let Some(h) = &spec.holonomic {
@@ -312,7 +315,7 @@ pub fn generate(
             }
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
-                rows.extend((0..c.dependent.len()).map(|i| format!("{name}.height[{i}]")));
+                rows.extend((0..c.dependent.len()).map(|i| format!("{name}{i}_height")));
             }
             rows
         }

@@ -133,7 +133,7 @@ pub struct Names {
     pub speeds: Option<(Span, Vec<syn::Ident>)>,
     pub inputs: Vec<syn::Ident>,
     /// The constraint rows' names: those of `#[constraints]`, then those of `#[holonomic]`
-    /// (`None`: `blade[0]`, the function's name and the row).
+    /// (`None`: `blade0`, the function's name and the row).
     pub constraints: Option<(Span, Vec<syn::Ident>)>,
     /// `inputs(..)` as written, for errors about the inputs as a whole.
     pub inputs_written: Option<TokenStream>,

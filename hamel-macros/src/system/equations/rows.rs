@@ -300,11 +300,11 @@ fn determines(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<No
         (Some(h), _) if i < written => syn::Error::new_spanned(
             row_source(h.f, i),
             format!(
-                "the holonomic constraint `{}[{i}]` does not determine `{name}`: together with the \
+                "the holonomic constraint `{}` does not determine `{name}`: together with the \
                  constraints before it, its derivative with respect to {} is singular at generic \
                  configurations; name, in `#[holonomic(determines(..))]`, the coordinates the \
                  constraints can be solved for",
-                h.f.sig.ident,
+                constraint_row(h.f, i),
                 all.join(", ")
             ),
         ),
@@ -351,8 +351,13 @@ pub fn check_affine(
     let mut ok = true;
     let form = format!("Σ a_j(q, t)·{var_name}[j] + a(q, t)");
     for (i, &row) in rows.iter().enumerate() {
-        // Rows are named as at run time: `blade[1]` is row 1 of the function `blade`.
-        let row_name = format!("`{}[{i}]`", f.sig.ident);
+        // A constraint row is named as at run time: `blade1` is row 1 of the function
+        // `blade`; a quasi-velocity by its entry in the function's result, `speeds[1]`.
+        let row_name = if what == "constraint" {
+            format!("`{}`", constraint_row(f, i))
+        } else {
+            format!("`{}[{i}]`", f.sig.ident)
+        };
         let problem = match linearity::classify(lowerer.graph, row, vars) {
             Verdict::Linear | Verdict::Affine => continue,
             Verdict::Zero if what == "constraint" => format!(

@@ -94,7 +94,7 @@ pub struct Spec<'a> {
     pub speeds: Vec<syn::Ident>,
     pub inputs: Vec<syn::Ident>,
     /// The constraint rows' names, when `constraints(..)` gives them (otherwise each row is
-    /// named after its function, `blade[0]`).
+    /// named after its function and its index, `blade0`).
     pub constraint_names: Option<Vec<syn::Ident>>,
     /// The indexed groups of names (coordinates, speeds, inputs, constraints).
     pub groups: [Vec<Group>; 4],
