@@ -12,11 +12,13 @@ use quote::{quote, quote_spanned};
 use std::collections::BTreeMap;
 use syn::ext::IdentExt;
 
-/// Relative size below which a pivot of the mass matrix counts as zero. For a positive
-/// definite matrix 0 < D_j ≤ M_jj: the ratio is the share of the inertia along speed j that
-/// the coupling to the speeds before it leaves, so each pivot is compared with its own
-/// diagonal entry (which is also cheaper than finding the matrix's largest entry: these
-/// checks run in every right-hand side).
+/// Relative size below which a pivot of the mass matrix counts as zero, against the matrix's
+/// scale: its largest diagonal entry, which for a positive definite matrix is its largest entry
+/// and within a factor d of its norm. A pivot that small makes the solve return what the
+/// rounding of the entries decides (a model whose inertia I·cos²θ vanishes at θ = π/2 has the
+/// pivot 4e-34 there, from cos(π/2) = 6e-17 in floating point, and the acceleration 1.6e16).
+/// A pivot is not compared with its own diagonal entry only: for a speed that no other one
+/// couples to, they are equal, whatever their size.
 const PIVOT_TOLERANCE: f64 = 1e-13;
 
 /// What a method reads: `x: &State` (coordinates then speeds) and `u`, or `q` alone, or `q`
@@ -207,20 +209,26 @@ impl<'g> Context<'g> {
         }
     }
 
-    /// The checks of the mass matrix's LDLᵀ pivots against their diagonal entries.
+    /// The checks of the mass matrix's LDLᵀ pivots against its scale, the largest diagonal
+    /// entry (`PIVOT_TOLERANCE`).
     fn mass_checks(&self, diagonal: &[NodeId], re: &dyn Fn(NodeId) -> TokenStream) -> TokenStream {
         let tolerance = PIVOT_TOLERANCE;
-        let mut tokens = TokenStream::new();
+        let entries = diagonal.iter().map(|&m| {
+            let m = re(m);
+            quote!(.max(f64::abs(#m)))
+        });
+        let mut tokens = quote! {
+            let scale = 0.0f64 #(#entries)*;
+        };
         // One comparison per pivot on the hot path; whether a failure is a value that is not
         // finite, an indefinite or a singular matrix is sorted out by the runtime.
-        for (j, (&d, &m)) in self.eq.pivots.iter().zip(diagonal).enumerate() {
-            let (v, diag) = (re(d), re(m));
+        for (j, &d) in self.eq.pivots.iter().enumerate() {
+            let v = re(d);
             let j = lit(j);
             tokens.extend(quote! {
                 let pivot = #v;
-                let diagonal = #diag;
-                if !(pivot > #tolerance * diagonal.abs()) {
-                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivot(#j, pivot, diagonal, #tolerance));
+                if !(pivot > #tolerance * scale) {
+                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivot(#j, pivot, scale, #tolerance));
                 }
             });
         }
