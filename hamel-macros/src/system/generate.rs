@@ -8,17 +8,20 @@ use crate::engine::emit::{Code, Emitter, Scalar};
 use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::External;
 use proc_macro2::{Ident, Span, TokenStream};
-use quote::{quote, quote_spanned};
+use quote::{format_ident, quote, quote_spanned};
 use std::collections::BTreeMap;
 use syn::ext::IdentExt;
 
 /// Relative size below which a pivot of the mass matrix counts as zero, against the matrix's
-/// scale: its largest diagonal entry, which for a positive definite matrix is its largest entry
-/// and within a factor d of its norm. A pivot that small makes the solve return what the
-/// rounding of the entries decides (a model whose inertia I·cos²θ vanishes at θ = π/2 has the
-/// pivot 4e-34 there, from cos(π/2) = 6e-17 in floating point, and the acceleration 1.6e16).
-/// A pivot is not compared with its own diagonal entry only: for a speed that no other one
-/// couples to, they are equal, whatever their size.
+/// scale: the sum of its diagonal entries' magnitudes, which for a positive definite matrix is
+/// its trace and nuclear norm (the sum of its eigenvalues), between its largest eigenvalue and
+/// n − p times it (an indefinite matrix's trace could be zero or negative, and let a zero pivot
+/// pass). A pivot that small makes
+/// the solve return what the rounding of the entries decides (a model whose inertia I·cos²θ
+/// vanishes at θ = π/2 has the pivot 4e-34 there, from cos(π/2) = 6e-17 in floating point, and
+/// the acceleration 1.6e16). A pivot is not compared with its own diagonal entry only: for a
+/// speed that no other one couples to, they are equal, whatever their size. The scale costs
+/// n − p − 1 additions in every right-hand side, and a NaN in it fails every check.
 const PIVOT_TOLERANCE: f64 = 1e-13;
 
 /// What a method reads: `x: &State` (coordinates then speeds) and `u`, or `q` alone, or `q`
@@ -209,30 +212,30 @@ impl<'g> Context<'g> {
         }
     }
 
-    /// The checks of the mass matrix's LDLᵀ pivots against its scale, the largest diagonal
-    /// entry (`PIVOT_TOLERANCE`).
+    /// The checks of the mass matrix's LDLᵀ pivots against its scale, Σ|M_kk|
+    /// (`PIVOT_TOLERANCE`): one comparison per pivot on the hot path; which pivot failed, and
+    /// whether for a value that is not finite, an indefinite or a singular matrix, the runtime
+    /// sorts out from all of them on the cold path.
     fn mass_checks(&self, diagonal: &[NodeId], re: &dyn Fn(NodeId) -> TokenStream) -> TokenStream {
         let tolerance = PIVOT_TOLERANCE;
-        let entries = diagonal.iter().map(|&m| {
-            let m = re(m);
-            quote!(.max(f64::abs(#m)))
-        });
-        let mut tokens = quote! {
-            let scale = 0.0f64 #(#entries)*;
-        };
-        // One comparison per pivot on the hot path; whether a failure is a value that is not
-        // finite, an indefinite or a singular matrix is sorted out by the runtime.
-        for (j, &d) in self.eq.pivots.iter().enumerate() {
-            let v = re(d);
-            let j = lit(j);
-            tokens.extend(quote! {
-                let pivot = #v;
-                if !(pivot > #tolerance * scale) {
-                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivot(#j, pivot, scale, #tolerance));
+        let diagonal: Vec<TokenStream> = diagonal.iter().map(|&m| re(m)).collect();
+        let pivots: Vec<TokenStream> = self.eq.pivots.iter().map(|&d| re(d)).collect();
+        let (ds, ps): (Vec<Ident>, Vec<Ident>) = (0..pivots.len())
+            .map(|j| (format_ident!("diagonal{}", j), format_ident!("pivot{}", j)))
+            .unzip();
+        let checks = ps.iter().map(|p| {
+            quote! {
+                if !(#p > #tolerance * scale) {
+                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivots(&[#(#ps),*], &[#(#ds),*], #tolerance));
                 }
-            });
+            }
+        });
+        quote! {
+            #(let #ds = #diagonal;)*
+            #(let #ps = #pivots;)*
+            let scale = #(f64::abs(#ds))+*;
+            #(#checks)*
         }
-        tokens
     }
 
     /// An `f64` method body returning `Ok(value)` after the checks.

@@ -4,8 +4,8 @@
 //! number, but one that the rounding of θ decides. Judged against its own diagonal entry, which
 //! it equals (nothing couples to the turning rate), it passed, and `rhs` returned the
 //! acceleration 1.6e16, `linearize` entries of 1e32. Judged against the matrix's scale, its
-//! largest diagonal entry m, it is zero: every evaluation is an error that names the speed,
-//! the time and the state.
+//! trace m + I·cos²θ, it is zero: every evaluation is an error that names the speed, the time
+//! and the state.
 //!
 //! The dynamics, for checking the states where the matrix is regular: with
 //! T = ½ m (ẋ² + ẏ²) + ½ I cos²θ θ̇², the blade −ẋ sinθ + ẏ cosθ = 0 and the speeds
@@ -53,7 +53,7 @@ fn at(theta: f64) -> [f64; 5] {
 }
 
 #[test]
-fn a_pivot_zero_beside_the_largest_diagonal_entry_is_a_singular_mass_matrix() {
+fn a_pivot_zero_beside_the_matrix_trace_is_a_singular_mass_matrix() {
     let x = at(FRAC_PI_2);
     // The matrix itself is what it is: the turning inertia is the rounding of cos(π/2).
     let mass = SKATE.mass_matrix(0.0, &x).unwrap();
@@ -86,7 +86,7 @@ fn a_pivot_zero_beside_the_largest_diagonal_entry_is_a_singular_mass_matrix() {
         &[
             "singular reduced mass matrix at t = 0.75",
             "the motion along `omega` has no inertia",
-            "beside the matrix's largest diagonal entry",
+            "beside the matrix's trace",
             "its pivot in the LDLᵀ factorization, 3.749e-34",
             "theta = 1.571, v = 1, omega = 1",
         ],
@@ -104,8 +104,9 @@ fn a_pivot_zero_beside_the_largest_diagonal_entry_is_a_singular_mass_matrix() {
     );
 }
 
-/// The threshold is the matrix's scale times 10⁻¹³: a turning inertia I cos²θ of 10⁻¹² of m is
-/// a regular matrix whose solve gives the closed form ω̇ = tanθ·ω², one of 10⁻¹⁴ of m is not.
+/// The threshold is the matrix's scale, its trace m + I cos²θ, times 10⁻¹³: a turning inertia
+/// I cos²θ of 10⁻¹⁰ of m is a regular matrix whose solve gives the closed form ω̇ = tanθ·ω², one
+/// of 10⁻¹⁴ of m is not.
 #[test]
 fn the_pivot_is_judged_against_the_matrix_scale() {
     let regular = [0.3, 1.0, FRAC_PI_2 - 1e-3];
@@ -121,12 +122,19 @@ fn the_pivot_is_judged_against_the_matrix_scale() {
         );
         assert_eq!(dx[3], 0.0, "v is constant");
     }
-    // I cos²θ / m against 10⁻¹³: cos θ = √(2·10⁻¹² m / I) is above it, √(2·10⁻¹⁴ m / I) below.
+    // I cos²θ = 2·10⁻¹⁰ m is above 10⁻¹³ of the trace m + I cos²θ, 2·10⁻¹⁴ m below it
+    // (cos θ ≈ π/2 − θ there); above, the acceleration is still the closed form's.
     let ratio = SKATE.m / SKATE.inertia;
-    let above = FRAC_PI_2 - (2e-12 * ratio).sqrt() * 10.0;
+    let above = FRAC_PI_2 - (2e-10 * ratio).sqrt();
     let below = FRAC_PI_2 - (2e-14 * ratio).sqrt();
     let mut dx = [0.0; 5];
     SKATE.rhs(0.0, &at(above), &[], &mut dx).unwrap();
+    assert!(
+        (dx[4] - above.tan()).abs() <= 1e-9 * above.tan(),
+        "{} against {}",
+        dx[4],
+        above.tan()
+    );
     assert!(matches!(
         SKATE.rhs(0.0, &at(below), &[], &mut dx),
         Err(Singularity::MassMatrix { speed: 1, .. })
