@@ -60,9 +60,10 @@ impl Singularity {
             return Singularity::NonFinite { speed: Some(speed) };
         }
         let scale: f64 = diagonal.iter().map(|d| d.abs()).sum();
+        // Every value is finite here, so `<=` is the negation of the check's `>`.
         let speed = pivots
             .iter()
-            .position(|&p| !(p > tolerance * scale))
+            .position(|&p| p <= tolerance * scale)
             .unwrap_or(0);
         let pivot = pivots.get(speed).copied().unwrap_or(f64::NAN);
         Singularity::mass_pivot(speed, pivot, scale, tolerance)
