@@ -244,8 +244,10 @@ fn varies(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<NodeId
     else {
         return true;
     };
-    let dependent = spec.dependent();
-    let name = &spec.coordinates[dependent[i]];
+    // One row per coordinate determined, in the same order (`spec::dependent`).
+    let Some(name) = spec.dependent().get(i).map(|&j| &spec.coordinates[j]) else {
+        return true;
+    };
     let written = spec.written_holonomic();
     let error = match (&spec.holonomic, &spec.geometry.contacts) {
         (Some(h), _) if i < written => syn::Error::new_spanned(
