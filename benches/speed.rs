@@ -1,6 +1,8 @@
 //! The figures of record for the speed of the generated right-hand side (`rhs.rs`, with
 //! criterion, shows trends): `cargo bench -p hamel-benches --bench speed`, or with
-//! `HAMEL_BENCH_ROUNDS=21` for a quick run (201 rounds by default).
+//! `HAMEL_BENCH_ROUNDS=21` for a quick run (201 rounds by default). A change to the macro is
+//! measured against the commit before it with `bash benches/speed_ab.sh NEW OLD`, which builds
+//! this benchmark at both and runs them in alternating pairs.
 //!
 //! Measured interleaved (see `hamel_benches::interleave`): short batches (about 1 ms) of
 //! each variant alternate round-robin, and each figure is the median over the rounds of a

@@ -22,9 +22,10 @@
 //! tangent sweeps over it, and the γ terms as two bidirectional second derivatives of
 //! Φ(q, v) = pᵀA(q)v per free direction, never the n³ tensor. With a closed-form inverse B the
 //! Lagrangian in quasi-velocities is composed as L̃ = L(q, B(q)ω); without one, B is derived
-//! from A(q) after a block-triangular permutation found from A's sparsity pattern — small
-//! diagonal blocks inverted in closed form by their adjugates, larger ones by an LU
-//! factorization with partial pivoting unrolled into the generated code — and Lagrange's
+//! from A(q) after a block-triangular permutation found from A's sparsity pattern — its
+//! diagonal blocks inverted in closed form by their adjugates when the largest has two or
+//! three rows, and otherwise A solved by an LU factorization with partial pivoting unrolled
+//! into the generated code — and Lagrange's
 //! equations are projected on the admissible directions instead. The reduced mass matrix is
 //! factored by an unrolled LDLᵀ; its pivots, and B's determinants or pivots, are checked
 //! before any result is used.

@@ -26,7 +26,7 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 /// `#[hamel_system(coordinates(..), speeds(..), inputs(..), constraints(..))]` names the
 /// coordinates (required), the free quasi-velocities (default `w{p+1}`…`w{n}`), the inputs
 /// (default none) and the constraint rows, those of `#[constraints]` then those of
-/// `#[holonomic]` (default `blade[0]`: the function's name and the row), and role attributes
+/// `#[holonomic]` (default `blade0`: the function's name and the row), and role attributes
 /// mark the functions:
 ///
 /// * the energy, in one of three forms: `#[lagrangian]` L(q, q̇), or `#[kinetic_energy]`
@@ -36,7 +36,8 @@ pub fn differentiate(attr: TokenStream, item: TokenStream) -> TokenStream {
 /// * `#[holonomic(determines(..))]` (optional): constraints f(q) = 0 on the configuration,
 ///   which the macro differentiates into constraint rows;
 /// * `#[velocities]` (optional): the inverse q̇ = B(q)(ω − a) over all n quasi-velocities,
-///   the constrained ones first; computed by LU of A(q) when absent;
+///   the constrained ones first; derived from A(q) when absent (its block-triangular form's
+///   blocks inverted in closed form, or an LU factorization);
 /// * `#[forces]` (optional): the generalized forces f(t, q, q̇, u).
 ///
 /// Every role but `#[forces]` may take the time as a leading argument `t: f64`.

@@ -10,8 +10,14 @@ use quote::quote;
 
 /// The marked item unchanged, with one error at the attribute.
 pub fn expand(role: &str, item: TokenStream) -> TokenStream {
+    // At the attribute, but resolved as the user's code: rustc then does not add that the
+    // error "originates in the attribute macro", which the user can do nothing about.
+    let at = match item.clone().into_iter().next() {
+        Some(first) => Span::call_site().resolved_at(first.span()),
+        None => Span::call_site(),
+    };
     let error = syn::Error::new(
-        Span::call_site(),
+        at,
         format!(
             "`#[{role}]` is outside an impl block with `#[hamel_system]`, the only place where \
              it is read: all the roles of a model go in one impl block, which carries \

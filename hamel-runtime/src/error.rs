@@ -8,7 +8,7 @@ use crate::named::NamedValues;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Singularity {
     /// A pivot of the reduced mass matrix's LDLᵀ factorization is zero to rounding (relative
-    /// to its diagonal entry): the motion along free quasi-velocity number `speed` has no
+    /// to the matrix's trace): the motion along free quasi-velocity number `speed` has no
     /// inertia.
     MassMatrix { speed: usize, value: f64 },
     /// A pivot of the LU factorization of A(q) vanishes: the constraints and quasi-velocities
@@ -18,8 +18,8 @@ pub enum Singularity {
     /// the kinetic energy of some admissible motion along free quasi-velocity number `speed`
     /// (with the speeds before it) is negative, which no physical parameters give.
     IndefiniteMassMatrix { speed: usize, value: f64 },
-    /// A value the checks read is not a finite number: with `speed` `Some(j)`, the pivot or
-    /// the diagonal entry of the reduced mass matrix for free quasi-velocity number j; with
+    /// A value the checks read is not a finite number: with `speed` `Some(j)`, the pivot for
+    /// free quasi-velocity number j or the reduced mass matrix's scale; with
     /// `None`, an entry of A(q) (B computed by LU). Not a singular matrix: the right-hand side
     /// is undefined here.
     NonFinite { speed: Option<usize> },
@@ -27,14 +27,14 @@ pub enum Singularity {
 
 impl Singularity {
     /// What a failed check of the LDLᵀ pivot `pivot` for free quasi-velocity number `speed`
-    /// means, its diagonal entry being `diagonal` and the check `pivot > tolerance·|diagonal|`
-    /// (generated code calls this on the cold path): a value that is not finite, a pivot
-    /// negative beyond that tolerance (an indefinite matrix), or one that is zero to it (a
-    /// singular matrix).
-    pub fn mass_pivot(speed: usize, pivot: f64, diagonal: f64, tolerance: f64) -> Singularity {
-        if !(pivot.is_finite() && diagonal.is_finite()) {
+    /// means, the matrix's scale being `scale` (Σ|M_kk|, its trace) and the check
+    /// `pivot > tolerance·scale` (generated code calls this on the cold path): a value that is
+    /// not finite, a pivot negative beyond that tolerance (an indefinite matrix), or one that
+    /// is zero to it (a singular matrix).
+    pub fn mass_pivot(speed: usize, pivot: f64, scale: f64, tolerance: f64) -> Singularity {
+        if !(pivot.is_finite() && scale.is_finite()) {
             Singularity::NonFinite { speed: Some(speed) }
-        } else if pivot < -tolerance * diagonal.abs() {
+        } else if pivot < -tolerance * scale.abs() {
             Singularity::IndefiniteMassMatrix {
                 speed,
                 value: pivot,
@@ -45,6 +45,28 @@ impl Singularity {
                 value: pivot,
             }
         }
+    }
+
+    /// What a failed check of the LDLᵀ pivots means, from all of them and the diagonal entries
+    /// of the reduced mass matrix, the check being `pivot > tolerance·Σ|diagonal|` for each
+    /// (generated code calls this on the cold path): the first speed whose pivot or diagonal
+    /// entry is not finite ([`Singularity::NonFinite`]; a NaN spoils the scale, and so every
+    /// check, but it belongs to one speed), or else the first pivot that fails, as
+    /// [`Singularity::mass_pivot`] tells.
+    pub fn mass_pivots(pivots: &[f64], diagonal: &[f64], tolerance: f64) -> Singularity {
+        let finite =
+            |k: usize| pivots[k].is_finite() && diagonal.get(k).is_none_or(|d| d.is_finite());
+        if let Some(speed) = (0..pivots.len()).find(|&k| !finite(k)) {
+            return Singularity::NonFinite { speed: Some(speed) };
+        }
+        let scale: f64 = diagonal.iter().map(|d| d.abs()).sum();
+        // Every value is finite here, so `<=` is the negation of the check's `>`.
+        let speed = pivots
+            .iter()
+            .position(|&p| p <= tolerance * scale)
+            .unwrap_or(0);
+        let pivot = pivots.get(speed).copied().unwrap_or(f64::NAN);
+        Singularity::mass_pivot(speed, pivot, scale, tolerance)
     }
 
     /// The full error at time `t` and `state`, naming the coordinate or speed concerned.
@@ -196,8 +218,8 @@ pub enum Error {
 
     #[error(
         "singular reduced mass matrix at t = {}: the motion along `{speed}` has no inertia here \
-         (its pivot in the LDLᵀ factorization, {}, is zero to rounding beside its diagonal \
-         entry); check the kinetic energy, or whether the model's geometry degenerates at this \
+         (its pivot in the LDLᵀ factorization, {}, is zero to rounding beside the matrix's \
+         trace); check the kinetic energy, or whether the model's geometry degenerates at this \
          configuration; state: {state}",
         Num(*t), Num(*value)
     )]

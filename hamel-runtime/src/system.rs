@@ -112,7 +112,7 @@ pub trait HamelSystem: Parameters {
     const SPEEDS: &'static [&'static str];
     /// Names of the constraints: the rows of the constraint function, then those of the
     /// holonomic function, as named in `#[hamel_system(constraints(..))]` (`blade`), or by
-    /// default after the functions (`blade[0]`, `contact[0]`).
+    /// default after the functions and the rows' indices (`blade0`, `contact0_x`).
     const CONSTRAINTS: &'static [&'static str];
     /// Names of the inputs.
     const INPUTS: &'static [&'static str];

@@ -146,13 +146,14 @@ fn non_finite_values_in_messages() {
 }
 
 /// A failed LDLᵀ pivot check, sorted: rounding below zero is still a singular matrix, a
-/// pivot negative beyond the tolerance an indefinite one, a NaN or infinite pivot or diagonal
-/// entry neither.
+/// pivot negative beyond the tolerance an indefinite one, a NaN or infinite pivot or scale
+/// neither.
 #[test]
 fn failed_mass_pivots_are_told_apart() {
     use hamel_runtime::Singularity;
     let tol = 1e-13;
     let singular = |value| Singularity::MassMatrix { speed: 2, value };
+    let singular_at = |speed, value| Singularity::MassMatrix { speed, value };
     assert_eq!(Singularity::mass_pivot(2, 0.0, 0.0, tol), singular(0.0));
     assert_eq!(
         Singularity::mass_pivot(2, -1e-17, 1.0, tol),
@@ -184,6 +185,29 @@ fn failed_mass_pivots_are_told_apart() {
             Singularity::NonFinite { speed: Some(2) }
         );
     }
+    // From all the pivots and diagonal entries, with the scale Σ|M_kk|: the first pivot that
+    // is zero beside it (not beside its own diagonal entry, which it equals here), and the
+    // speed whose entries are not finite, though a NaN spoils the scale of every check.
+    let pivots = Singularity::mass_pivots;
+    assert_eq!(
+        pivots(&[2.0, 3.7e-34], &[2.0, 3.7e-34], tol),
+        singular_at(1, 3.7e-34)
+    );
+    assert_eq!(
+        pivots(&[1e-14, 1.0], &[1e-14, 1.0], tol),
+        singular_at(0, 1e-14)
+    );
+    assert_eq!(
+        pivots(&[2.0, -0.5, 1.0], &[2.0, 0.5, 1.0], tol),
+        Singularity::IndefiniteMassMatrix {
+            speed: 1,
+            value: -0.5
+        }
+    );
+    assert_eq!(
+        pivots(&[2.0, f64::NAN, f64::NAN], &[2.0, f64::NAN, 1.0], tol),
+        Singularity::NonFinite { speed: Some(1) }
+    );
     // Named, with the time and the state.
     let state = NamedValues::new(&["x", "v"], &[f64::NAN, 1.0]);
     let e = Singularity::NonFinite { speed: None }.at(0.25, state, &["x"], &["v"]);

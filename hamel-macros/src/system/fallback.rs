@@ -30,6 +30,8 @@ pub struct Sketch {
     constraint_fn: String,
     /// The holonomic function's name and written length.
     holonomic: Option<(String, usize)>,
+    /// The block is a piece of a model ([`Roles::is_fragment`]): no stand-ins.
+    fragment: bool,
 }
 
 impl Sketch {
@@ -78,20 +80,7 @@ impl Sketch {
             constraints: names.constraints.as_ref().map(|_| plain(&constraints)),
             constraint_fn,
             holonomic,
-        }
-    }
-
-    /// A sketch that knows nothing (the attribute is on the wrong kind of impl).
-    pub fn empty() -> Sketch {
-        Sketch {
-            index_consts: Vec::new(),
-            dims: None,
-            coordinates: Vec::new(),
-            speeds: Vec::new(),
-            inputs: Vec::new(),
-            constraints: None,
-            constraint_fn: String::new(),
-            holonomic: None,
+            fragment: roles.is_fragment(),
         }
     }
 }
@@ -166,7 +155,7 @@ pub fn fallback(
         }
     }
     let error = error.into_compile_error();
-    if imp.trait_.is_some() {
+    if sketch.fragment {
         return quote!(#stripped #error);
     }
     let inherent = inherent_items(imp, sketch, &mut taken);
@@ -229,15 +218,15 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
     let (n, p, m) = dims;
     let k = sketch.holonomic.as_ref().map_or(0, |(_, k)| *k).min(p);
     // The names as the model would have them: those of `constraints(..)`, when there are as
-    // many as rows, or else the functions' (`blade[0]`).
+    // many as rows, or else the functions' (`blade0`).
     let constraints = match &sketch.constraints {
         Some(names) if names.len() == p => names.clone(),
         _ => {
             let mut rows: Vec<String> = (0..p - k)
-                .map(|i| format!("{}[{i}]", sketch.constraint_fn))
+                .map(|i| format!("{}{i}", sketch.constraint_fn))
                 .collect();
             if let Some((name, _)) = &sketch.holonomic {
-                rows.extend((0..k).map(|i| format!("{name}[{i}]")));
+                rows.extend((0..k).map(|i| format!("{name}{i}")));
             }
             rows
         }

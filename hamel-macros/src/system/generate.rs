@@ -8,15 +8,20 @@ use crate::engine::emit::{Code, Emitter, Scalar};
 use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::External;
 use proc_macro2::{Ident, Span, TokenStream};
-use quote::{quote, quote_spanned};
+use quote::{format_ident, quote, quote_spanned};
 use std::collections::BTreeMap;
 use syn::ext::IdentExt;
 
-/// Relative size below which a pivot of the mass matrix counts as zero. For a positive
-/// definite matrix 0 < D_j ≤ M_jj: the ratio is the share of the inertia along speed j that
-/// the coupling to the speeds before it leaves, so each pivot is compared with its own
-/// diagonal entry (which is also cheaper than finding the matrix's largest entry: these
-/// checks run in every right-hand side).
+/// Relative size below which a pivot of the mass matrix counts as zero, against the matrix's
+/// scale: the sum of its diagonal entries' magnitudes, which for a positive definite matrix is
+/// its trace and nuclear norm (the sum of its eigenvalues), between its largest eigenvalue and
+/// n − p times it (an indefinite matrix's trace could be zero or negative, and let a zero pivot
+/// pass). A pivot that small makes
+/// the solve return what the rounding of the entries decides (a model whose inertia I·cos²θ
+/// vanishes at θ = π/2 has the pivot 4e-34 there, from cos(π/2) = 6e-17 in floating point, and
+/// the acceleration 1.6e16). A pivot is not compared with its own diagonal entry only: for a
+/// speed that no other one couples to, they are equal, whatever their size. The scale costs
+/// n − p − 1 additions in every right-hand side, and a NaN in it fails every check.
 const PIVOT_TOLERANCE: f64 = 1e-13;
 
 /// What a method reads: `x: &State` (coordinates then speeds) and `u`, or `q` alone, or `q`
@@ -207,24 +212,30 @@ impl<'g> Context<'g> {
         }
     }
 
-    /// The checks of the mass matrix's LDLᵀ pivots against their diagonal entries.
+    /// The checks of the mass matrix's LDLᵀ pivots against its scale, Σ|M_kk|
+    /// (`PIVOT_TOLERANCE`): one comparison per pivot on the hot path; which pivot failed, and
+    /// whether for a value that is not finite, an indefinite or a singular matrix, the runtime
+    /// sorts out from all of them on the cold path.
     fn mass_checks(&self, diagonal: &[NodeId], re: &dyn Fn(NodeId) -> TokenStream) -> TokenStream {
         let tolerance = PIVOT_TOLERANCE;
-        let mut tokens = TokenStream::new();
-        // One comparison per pivot on the hot path; whether a failure is a value that is not
-        // finite, an indefinite or a singular matrix is sorted out by the runtime.
-        for (j, (&d, &m)) in self.eq.pivots.iter().zip(diagonal).enumerate() {
-            let (v, diag) = (re(d), re(m));
-            let j = lit(j);
-            tokens.extend(quote! {
-                let pivot = #v;
-                let diagonal = #diag;
-                if !(pivot > #tolerance * diagonal.abs()) {
-                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivot(#j, pivot, diagonal, #tolerance));
+        let diagonal: Vec<TokenStream> = diagonal.iter().map(|&m| re(m)).collect();
+        let pivots: Vec<TokenStream> = self.eq.pivots.iter().map(|&d| re(d)).collect();
+        let (ds, ps): (Vec<Ident>, Vec<Ident>) = (0..pivots.len())
+            .map(|j| (format_ident!("diagonal{}", j), format_ident!("pivot{}", j)))
+            .unzip();
+        let checks = ps.iter().map(|p| {
+            quote! {
+                if !(#p > #tolerance * scale) {
+                    return ::core::result::Result::Err(::hamel::Singularity::mass_pivots(&[#(#ps),*], &[#(#ds),*], #tolerance));
                 }
-            });
+            }
+        });
+        quote! {
+            #(let #ds = #diagonal;)*
+            #(let #ps = #pivots;)*
+            let scale = #(f64::abs(#ds))+*;
+            #(#checks)*
         }
-        tokens
     }
 
     /// An `f64` method body returning `Ok(value)` after the checks.
@@ -289,10 +300,13 @@ pub fn generate(
         |ids: &[syn::Ident]| -> Vec<String> { ids.iter().map(|i| i.unraw().to_string()).collect() };
     let row_names = |f: &syn::ImplItemFn, count: usize| -> Vec<String> {
         (0..count)
-            .map(|i| format!("{}[{i}]", f.sig.ident.unraw()))
+            .map(|i| super::equations::constraint_row(f, i))
             .collect()
     };
-    // Named in `constraints(..)`, or after the functions: `blade[0]`, then `contact[0]`.
+    // Named in `constraints(..)`, or after the functions and the rows' indices, as an indexed
+    // group is (`theta[3]` is `theta0`…): `blade0`, then `wheel0_x`, `wheel0_y`, `rail0`,
+    // `wheel0_height`. Each is then an identifier, and so is its force column in a CSV header
+    // (`lambda_blade0`).
     let constraints = match &spec.constraint_names {
         Some(names) => plain(names),
         None => {
@@ -304,7 +318,7 @@ pub fn generate(
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
                 rows.extend(
-                    (0..c.count).flat_map(|i| [format!("{name}[{i}].x"), format!("{name}[{i}].y")]),
+                    (0..c.count).flat_map(|i| [format!("{name}{i}_x"), format!("{name}{i}_y")]),
                 );
             }
             if let Some(h) = &spec.holonomic {
@@ -312,7 +326,7 @@ pub fn generate(
             }
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
-                rows.extend((0..c.dependent.len()).map(|i| format!("{name}.height[{i}]")));
+                rows.extend((0..c.dependent.len()).map(|i| format!("{name}{i}_height")));
             }
             rows
         }

@@ -138,8 +138,12 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         jacobian: jacobian_body,
     } = b;
     let prepared_len = lit(*prepared_len);
+    // `do_not_recommend`: rustc's "the trait `HamelSystem` is not implemented for `Model`"
+    // would otherwise list every model of the program (the catalogue's too) as the types that
+    // do implement it, ten lines of no help under each such error.
     quote! {
         #[allow(clippy::all)]
+        #[diagnostic::do_not_recommend]
         impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
             type Coordinates = [f64; #n_l];
             type Speeds = [f64; #free];

@@ -42,9 +42,8 @@ pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
             let error = syn::Error::new_spanned(
                 &other,
                 "`#[hamel_system]` goes on the model's parameter struct and on its impl block",
-            )
-            .into_compile_error();
-            quote!(#other #error)
+            );
+            parameters::not_a_struct(&other, error)
         }
         Err(e) => {
             let error = e.into_compile_error();
@@ -92,7 +91,7 @@ fn expand_impl(
             path,
             "`#[hamel_system]` goes on the model's inherent impl block (`impl Model { .. }`)",
         );
-        return fallback(imp, &HashSet::new(), &Sketch::empty(), error);
+        return on_trait_impl(attr, imp, error);
     }
     let mut errors = Vec::new();
     let names = model::parse_names(attr, &mut errors);
@@ -155,6 +154,25 @@ fn expand_impl(
     };
     generate::generate(&spec, &equations, &graph, &read, &stripped)
         .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
+}
+
+/// `#[hamel_system]` on a trait impl (`impl HamelSystem for Model`): the error, and the block
+/// as the inherent impl it should be, with the stand-ins of a model with mistakes. Emitted as
+/// written, its functions would each be "not a member of the trait", and the program's uses of
+/// the model would each miss its `impl HamelSystem`.
+fn on_trait_impl(attr: TokenStream, imp: &syn::ItemImpl, error: syn::Error) -> TokenStream {
+    let mut inherent = imp.clone();
+    inherent.trait_ = None;
+    inherent.unsafety = None;
+    // Only functions and constants can be inherent items (associated types cannot).
+    inherent
+        .items
+        .retain(|item| matches!(item, syn::ImplItem::Fn(_) | syn::ImplItem::Const(_)));
+    let mut ignored = Vec::new();
+    let names = model::parse_names(attr, &mut ignored);
+    let roles = model::Roles::find(&inherent.items, &mut ignored);
+    let sketch = Sketch::new(&names, &roles);
+    fallback(&inherent, &HashSet::new(), &sketch, error)
 }
 
 /// When the model has a mistake, the bodies the equations did not reach (the model could not

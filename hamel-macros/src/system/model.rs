@@ -133,7 +133,7 @@ pub struct Names {
     pub speeds: Option<(Span, Vec<syn::Ident>)>,
     pub inputs: Vec<syn::Ident>,
     /// The constraint rows' names: those of `#[constraints]`, then those of `#[holonomic]`
-    /// (`None`: `blade[0]`, the function's name and the row).
+    /// (`None`: `blade0`, the function's name and the row).
     pub constraints: Option<(Span, Vec<syn::Ident>)>,
     /// `inputs(..)` as written, for errors about the inputs as a whole.
     pub inputs_written: Option<TokenStream>,
@@ -462,6 +462,23 @@ impl<'a> Roles<'a> {
 
     pub fn get(&self, role: Role) -> Option<&RoleFn<'a>> {
         self.by_role.get(&role)
+    }
+
+    /// Roles, but neither an energy nor constraints: the block is a piece of a model whose
+    /// other roles are in another impl block (with `#[hamel_system]` too, or it would not be
+    /// read), so it is not the model, and it gets no stand-in of the model when it has mistakes:
+    /// the other block's would clash with it.
+    pub fn is_fragment(&self) -> bool {
+        let holds = |roles: &[Role]| roles.iter().any(|r| self.by_role.contains_key(r));
+        !self.by_role.is_empty()
+            && !holds(&[
+                Role::Lagrangian,
+                Role::KineticEnergy,
+                Role::PotentialEnergy,
+                Role::QuasiLagrangian,
+                Role::Bodies,
+            ])
+            && !holds(&[Role::Constraints, Role::Holonomic, Role::Contacts])
     }
 }
 

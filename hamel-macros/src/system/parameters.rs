@@ -7,23 +7,32 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::{Fields, ItemStruct};
 
-/// The struct with its `Parameters` implementation; on mistakes, also their errors (the
-/// implementation then covers the `f64` fields, so that the model's impl block does not
-/// add an error of its own about a missing `Parameters`).
+/// The struct with its `Parameters` implementation; on mistakes, also their errors. Whatever
+/// the mistakes, the struct gets an implementation, so that the model's impl block and the
+/// program add no error of their own about a missing `Parameters`: for a generic struct one
+/// whose methods are never reached, and a field of type `f32` is emitted as `f64`, so that the
+/// model's functions read it without an error at each use.
 pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
-    let (fields, errors) = fields_and_errors(&attr, item);
-    let mut errors = errors.into_iter();
-    let error = errors.next().map(|mut first| {
-        for e in errors {
-            first.combine(e);
-        }
-        first.into_compile_error()
-    });
-    if error.is_some() && !item.generics.params.is_empty() {
-        return quote!(#item #error);
+    let errors = errors(&attr, item);
+    let error = combined(errors);
+    if !item.generics.params.is_empty() {
+        let stand_in = stand_in(&item.ident, &item.generics);
+        return quote!(#item #error #stand_in);
     }
-    let is_f64 = |field: &syn::Field| kind(&field.ty).is_some();
-    let fields: Vec<&syn::Field> = fields.into_iter().filter(|f| is_f64(f)).collect();
+    let mut emitted = item.clone();
+    for field in emitted.fields.iter_mut() {
+        if let Some(ty) = as_f64(&field.ty) {
+            field.ty = ty;
+        }
+    }
+    let fields: Vec<&syn::Field> = match &emitted.fields {
+        Fields::Named(named) => named
+            .named
+            .iter()
+            .filter(|f| kind(&f.ty).is_some())
+            .collect(),
+        _ => Vec::new(),
+    };
     let ty = &item.ident;
     let entries = entries(&fields);
     let error = match duplicates(&entries, &fields) {
@@ -37,9 +46,11 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     let reads: Vec<&TokenStream> = entries.iter().map(|(_, r, _)| r).collect();
     let docs: Vec<&String> = entries.iter().map(|(_, _, d)| d).collect();
     quote! {
-        #item
+        #emitted
         #error
 
+        // Not listed under "`Parameters` is not implemented for `Other`" (see `interface`).
+        #[diagnostic::do_not_recommend]
         impl ::hamel::Parameters for #ty {
             const NAMES: &'static [&'static str] = &[#(#names),*];
             const DOCS: &'static [&'static str] = &[#(#docs),*];
@@ -77,11 +88,51 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     }
 }
 
-/// The struct's fields, and every mistake in the attribute, the struct or a field's type.
-fn fields_and_errors<'s>(
-    attr: &TokenStream,
-    item: &'s ItemStruct,
-) -> (Vec<&'s syn::Field>, Vec<syn::Error>) {
+/// `#[hamel_system]` on an item that cannot be a parameter struct (an enum, a union): the
+/// error, the item, and an implementation of `Parameters` never reached, for the same reason
+/// as a generic struct's.
+pub fn not_a_struct(item: &syn::Item, error: syn::Error) -> TokenStream {
+    let error = error.into_compile_error();
+    let stand_in = match item {
+        syn::Item::Enum(e) => stand_in(&e.ident, &e.generics),
+        syn::Item::Union(u) => stand_in(&u.ident, &u.generics),
+        _ => TokenStream::new(),
+    };
+    quote!(#item #error #stand_in)
+}
+
+/// `impl Parameters` for a parameter struct with mistakes that leave its fields unknown: its
+/// methods are never reached, since the errors keep the crate from building.
+fn stand_in(ident: &syn::Ident, generics: &syn::Generics) -> TokenStream {
+    let (impl_generics, ty_generics, where_clause) = generics.split_for_impl();
+    let never = quote!(::core::unreachable!(
+        "hamel: the parameter struct has errors, reported at build time"
+    ));
+    quote! {
+        #[diagnostic::do_not_recommend]
+        #[allow(unused_variables)]
+        impl #impl_generics ::hamel::Parameters for #ident #ty_generics #where_clause {
+            const NAMES: &'static [&'static str] = &[];
+            const DOCS: &'static [&'static str] = &[];
+            fn get(&self, name: &str) -> ::core::option::Option<f64> { #never }
+            fn set(&mut self, name: &str, value: f64) -> ::core::result::Result<(), ::hamel::Error> { #never }
+        }
+    }
+}
+
+fn combined(errors: Vec<syn::Error>) -> Option<TokenStream> {
+    let mut errors = errors.into_iter();
+    errors.next().map(|mut first| {
+        for e in errors {
+            first.combine(e);
+        }
+        first.into_compile_error()
+    })
+}
+
+/// Every mistake in the attribute, the struct or a field's type. A field whose type is one of
+/// the struct's generic parameters (`m: T`) is the generic struct's mistake, reported once.
+fn errors(attr: &TokenStream, item: &ItemStruct) -> Vec<syn::Error> {
     let mut errors = Vec::new();
     if !attr.is_empty() {
         errors.push(syn::Error::new_spanned(
@@ -93,7 +144,8 @@ fn fields_and_errors<'s>(
     if !item.generics.params.is_empty() {
         errors.push(syn::Error::new_spanned(
             &item.generics,
-            "a parameter struct cannot be generic: its fields are the model's `f64` parameters",
+            "a parameter struct cannot be generic: its fields are the model's parameters, each an \
+             `f64` (`m: f64`) or an array of them with a literal length (`m: [f64; 3]`)",
         ));
     }
     let fields: Vec<&syn::Field> = match &item.fields {
@@ -107,7 +159,11 @@ fn fields_and_errors<'s>(
             Vec::new()
         }
     };
+    let generic = generic_names(&item.generics);
     for field in fields.iter().filter(|f| kind(&f.ty).is_none()) {
+        if mentions(&field.ty, &generic) {
+            continue;
+        }
         let name = field
             .ident
             .as_ref()
@@ -123,7 +179,71 @@ fn fields_and_errors<'s>(
             ),
         ));
     }
-    (fields, errors)
+    errors
+}
+
+/// The names of a struct's generic parameters: types, lifetimes and constants.
+fn generic_names(generics: &syn::Generics) -> Vec<String> {
+    generics
+        .params
+        .iter()
+        .map(|p| match p {
+            syn::GenericParam::Type(t) => t.ident.to_string(),
+            syn::GenericParam::Lifetime(l) => l.lifetime.to_string(),
+            syn::GenericParam::Const(c) => c.ident.to_string(),
+        })
+        .collect()
+}
+
+/// Whether a type names one of these generic parameters anywhere (`T`, `[f64; N]`, `&'a f64`).
+fn mentions(ty: &syn::Type, generic: &[String]) -> bool {
+    fn walk(tokens: TokenStream, generic: &[String]) -> bool {
+        let mut after_quote = false;
+        for tree in tokens {
+            match tree {
+                proc_macro2::TokenTree::Group(g) => {
+                    if walk(g.stream(), generic) {
+                        return true;
+                    }
+                    after_quote = false;
+                }
+                proc_macro2::TokenTree::Punct(p) => after_quote = p.as_char() == '\'',
+                proc_macro2::TokenTree::Ident(i) => {
+                    let name = if after_quote {
+                        format!("'{i}")
+                    } else {
+                        i.to_string()
+                    };
+                    if generic.contains(&name) {
+                        return true;
+                    }
+                    after_quote = false;
+                }
+                proc_macro2::TokenTree::Literal(_) => after_quote = false,
+            }
+        }
+        false
+    }
+    walk(quote::ToTokens::to_token_stream(ty), generic)
+}
+
+/// `f64` in place of `f32` (and `[f64; 3]` of `[f32; 3]`): the parameter is a number in
+/// another precision, reported, and read by the model's functions, which compute in `f64`.
+fn as_f64(ty: &syn::Type) -> Option<syn::Type> {
+    match ty {
+        syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f32") => {
+            let span = syn::spanned::Spanned::span(ty);
+            Some(syn::Type::Verbatim(quote::quote_spanned!(span=> f64)))
+        }
+        syn::Type::Group(g) => as_f64(&g.elem),
+        syn::Type::Array(a) => {
+            let elem = as_f64(&a.elem)?;
+            let mut a = a.clone();
+            *a.elem = elem;
+            Some(syn::Type::Array(a))
+        }
+        _ => None,
+    }
 }
 
 /// `Some(None)` for `f64`, `Some(Some(len))` for `[f64; len]` with a literal length.

@@ -7,8 +7,11 @@
 use super::generic;
 use crate::engine::graph::NodeId;
 use crate::engine::lower::Lowerer;
+use syn::ext::IdentExt;
 
-/// A row of A, named as at run time (`speeds[1]`), with the function it comes from.
+/// A row of A, with the function it comes from: a constraint row named as at run time
+/// (`blade1`, `wheel0_x`), a quasi-velocity as the entry of its function's result
+/// (`speeds[1]`).
 pub struct Row<'a> {
     pub f: &'a syn::ImplItemFn,
     pub index: usize,
@@ -21,12 +24,11 @@ pub struct Row<'a> {
 
 impl Row<'_> {
     fn name(&self) -> String {
+        let function = self.f.sig.ident.unraw();
         match self.slip {
-            Some(axis) => format!(
-                "`{}[{}]` (its slip along {axis})",
-                self.f.sig.ident, self.index
-            ),
-            None => format!("`{}[{}]`", self.f.sig.ident, self.index),
+            Some(axis) => format!("`{function}{}_{axis}` (its slip along {axis})", self.index),
+            None if self.constraint => format!("`{function}{}`", self.index),
+            None => format!("`{function}[{}]`", self.index),
         }
     }
 }

@@ -3,9 +3,13 @@
 //! messages must point at the user's own code and say what is wrong and what is expected, and
 //! one mistake gives one error: the `uses_model_*` cases use the broken model as a program
 //! would, and rustc must add nothing to the macro's error. (Role attributes outside the impl
-//! block with `#[hamel_system]` run one by one, so each reports itself.)
+//! block with `#[hamel_system]` run one by one, so each reports itself.) Two cases record the
+//! exception: when the impl block or the struct lacks `#[hamel_system]`, no expansion sees both
+//! the model's type and its roles, nothing stands in for `impl HamelSystem` or `Parameters`,
+//! and rustc reports each use of the model too (`uses_model_missing_hamel_system_on_impl`,
+//! `uses_model_struct_without_hamel_system`); the first error still names the mistake.
 //!
-//! After changing a message: `TRYBUILD=overwrite cargo test --test ui`, then read the diff.
+//! After changing a message: `TRYBUILD=overwrite cargo test -p hamel-ui`, then read the diff.
 
 #[test]
 fn malformed_models_fail_to_build_with_messages_that_point_at_the_mistake() {

@@ -5,7 +5,8 @@
 //! The faulty models are defined here: a knife edge whose chosen quasi-velocity degenerates
 //! (A(q) singular, B from the generated LU), one with a typo in its closed-form inverse, and
 //! a skate whose reduced mass matrix becomes singular when a sliding bead passes over the
-//! contact point.
+//! contact point; and, in `near_singular_mass`, a skate whose turning inertia I·cos²θ is
+//! singular to rounding at θ = π/2.
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -15,6 +16,9 @@ use hamel::models::{
 use hamel::{
     DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity, hamel_system,
 };
+
+#[path = "bad_input/near_singular_mass.rs"]
+mod near_singular_mass;
 
 /// The message of an error after checking that it contains every `part`.
 #[track_caller]

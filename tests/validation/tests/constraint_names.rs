@@ -1,7 +1,7 @@
 //! Names of the constraint rows: `#[hamel_system(constraints(..))]` names them (the rows of
 //! `#[constraints]`, then the holonomic ones; indexed groups as in the other lists), each name
 //! gets an index constant and labels the constraint force's column `lambda_<name>`; without
-//! the key, rows are named after their function, `blade[0]`.
+//! the key, rows are named after their function and index, `blade0`.
 
 use hamel::models::{
     BallOnTurntable, ChaplyginSleigh, KnifeEdge, MobileRobot, MobileRobotPaper, NTrailer2,
@@ -94,7 +94,7 @@ impl RailedDefault {
 fn named_rows_label_the_constraint_forces_and_the_errors() -> Result<(), hamel::Error> {
     assert_eq!(Railed::CONSTRAINTS, ["skid0", "rail"]);
     assert_eq!((Railed::SKID, Railed::SKID0, Railed::RAIL), (0, 0, 1));
-    assert_eq!(RailedDefault::CONSTRAINTS, ["blade[0]", "rail[0]"]);
+    assert_eq!(RailedDefault::CONSTRAINTS, ["blade0", "rail0"]);
 
     let sleigh = Railed {
         m: 2.0,

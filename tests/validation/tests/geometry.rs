@@ -588,6 +588,9 @@ fn shared_helpers_serve_several_models() {
             }
         }
     }
+    // Without `constraints(..)`, a contact's rows are named after the function and the
+    // contact's index: identifiers, as the force columns of a CSV header must be.
+    assert_eq!(shared::Coin::CONSTRAINTS, ["contacts0_x", "contacts0_y"]);
     // At run time the helpers are ordinary functions.
     let body = disks::Disks::rolling(1.0, 0.5, &[0.0; 5]);
     assert_eq!(body.centre, Vector3::new(0.0, 0.0, 0.5));

@@ -208,7 +208,7 @@ fn a_configuration_the_constraint_cannot_reach_is_an_error_naming_it() {
     let e = REDUNDANT.assemble(0.5, &q).unwrap_err();
     let message = e.to_string();
     println!("{message}");
-    assert!(message.contains("rigid[0]"), "{message}");
+    assert!(message.contains("rigid0"), "{message}");
     assert!(message.contains("x2"), "{message}");
     assert!(message.contains("0.5"), "{message}");
     // And a state built on it is refused, never a NaN trajectory.

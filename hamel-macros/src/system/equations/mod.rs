@@ -40,6 +40,7 @@ use super::ldlt;
 use super::spec::Spec;
 use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::{Lowerer, Value};
+pub use rows::constraint_row;
 use std::collections::HashMap;
 use transformation::Transformation;
 

@@ -57,6 +57,13 @@ pub fn build<'a>(
         .copied()
         .collect();
     let (a, offset) = coefficients(g, &all, v);
+    // Before A's regularity: a constant holonomic constraint gives a row of zeros, which the
+    // structural check would blame on the quasi-velocities.
+    if let Some(jacobian) = &jacobian
+        && !varies(lowerer, spec, jacobian)
+    {
+        return None;
+    }
     let structure = regular(lowerer, spec, &a)?;
     let holonomic = match jacobian {
         Some(jacobian) => {
@@ -247,6 +254,53 @@ fn named_rows<'a>(spec: &Spec<'a>) -> Vec<rank::Row<'a>> {
     rows
 }
 
+/// Each holonomic constraint (and contact's height) must depend on the coordinates: one that
+/// does not (a constant, a function of the time alone) holds nowhere or everywhere, and fixes
+/// none of them. Its row of ∂f/∂q is zero by construction, so this is a structural check.
+fn varies(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<NodeId>]) -> bool {
+    let Some(i) = jacobian
+        .iter()
+        .position(|row| row.iter().all(|&e| lowerer.graph.is_zero(e)))
+    else {
+        return true;
+    };
+    // One row per coordinate determined, in the same order (`spec::dependent`).
+    let Some(name) = spec.dependent().get(i).map(|&j| &spec.coordinates[j]) else {
+        return true;
+    };
+    let written = spec.written_holonomic();
+    let error = match (&spec.holonomic, &spec.geometry.contacts) {
+        (Some(h), _) if i < written => syn::Error::new_spanned(
+            row_source(h.f, i),
+            format!(
+                "the holonomic constraint `{}` depends on no coordinate: f = 0 is to fix `{name}` \
+                 in terms of the others, but this f is the same at every q, so it holds \
+                 everywhere or nowhere; write f(q) so that it varies with `{name}`, or remove the \
+                 constraint",
+                constraint_row(h.f, i),
+            ),
+        ),
+        (_, Some(c)) => syn::Error::new_spanned(
+            c.attr,
+            format!(
+                "the height of contact {} depends on no coordinate, so it cannot determine \
+                 `{name}`: leave `{name}` out of `#[contacts(determines(..))]`",
+                i - written,
+            ),
+        ),
+        _ => return true,
+    };
+    lowerer.push_error(error);
+    false
+}
+
+/// The name of row `index` of a constraint function as the model has it at run time, when
+/// `constraints(..)` does not name it: `blade0`, `blade1`.
+pub fn constraint_row(f: &syn::ImplItemFn, index: usize) -> String {
+    use syn::ext::IdentExt;
+    format!("{}{index}", f.sig.ident.unraw())
+}
+
 /// The holonomic constraints (and the contacts' heights) must determine the coordinates they
 /// are said to: ∂f/∂q on those columns regular at generic points.
 fn determines(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<NodeId>]) -> bool {
@@ -268,11 +322,11 @@ fn determines(lowerer: &mut Lowerer<'_, '_>, spec: &Spec<'_>, jacobian: &[Vec<No
         (Some(h), _) if i < written => syn::Error::new_spanned(
             row_source(h.f, i),
             format!(
-                "the holonomic constraint `{}[{i}]` does not determine `{name}`: together with the \
+                "the holonomic constraint `{}` does not determine `{name}`: together with the \
                  constraints before it, its derivative with respect to {} is singular at generic \
                  configurations; name, in `#[holonomic(determines(..))]`, the coordinates the \
                  constraints can be solved for",
-                h.f.sig.ident,
+                constraint_row(h.f, i),
                 all.join(", ")
             ),
         ),
@@ -319,8 +373,13 @@ pub fn check_affine(
     let mut ok = true;
     let form = format!("Σ a_j(q, t)·{var_name}[j] + a(q, t)");
     for (i, &row) in rows.iter().enumerate() {
-        // Rows are named as at run time: `blade[1]` is row 1 of the function `blade`.
-        let row_name = format!("`{}[{i}]`", f.sig.ident);
+        // A constraint row is named as at run time: `blade1` is row 1 of the function
+        // `blade`; a quasi-velocity by its entry in the function's result, `speeds[1]`.
+        let row_name = if what == "constraint" {
+            format!("`{}`", constraint_row(f, i))
+        } else {
+            format!("`{}[{i}]`", f.sig.ident)
+        };
         let problem = match linearity::classify(lowerer.graph, row, vars) {
             Verdict::Linear | Verdict::Affine => continue,
             Verdict::Zero if what == "constraint" => format!(

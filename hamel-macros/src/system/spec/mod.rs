@@ -94,7 +94,7 @@ pub struct Spec<'a> {
     pub speeds: Vec<syn::Ident>,
     pub inputs: Vec<syn::Ident>,
     /// The constraint rows' names, when `constraints(..)` gives them (otherwise each row is
-    /// named after its function, `blade[0]`).
+    /// named after its function and its index, `blade0`).
     pub constraint_names: Option<Vec<syn::Ident>>,
     /// The indexed groups of names (coordinates, speeds, inputs, constraints).
     pub groups: [Vec<Group>; 4],
@@ -161,12 +161,36 @@ struct Shape<'r, 'a> {
 /// (a name, an optional role's signature) is reported without stopping them, so that the
 /// mistakes in the bodies are found in the same build. `at` is what errors about the model
 /// as a whole point at (`impl Model`).
+/// A block with `#[hamel_system]` that holds neither the energy nor the constraints
+/// ([`Roles::is_fragment`]): one error, rather than one per role it lacks.
+fn fragment(roles: &Roles<'_>, at: &TokenStream) -> syn::Error {
+    let held: Vec<String> = roles
+        .by_role
+        .iter()
+        .map(|(role, rf)| format!("`#[{}] {}`", role.attribute(), rf.f.sig.ident))
+        .collect();
+    syn::Error::new_spanned(
+        at,
+        format!(
+            "this impl block has `#[hamel_system]` and {}, but neither the model's energy nor its \
+             constraints: all the roles of a model go in one impl block, which alone carries \
+             `#[hamel_system(coordinates(..))]`; if the others are in another impl block, move \
+             these functions there and remove `#[hamel_system]` from this one",
+            held.join(", ")
+        ),
+    )
+}
+
 pub fn check<'a>(
     names: Names,
     roles: &Roles<'a>,
     lowerer: &mut Lowerer<'_, '_>,
     at: &TokenStream,
 ) -> Option<Spec<'a>> {
+    if roles.is_fragment() {
+        lowerer.push_error(fragment(roles, at));
+        return None;
+    }
     let mut ok = true;
     let coordinates = coordinate_names(
         names.coordinates.clone(),
@@ -293,13 +317,15 @@ fn model_shape<'r, 'a>(
     let contacts_role = roles.get(Role::Contacts);
     record_expected_signatures(roles, n, m, lowerer);
     let heights = contacts_role.map_or(0, |c| c.determines.len());
-    let k = holonomic_count(holonomic, lowerer, ok) + heights;
+    let counted = holonomic_count(holonomic, lowerer, ok);
+    let k = counted.unwrap_or(0) + heights;
     let contacts = geometry_count(contacts_role, GeoKind::Contact, lowerer, ok);
     let bodies = geometry_count(roles.get(Role::Bodies), GeoKind::Body, lowerer, ok);
     let contacts = contacts_role.zip(contacts);
     let p = match contacts_role {
-        // A failed `#[contacts]` leaves the rows uncounted.
+        // A failed `#[contacts]` or `#[holonomic]` leaves the rows uncounted.
         Some(_) if contacts.is_none() => None,
+        _ if counted.is_none() => None,
         _ => constraint_count(constraints, contacts, k, coordinates, lowerer, ok).map(|p| p + k),
     };
     Shape {
@@ -367,9 +393,8 @@ fn check_all_names(
     ok: &mut bool,
 ) -> Option<Vec<syn::Ident>> {
     let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
-    // (A failed `#[holonomic]` leaves its k unknown: the rows cannot be counted.)
-    let failed = shape.holonomic.is_some() && shape.k == heights;
-    let rows = shape.p.filter(|_| !failed).map(|p| Rows {
+    // (A failed `#[holonomic]` leaves the rows uncounted: `p` is `None`.)
+    let rows = shape.p.map(|p| Rows {
         constraints: shape.constraints.map(|c| c.f),
         contacts: shape.contacts.map(|(c, count)| (c.f, count, heights)),
         nonholonomic: p - shape.k,

@@ -8,20 +8,23 @@ use crate::system::model::{RoleFn, names_of};
 use syn::ext::IdentExt;
 
 /// k, from the holonomic function's result type: at least one constraint (0 without one).
+/// `None` when the result type is not an array of them (reported): the rows cannot be counted,
+/// and the checks that need their number (the quasi-velocities', the speed names') are left
+/// out rather than made against a count that is wrong.
 pub(super) fn holonomic_count(
     holonomic: Option<&RoleFn<'_>>,
     lowerer: &mut Lowerer<'_, '_>,
     ok: &mut bool,
-) -> usize {
+) -> Option<usize> {
     let Some(h) = holonomic else {
-        return 0;
+        return Some(0);
     };
     let k = lowerer.signature(h.f).and_then(|sig| match sig.output {
         Some(Shape::Array(k, inner)) if *inner == Shape::Real => Some(k),
         _ => None,
     });
     match k {
-        Some(k) if k > 0 => k,
+        Some(k) if k > 0 => Some(k),
         Some(_) => {
             fail(
                 lowerer,
@@ -32,7 +35,7 @@ pub(super) fn holonomic_count(
                      holonomic constraint f(q) = 0, or remove the role",
                 ),
             );
-            0
+            None
         }
         None => {
             fail(
@@ -41,10 +44,10 @@ pub(super) fn holonomic_count(
                 error_at_output(
                     h.f,
                     "`#[holonomic]` must return an array `[f64; K]`, one entry per holonomic \
-                     constraint f(q) = 0",
+                     constraint f(q) = 0 (for one constraint, `-> [f64; 1]` and `[f]`)",
                 ),
             );
-            0
+            None
         }
     }
 }

@@ -1,0 +1,33 @@
+// A holonomic constraint that depends on no coordinate: one error, at the constant, which
+// says so (not that the quasi-velocities leave A(q) singular).
+use hamel::prelude::*;
+
+#[hamel_system]
+pub struct Sleigh {
+    pub m: f64,
+    pub inertia: f64,
+    pub a: f64,
+}
+
+#[hamel_system(coordinates(x, y, theta), speeds(v))]
+impl Sleigh {
+    #[kinetic_energy]
+    fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.inertia * qd[2] * qd[2]
+    }
+    #[constraints]
+    fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [-qd[0] * q[2].sin() + qd[1] * q[2].cos() - self.a * qd[2]]
+    }
+    #[holonomic(determines(y))]
+    fn rail(&self, _q: &[f64; 3]) -> [f64; 1] {
+        [1.0]
+    }
+
+    #[quasi_velocities]
+    fn speeds(&self, _q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[2]]
+    }
+}
+
+fn main() {}

@@ -1,0 +1,42 @@
+// A holonomic function that returns `f64`, not `[f64; 1]`, in a model that `main` uses: one
+// error (not also the quasi-velocities' length and the speed names, which a wrong count of the
+// constraint rows would call wrong).
+use hamel::prelude::*;
+
+#[hamel_system]
+pub struct Sleigh {
+    pub m: f64,
+    pub inertia: f64,
+    pub a: f64,
+}
+
+#[hamel_system(coordinates(x, y, theta), speeds(v))]
+impl Sleigh {
+    #[kinetic_energy]
+    fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {
+        0.5 * self.m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * self.inertia * qd[2] * qd[2]
+    }
+    #[constraints]
+    fn blade(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [-qd[0] * q[2].sin() + qd[1] * q[2].cos() - self.a * qd[2]]
+    }
+    #[holonomic(determines(y))]
+    fn rail(&self, q: &[f64; 3]) -> f64 {
+        q[1] - 0.5 * q[0]
+    }
+
+    #[quasi_velocities]
+    fn speeds(&self, _q: &[f64; 3], qd: &[f64; 3]) -> [f64; 1] {
+        [qd[2]]
+    }
+}
+
+fn main() -> Result<(), hamel::Error> {
+    let sleigh = Sleigh { m: 2.0, inertia: 0.5, a: 0.4 };
+    let x0 = sleigh.state_from_speeds(0.0, &[0.0, 0.0, 0.0], &[1.0])?;
+    let run = Simulation::new(&sleigh, x0)
+        .end_time(1.0)
+        .run_constant(&DormandPrince::new(1e-10, 1e-12), [])?;
+    println!("{}", run.summary());
+    Ok(())
+}
