@@ -575,19 +575,21 @@ fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
                 ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx),
             }
         },
+        // Only inherent methods are called here: a call through the trait would add an error
+        // of its own where the parameter struct lacks `#[hamel_system]`.
         rhs_power_prepared: if eq.conservative {
             quote! {
-                self.rhs_prepared(prepared, t, x, u, dx)?;
+                match <&[f64; #count]>::try_from(prepared) {
+                    ::core::result::Result::Ok(prepared) => self.__hamel_rhs_prepared::<f64>(prepared, t, x, u, dx)?,
+                    ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx)?,
+                }
                 ::core::result::Result::Ok(0.0)
             }
         } else {
             quote! {
                 match <&[f64; #count]>::try_from(prepared) {
                     ::core::result::Result::Ok(prepared) => self.__hamel_rhs_power_prepared(prepared, t, x, u, dx),
-                    ::core::result::Result::Err(_) => {
-                        self.rhs_generic::<f64>(t, x, u, dx)?;
-                        ::hamel::HamelSystem::power(self, t, x, u)
-                    }
+                    ::core::result::Result::Err(_) => self.__hamel_rhs_power_prepared(&self.__hamel_prepare(), t, x, u, dx),
                 }
             }
         },
