@@ -8,7 +8,7 @@
 // tests (benches are built with `cfg(test)`, without running the tests), is unused here.
 #![allow(unused)]
 
-#[path = "../hamel-macros/src/differentiate.rs"]
+#[path = "../hamel-macros/src/differentiate/mod.rs"]
 mod differentiate;
 #[path = "../hamel-macros/src/engine/mod.rs"]
 mod engine;

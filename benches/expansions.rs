@@ -1,8 +1,9 @@
-//! Writes what `#[hamel_system]` expands every model of the repository into, one file per
-//! impl block, so that a change meant to leave the generated code alone can be checked: the
-//! catalogue (`src/models/`, the N-trailer for N = 1, 2, 24), the examples, the validation
-//! suite's models and every compile-fail case (whose expansion is the error fallback with its
-//! messages).
+//! Writes what `#[hamel_system]` expands every model of the repository into, and what
+//! `#[differentiate]` expands every impl it marks into, one file per impl block, so that a
+//! change meant to leave the generated code alone can be checked: the catalogue
+//! (`src/models/`, the N-trailer for N = 1, 2, 24), the examples, the validation suite's
+//! models and differentiated functions, and every compile-fail case (whose expansion is the
+//! error fallback with its messages).
 //!
 //! ```text
 //! cargo bench -p hamel-benches --bench expansions -- /tmp/before
@@ -16,7 +17,7 @@
 
 #![allow(unused)]
 
-#[path = "../hamel-macros/src/differentiate.rs"]
+#[path = "../hamel-macros/src/differentiate/mod.rs"]
 mod differentiate;
 #[path = "../hamel-macros/src/engine/mod.rs"]
 mod engine;
@@ -29,9 +30,17 @@ use proc_macro2::TokenStream;
 use quote::ToTokens;
 use std::path::{Path, PathBuf};
 
-/// The `#[hamel_system]` items of a source file, at any depth of inline modules and
-/// functions' bodies: (label, attribute arguments, item without the attribute).
-fn models(source: &str) -> Vec<(String, TokenStream, TokenStream)> {
+/// Which macro an impl block carries.
+#[derive(Clone, Copy, PartialEq)]
+enum Macro {
+    HamelSystem,
+    Differentiate,
+}
+
+/// The `#[hamel_system]` and `#[differentiate]` items of a source file, at any depth of
+/// inline modules and functions' bodies: (macro, label, attribute arguments, item without the
+/// attribute).
+fn models(source: &str) -> Vec<(Macro, String, TokenStream, TokenStream)> {
     let Ok(file) = syn::parse_file(source) else {
         return Vec::new();
     };
@@ -40,13 +49,20 @@ fn models(source: &str) -> Vec<(String, TokenStream, TokenStream)> {
     found
 }
 
-fn collect(items: &[syn::Item], found: &mut Vec<(String, TokenStream, TokenStream)>) {
+fn collect(items: &[syn::Item], found: &mut Vec<(Macro, String, TokenStream, TokenStream)>) {
     for item in items {
         match item {
             syn::Item::Impl(imp) => {
                 let mut imp = imp.clone();
-                let Some(at) = imp.attrs.iter().position(is_hamel_system) else {
-                    continue;
+                let marked = |name: &str| {
+                    imp.attrs
+                        .iter()
+                        .position(|a| a.path().segments.last().is_some_and(|s| s.ident == name))
+                };
+                let (kind, at) = match (marked("hamel_system"), marked("differentiate")) {
+                    (Some(at), _) => (Macro::HamelSystem, at),
+                    (None, Some(at)) => (Macro::Differentiate, at),
+                    (None, None) => continue,
                 };
                 let attr = imp.attrs.remove(at);
                 let args = match attr.meta {
@@ -54,7 +70,7 @@ fn collect(items: &[syn::Item], found: &mut Vec<(String, TokenStream, TokenStrea
                     _ => TokenStream::new(),
                 };
                 let label = imp.self_ty.to_token_stream().to_string().replace(' ', "");
-                found.push((label, args, imp.into_token_stream()));
+                found.push((kind, label, args, imp.into_token_stream()));
             }
             syn::Item::Mod(m) => {
                 if let Some((_, items)) = &m.content {
@@ -76,13 +92,6 @@ fn collect(items: &[syn::Item], found: &mut Vec<(String, TokenStream, TokenStrea
             _ => {}
         }
     }
-}
-
-fn is_hamel_system(a: &syn::Attribute) -> bool {
-    a.path()
-        .segments
-        .last()
-        .is_some_and(|s| s.ident == "hamel_system")
 }
 
 /// The items `hamel::n_trailer!` defines for N trailers, as source (as in `expand.rs`).
@@ -146,8 +155,11 @@ fn main() {
     }
     let mut count = 0;
     for (label, source) in sources {
-        for (i, (name, args, item)) in models(&source).into_iter().enumerate() {
-            let expanded = system::expand(args, item).to_string();
+        for (i, (kind, name, args, item)) in models(&source).into_iter().enumerate() {
+            let expanded = match kind {
+                Macro::HamelSystem => system::expand(args, item).to_string(),
+                Macro::Differentiate => differentiate::expand(args, item).to_string(),
+            };
             let file = out.join(format!("{label}__{i}_{name}.txt"));
             std::fs::write(&file, expanded).expect("the expansion can be written");
             count += 1;

@@ -1,0 +1,303 @@
+//! The generated methods of a differentiated function, one per derivative kind: each binds
+//! the function's arguments (and its own extra ones) to the graph's inputs and emits the
+//! straight-line code of its roots.
+
+use super::derivatives::{Derivatives, Lowered};
+use super::{ToGeneric, element, nest};
+use crate::engine::emit::{Code, Emitter, Scalar};
+use crate::engine::graph::{Graph, NodeId};
+use crate::engine::ops;
+use proc_macro2::{Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+use syn::ext::IdentExt;
+use syn::visit_mut::VisitMut;
+
+/// What every method of one function shares: the graph, the function's signature, its
+/// derivatives and an emitter with the inputs bound.
+pub struct Writer<'g> {
+    graph: &'g Graph,
+    f: &'g syn::ImplItemFn,
+    lowered: &'g Lowered,
+    derived: &'g Derivatives,
+    emitter: Emitter<'g>,
+    /// n and m, as literals.
+    n: Literal,
+    m: Literal,
+}
+
+impl<'g> Writer<'g> {
+    pub fn new(
+        graph: &'g Graph,
+        f: &'g syn::ImplItemFn,
+        lowered: &'g Lowered,
+        derived: &'g Derivatives,
+    ) -> Self {
+        let mut writer = Writer {
+            graph,
+            f,
+            lowered,
+            derived,
+            emitter: Emitter::new(graph, Scalar::F64),
+            n: Literal::usize_unsuffixed(lowered.x.len()),
+            m: Literal::usize_unsuffixed(lowered.y.len()),
+        };
+        writer.emitter = writer.bind(Scalar::F64);
+        writer
+    }
+
+    /// An emitter with the arguments, the parameters and the extra arguments bound.
+    fn bind(&self, scalar: Scalar) -> Emitter<'g> {
+        let (lowered, derived) = (self.lowered, self.derived);
+        let generic = matches!(scalar, Scalar::Generic(_));
+        let mut e = Emitter::new(self.graph, scalar.clone());
+        let mut k = 0;
+        for arg in &lowered.args {
+            for i in 0..arg.shape.len() {
+                e.bind(lowered.x[k], element(arg, i));
+                k += 1;
+            }
+        }
+        for ext in &lowered.externals.items {
+            let tokens = &ext.tokens;
+            if let (true, Scalar::Generic(s)) = (generic, &scalar) {
+                e.bind(ext.node, quote!(<#s as ::hamel::Scalar>::from_f64(#tokens)));
+            } else {
+                e.bind(ext.node, tokens.clone());
+            }
+        }
+        for (name, nodes) in [
+            ("dir", &derived.dir),
+            ("dir_u", &derived.dir_u),
+            ("dir_v", &derived.dir_v),
+        ] {
+            let ident = format_ident!("{}", name);
+            for (i, &node) in nodes.iter().enumerate() {
+                let i = Literal::usize_unsuffixed(i);
+                e.bind(node, quote!(#ident[#i]));
+            }
+        }
+        if lowered.y.len() > 1 {
+            for (i, &node) in derived.weights.iter().enumerate() {
+                let i = Literal::usize_unsuffixed(i);
+                e.bind(node, quote!(weights[#i]));
+            }
+        }
+        e
+    }
+
+    /// `[f64]` results as an array.
+    fn emit_array(&self, nodes: &[NodeId]) -> syn::Result<(Code, TokenStream)> {
+        let code = self.emitter.emit(nodes)?;
+        let items = nodes.iter().map(|&id| code.value(id));
+        let value = quote!([#(#items),*]);
+        Ok((code, value))
+    }
+
+    /// Rows of results as an array of arrays.
+    fn emit_matrix(&self, rows: &[Vec<NodeId>]) -> syn::Result<(Code, TokenStream)> {
+        let code = self.emitter.emit(&flat(rows))?;
+        let rows = rows.iter().map(|r| {
+            let items = r.iter().map(|&id| code.value(id));
+            quote!([#(#items),*])
+        });
+        let value = quote!([#(#rows),*]);
+        Ok((code, value))
+    }
+
+    /// `fn <name>_<suffix>(args, extra) -> ret { body }`.
+    fn method(
+        &self,
+        suffix: &str,
+        doc: String,
+        extra: TokenStream,
+        ret: TokenStream,
+        body: syn::Result<(Code, TokenStream)>,
+    ) -> syn::Result<TokenStream> {
+        let (code, value) = body?;
+        let stmts = &code.stmts;
+        let (name, vis) = (&self.f.sig.ident, &self.f.vis);
+        let receiver = self.lowered.receiver.then(|| quote!(&self,));
+        let params = self.lowered.args.iter().map(|a| {
+            let (id, ty) = (&a.name, &a.ty);
+            quote!(#id: #ty)
+        });
+        let attrs = attributes();
+        let ident = format_ident!("{}_{}", name, suffix);
+        Ok(quote! {
+            #[doc = #doc]
+            #attrs
+            #vis fn #ident(#receiver #(#params,)* #extra) -> #ret {
+                #stmts
+                #value
+            }
+        })
+    }
+
+    /// "[`Self::f`]", for the methods' documentation.
+    fn of(&self) -> String {
+        format!("[`Self::{}`]", self.f.sig.ident)
+    }
+
+    pub fn tangent(&self) -> syn::Result<TokenStream> {
+        let (n, m, of) = (&self.n, &self.m, self.of());
+        self.method(
+            "tangent",
+            format!(
+                "Directional derivative of {of}: F'(x)·dir. Generated by `#[hamel::differentiate]`."
+            ),
+            quote!(dir: &[f64; #n]),
+            quote!([f64; #m]),
+            self.emit_array(&self.derived.tangent),
+        )
+    }
+
+    /// The gradient of a scalar function, or the weighted adjoint of a vector one.
+    pub fn gradient(&self) -> syn::Result<TokenStream> {
+        let (n, m, of) = (&self.n, &self.m, self.of());
+        if self.lowered.y.len() == 1 {
+            self.method(
+                "gradient",
+                format!("Gradient of {of} (reverse mode). Generated by `#[hamel::differentiate]`."),
+                TokenStream::new(),
+                quote!([f64; #n]),
+                self.emit_array(&self.derived.gradient),
+            )
+        } else {
+            self.method(
+                "adjoint",
+                format!("Weighted gradient of {of}: weightsᵀ·F'(x) (reverse mode). Generated by `#[hamel::differentiate]`."),
+                quote!(weights: &[f64; #m]),
+                quote!([f64; #n]),
+                self.emit_array(&self.derived.gradient),
+            )
+        }
+    }
+
+    pub fn jacobian(&self) -> syn::Result<TokenStream> {
+        let (n, m, of) = (&self.n, &self.m, self.of());
+        self.method(
+            "jacobian",
+            format!(
+                "Jacobian of {of}, one row per output. Generated by `#[hamel::differentiate]`."
+            ),
+            TokenStream::new(),
+            quote!([[f64; #n]; #m]),
+            self.emit_matrix(&self.derived.jacobian),
+        )
+    }
+
+    pub fn hessian(&self) -> syn::Result<TokenStream> {
+        let (n, m, of) = (&self.n, &self.m, self.of());
+        let weights = (self.lowered.y.len() > 1).then(|| quote!(weights: &[f64; #m]));
+        self.method(
+            "hessian",
+            format!("Hessian of {of} (of weightsᵀ·F for vector results), forward over reverse. Generated by `#[hamel::differentiate]`."),
+            quote!(#weights),
+            quote!([[f64; #n]; #n]),
+            self.emit_matrix(&self.derived.hessian),
+        )
+    }
+
+    pub fn second(&self) -> syn::Result<TokenStream> {
+        let (n, m, of) = (&self.n, &self.m, self.of());
+        self.method(
+            "second",
+            format!("Bidirectional second derivative of {of}: F''(x)[dir_u, dir_v]. Generated by `#[hamel::differentiate]`."),
+            quote!(dir_u: &[f64; #n], dir_v: &[f64; #n]),
+            quote!([f64; #m]),
+            self.emit_array(&self.derived.second),
+        )
+    }
+
+    /// The function itself over any `hamel::Scalar` (`f_generic`).
+    pub fn generic(&self) -> syn::Result<TokenStream> {
+        let (name, vis, of) = (&self.f.sig.ident, &self.f.vis, self.of());
+        let s = syn::Ident::new("S", Span::call_site());
+        let code = self
+            .bind(Scalar::Generic(s.clone()))
+            .emit(&self.lowered.y)?;
+        let stmts = &code.stmts;
+        let y = &self.lowered.y;
+        let value = nest(
+            &self.lowered.output_shape,
+            &mut y.iter().map(|&id| code.value(id)),
+        );
+        let mut to_generic = ToGeneric(s.clone());
+        let params: Vec<TokenStream> = self
+            .lowered
+            .args
+            .iter()
+            .map(|a| {
+                let mut ty = a.ty.clone();
+                to_generic.visit_type_mut(&mut ty);
+                let id = &a.name;
+                quote!(#id: #ty)
+            })
+            .collect();
+        let mut ret = match &self.f.sig.output {
+            syn::ReturnType::Type(_, ty) => (**ty).clone(),
+            syn::ReturnType::Default => syn::parse_quote!(()),
+        };
+        to_generic.visit_type_mut(&mut ret);
+        let receiver = self.lowered.receiver.then(|| quote!(&self,));
+        let generic_name = format_ident!("{}_generic", name);
+        let doc = format!(
+            "{of} computed over any [`hamel::Scalar`] (e.g. dual numbers). Generated by `#[hamel::differentiate]`."
+        );
+        let attrs = attributes();
+        Ok(quote! {
+            #[doc = #doc]
+            #attrs
+            #vis fn #generic_name<#s: ::hamel::Scalar>(#receiver #(#params),*) -> #ret {
+                #stmts
+                #value
+            }
+        })
+    }
+
+    /// `F_OPS`: the operation counts of the function and of each derivative.
+    pub fn op_counts(&self) -> syn::Result<TokenStream> {
+        let (name, vis, of) = (&self.f.sig.ident, &self.f.vis, self.of());
+        let d = self.derived;
+        let count = |nodes: &[NodeId]| ops::count(self.graph, nodes).total();
+        let function = count(&self.lowered.y);
+        let tangent = count(&d.tangent);
+        let gradient = count(&d.gradient);
+        let jacobian = count(&flat(&d.jacobian));
+        let hessian = count(&flat(&d.hessian));
+        let second = count(&d.second);
+        let upper = format!("{}_OPS", name.unraw().to_string().to_uppercase());
+        let Ok(mut ops_name) = syn::parse_str::<syn::Ident>(&upper) else {
+            return Err(syn::Error::new_spanned(
+                name,
+                format!(
+                    "`{name}` has no upper-case form that is an identifier (`{upper}`), which names its operation counts"
+                ),
+            ));
+        };
+        ops_name.set_span(name.span());
+        let doc = format!("Operation counts of {of} and its generated derivatives.");
+        Ok(quote! {
+            #[doc = #doc]
+            #vis const #ops_name: ::hamel::OpCounts = ::hamel::OpCounts {
+                function: #function,
+                tangent: #tangent,
+                gradient: #gradient,
+                jacobian: #jacobian,
+                hessian: #hessian,
+                second: #second,
+            };
+        })
+    }
+}
+
+fn attributes() -> TokenStream {
+    quote! {
+        #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]
+        #[inline]
+    }
+}
+
+fn flat(rows: &[Vec<NodeId>]) -> Vec<NodeId> {
+    rows.iter().flatten().copied().collect()
+}
