@@ -98,46 +98,50 @@ pub fn rhs_generic_signature(dims: Dims) -> TokenStream {
     }
 }
 
+/// The literals the signatures are written with: n, p, m, k, n − p, the state's length and
+/// the lengths derived from them.
+struct Lengths {
+    n: Literal,
+    p: Literal,
+    m: Literal,
+    k: Literal,
+    free: Literal,
+    state: Literal,
+    extended: Literal,
+    holonomic_jacobian: Literal,
+    state_jacobian: Literal,
+    input_jacobian: Literal,
+}
+
+impl Lengths {
+    fn of(dims: Dims) -> Self {
+        let Dims { n, p, m, k } = dims;
+        let s = 2 * n - p;
+        Lengths {
+            n: lit(n),
+            p: lit(p),
+            m: lit(m),
+            k: lit(k),
+            free: lit(n - p),
+            state: lit(s),
+            extended: lit(s + 1),
+            holonomic_jacobian: lit(k * n),
+            state_jacobian: lit(s * s),
+            input_jacobian: lit(s * m),
+        }
+    }
+}
+
 pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
-    let Dims { n, p, m, k } = h.dims;
-    let (n_l, p_l, m_l, k_l) = (lit(n), lit(p), lit(m), lit(k));
-    let s = 2 * n - p;
-    let (free, state, extended, jacobian) = (lit(n - p), lit(s), lit(s + 1), lit(k * n));
-    let (state_jacobian, input_jacobian) = (lit(s * s), lit(s * m));
+    let l = Lengths::of(h.dims);
     let ty = &h.imp.self_ty;
     let (impl_generics, _, where_clause) = h.imp.generics.split_for_impl();
-    let (coordinates, speeds, inputs, constraints) =
-        (&h.coordinates, &h.speeds, &h.inputs, &h.constraints);
-    let state_names = coordinates.iter().chain(speeds);
-    let dependent = h.dependent.iter().map(|&i| lit(i));
-    let (conservative, reversible) = (h.conservative, h.reversible);
-    let constant_determinant = h.constant_determinant;
-    let result = quote!(::core::result::Result);
-    let singularity = quote!(::hamel::Singularity);
-    // `#[inline]` on every method: besides inlining, it makes their code generated only in the
-    // crates that call them, so a library of models (the catalogue) does not compile the
-    // Jacobian, the constraint forces or γ of every model for nobody.
-    let allow = quote!(#[inline] #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
-    let Bodies {
-        rhs,
-        prepared_len,
-        prepare,
-        rhs_prepared,
-        rhs_power_prepared,
-        generalized_velocities,
-        energy,
-        power,
-        constraint_forces,
-        constraint_residual,
-        speeds: speeds_body,
-        holonomic_residual,
-        holonomic_jacobian,
-        mass_matrix,
-        gamma,
-        inverse_defect,
-        jacobian: jacobian_body,
-    } = b;
-    let prepared_len = lit(*prepared_len);
+    let types = associated_types(&l);
+    let consts = associated_consts(h, &l, b.prepared_len);
+    let right_hand_side = right_hand_side(&l, b);
+    let motion = motion(&l, b);
+    let rows = rows(&l, b);
+    let matrices = matrices(&l, b);
     // `do_not_recommend`: rustc's "the trait `HamelSystem` is not implemented for `Model`"
     // would otherwise list every model of the program (the catalogue's too) as the types that
     // do implement it, ten lines of no help under each such error.
@@ -145,98 +149,225 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
         #[allow(clippy::all)]
         #[diagnostic::do_not_recommend]
         impl #impl_generics ::hamel::HamelSystem for #ty #where_clause {
-            type Coordinates = [f64; #n_l];
-            type Speeds = [f64; #free];
-            type Constraints = [f64; #p_l];
-            type State = [f64; #state];
-            type Inputs = [f64; #m_l];
-            type Holonomic = [f64; #k_l];
-            type HolonomicJacobian = [f64; #jacobian];
-            type Extended = [f64; #extended];
-            type MassMatrix = [[f64; #free]; #free];
-            type Gamma = [[[f64; #free]; #free]; #n_l];
-            type StateJacobian = [f64; #state_jacobian];
-            type InputJacobian = [f64; #input_jacobian];
+            #types
+            #consts
+            #right_hand_side
+            #motion
+            #rows
+            #matrices
+        }
+    }
+}
 
-            const N: usize = #n_l;
-            const P: usize = #p_l;
-            const M: usize = #m_l;
-            const K: usize = #k_l;
-            const COORDINATES: &'static [&'static str] = &[#(#coordinates),*];
-            const SPEEDS: &'static [&'static str] = &[#(#speeds),*];
-            const CONSTRAINTS: &'static [&'static str] = &[#(#constraints),*];
-            const INPUTS: &'static [&'static str] = &[#(#inputs),*];
-            const STATE: &'static [&'static str] = &[#(#state_names),*];
-            const DEPENDENT: &'static [usize] = &[#(#dependent),*];
-            const CONSERVATIVE: bool = #conservative;
-            const REVERSIBLE: bool = #reversible;
-            const PREPARED_LEN: usize = #prepared_len;
-            const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
+/// The array types of the coordinates, speeds, rows, state and matrices.
+fn associated_types(l: &Lengths) -> TokenStream {
+    let Lengths {
+        n,
+        p,
+        m,
+        k,
+        free,
+        state,
+        extended,
+        holonomic_jacobian,
+        state_jacobian,
+        input_jacobian,
+    } = l;
+    quote! {
+        type Coordinates = [f64; #n];
+        type Speeds = [f64; #free];
+        type Constraints = [f64; #p];
+        type State = [f64; #state];
+        type Inputs = [f64; #m];
+        type Holonomic = [f64; #k];
+        type HolonomicJacobian = [f64; #holonomic_jacobian];
+        type Extended = [f64; #extended];
+        type MassMatrix = [[f64; #free]; #free];
+        type Gamma = [[[f64; #free]; #free]; #n];
+        type StateJacobian = [f64; #state_jacobian];
+        type InputJacobian = [f64; #input_jacobian];
+    }
+}
 
-            #[inline]
-            fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
-                #rhs
-            }
-            #[inline]
-            fn prepare(&self, prepared: &mut [f64]) {
-                #prepare
-            }
-            #[inline]
-            fn rhs_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<(), #singularity> {
-                #rhs_prepared
-            }
-            #[inline]
-            fn rhs_power_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m_l], dx: &mut [f64; #state]) -> #result<f64, #singularity> {
-                #rhs_power_prepared
-            }
-            #allow
-            fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n_l], #singularity> {
-                #generalized_velocities
-            }
-            #allow
-            fn energy(&self, t: f64, x: &[f64; #state]) -> #result<f64, #singularity> {
-                #energy
-            }
-            #allow
-            fn power(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<f64, #singularity> {
-                #power
-            }
-            #allow
-            fn multipliers(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<[f64; #p_l], #singularity> {
-                #constraint_forces
-            }
-            #allow
-            fn constraint_residual(&self, t: f64, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #p_l] {
-                #constraint_residual
-            }
-            #allow
-            fn speeds(&self, t: f64, q: &[f64; #n_l], qd: &[f64; #n_l]) -> [f64; #free] {
-                #speeds_body
-            }
-            #allow
-            fn holonomic_residual(&self, t: f64, q: &[f64; #n_l]) -> [f64; #k_l] {
-                #holonomic_residual
-            }
-            #allow
-            fn holonomic_jacobian(&self, t: f64, q: &[f64; #n_l]) -> [f64; #jacobian] {
-                #holonomic_jacobian
-            }
-            #allow
-            fn mass_matrix(&self, t: f64, x: &[f64; #state]) -> #result<[[f64; #free]; #free], #singularity> {
-                #mass_matrix
-            }
-            #allow
-            fn gamma(&self, t: f64, q: &[f64; #n_l]) -> #result<[[[f64; #free]; #free]; #n_l], #singularity> {
-                #gamma
-            }
-            #allow
-            fn inverse_defect(&self, t: f64, q: &[f64; #n_l]) -> #result<f64, #singularity> {
-                #inverse_defect
-            }
-            #allow
-            fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m_l]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
-                #jacobian_body
-            }
+/// The dimensions, the names and what the macro knows of the model.
+fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenStream {
+    let Lengths { n, p, m, k, .. } = l;
+    let (coordinates, speeds, inputs, constraints) =
+        (&h.coordinates, &h.speeds, &h.inputs, &h.constraints);
+    let state_names = coordinates.iter().chain(speeds);
+    let dependent = h.dependent.iter().map(|&i| lit(i));
+    let (conservative, reversible) = (h.conservative, h.reversible);
+    let constant_determinant = h.constant_determinant;
+    let prepared_len = lit(prepared_len);
+    quote! {
+        const N: usize = #n;
+        const P: usize = #p;
+        const M: usize = #m;
+        const K: usize = #k;
+        const COORDINATES: &'static [&'static str] = &[#(#coordinates),*];
+        const SPEEDS: &'static [&'static str] = &[#(#speeds),*];
+        const CONSTRAINTS: &'static [&'static str] = &[#(#constraints),*];
+        const INPUTS: &'static [&'static str] = &[#(#inputs),*];
+        const STATE: &'static [&'static str] = &[#(#state_names),*];
+        const DEPENDENT: &'static [usize] = &[#(#dependent),*];
+        const CONSERVATIVE: bool = #conservative;
+        const REVERSIBLE: bool = #reversible;
+        const PREPARED_LEN: usize = #prepared_len;
+        const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
+    }
+}
+
+fn result() -> TokenStream {
+    quote!(::core::result::Result)
+}
+
+fn singularity() -> TokenStream {
+    quote!(::hamel::Singularity)
+}
+
+/// `#[inline]` on every method: besides inlining, it makes their code generated only in the
+/// crates that call them, so a library of models (the catalogue) does not compile the
+/// Jacobian, the constraint forces or γ of every model for nobody.
+fn allow() -> TokenStream {
+    quote!(#[inline] #[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)])
+}
+
+/// The right-hand side, plain and with the parameter-only values prepared.
+fn right_hand_side(l: &Lengths, b: &Bodies) -> TokenStream {
+    let Lengths { m, state, .. } = l;
+    let (result, singularity) = (result(), singularity());
+    let Bodies {
+        rhs,
+        prepare,
+        rhs_prepared,
+        rhs_power_prepared,
+        ..
+    } = b;
+    quote! {
+        #[inline]
+        fn rhs(&self, t: f64, x: &[f64; #state], u: &[f64; #m], dx: &mut [f64; #state]) -> #result<(), #singularity> {
+            #rhs
+        }
+        #[inline]
+        fn prepare(&self, prepared: &mut [f64]) {
+            #prepare
+        }
+        #[inline]
+        fn rhs_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m], dx: &mut [f64; #state]) -> #result<(), #singularity> {
+            #rhs_prepared
+        }
+        #[inline]
+        fn rhs_power_prepared(&self, prepared: &[f64], t: f64, x: &[f64; #state], u: &[f64; #m], dx: &mut [f64; #state]) -> #result<f64, #singularity> {
+            #rhs_power_prepared
+        }
+    }
+}
+
+/// What a state implies: the velocities, the energy, the power and the constraint forces.
+fn motion(l: &Lengths, b: &Bodies) -> TokenStream {
+    let Lengths { n, p, m, state, .. } = l;
+    let (result, singularity, allow) = (result(), singularity(), allow());
+    let Bodies {
+        generalized_velocities,
+        energy,
+        power,
+        constraint_forces,
+        ..
+    } = b;
+    quote! {
+        #allow
+        fn generalized_velocities(&self, t: f64, x: &[f64; #state]) -> #result<[f64; #n], #singularity> {
+            #generalized_velocities
+        }
+        #allow
+        fn energy(&self, t: f64, x: &[f64; #state]) -> #result<f64, #singularity> {
+            #energy
+        }
+        #allow
+        fn power(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<f64, #singularity> {
+            #power
+        }
+        #allow
+        fn multipliers(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<[f64; #p], #singularity> {
+            #constraint_forces
+        }
+    }
+}
+
+/// The rows of the velocity transformation and the holonomic constraints, as written.
+fn rows(l: &Lengths, b: &Bodies) -> TokenStream {
+    let Lengths {
+        n,
+        p,
+        k,
+        free,
+        holonomic_jacobian,
+        ..
+    } = l;
+    let allow = allow();
+    let Bodies {
+        constraint_residual,
+        speeds,
+        holonomic_residual,
+        holonomic_jacobian: holonomic_jacobian_body,
+        ..
+    } = b;
+    quote! {
+        #allow
+        fn constraint_residual(&self, t: f64, q: &[f64; #n], qd: &[f64; #n]) -> [f64; #p] {
+            #constraint_residual
+        }
+        #allow
+        fn speeds(&self, t: f64, q: &[f64; #n], qd: &[f64; #n]) -> [f64; #free] {
+            #speeds
+        }
+        #allow
+        fn holonomic_residual(&self, t: f64, q: &[f64; #n]) -> [f64; #k] {
+            #holonomic_residual
+        }
+        #allow
+        fn holonomic_jacobian(&self, t: f64, q: &[f64; #n]) -> [f64; #holonomic_jacobian] {
+            #holonomic_jacobian_body
+        }
+    }
+}
+
+/// The matrices for inspection and linearization: the mass matrix, γ, the inverse's defect
+/// and the Jacobian of the right-hand side.
+fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
+    let Lengths {
+        n,
+        m,
+        free,
+        state,
+        state_jacobian,
+        input_jacobian,
+        ..
+    } = l;
+    let (result, singularity, allow) = (result(), singularity(), allow());
+    let Bodies {
+        mass_matrix,
+        gamma,
+        inverse_defect,
+        jacobian,
+        ..
+    } = b;
+    quote! {
+        #allow
+        fn mass_matrix(&self, t: f64, x: &[f64; #state]) -> #result<[[f64; #free]; #free], #singularity> {
+            #mass_matrix
+        }
+        #allow
+        fn gamma(&self, t: f64, q: &[f64; #n]) -> #result<[[[f64; #free]; #free]; #n], #singularity> {
+            #gamma
+        }
+        #allow
+        fn inverse_defect(&self, t: f64, q: &[f64; #n]) -> #result<f64, #singularity> {
+            #inverse_defect
+        }
+        #allow
+        fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
+            #jacobian
         }
     }
 }
