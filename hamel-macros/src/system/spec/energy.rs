@@ -202,3 +202,37 @@ fn missing_energy(roles: &Roles<'_>, v: Option<&RoleFn<'_>>, at: &TokenStream) -
         ),
     }
 }
+
+/// The roles that give the rows of A: the constraints (required, unless rolling contacts
+/// give them) and the quasi-velocities (required).
+#[allow(clippy::type_complexity)]
+pub(super) fn rows_roles<'r, 'a>(
+    roles: &'r Roles<'a>,
+    lowerer: &mut Lowerer<'_, '_>,
+    at: &TokenStream,
+    ok: &mut bool,
+) -> (Option<&'r RoleFn<'a>>, Option<&'r RoleFn<'a>>) {
+    let constraints = match roles.get(Role::Contacts) {
+        Some(_) => roles.get(Role::Constraints),
+        None => required(
+            roles,
+            Role::Constraints,
+            lowerer,
+            at,
+            ok,
+            "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
+            " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
+        ),
+    };
+    let quasi_velocities = required(
+        roles,
+        Role::QuasiVelocities,
+        lowerer,
+        at,
+        ok,
+        "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
+         transformation ω = A(q)·qd",
+        "",
+    );
+    (constraints, quasi_velocities)
+}

@@ -4,8 +4,8 @@
 //! One file per concern: `signatures` (each role's signature against what it must be),
 //! `names` (the names of coordinates, speeds, inputs and constraints, and the reserved
 //! ones), `energy` (the roles that give the energy, and the required ones), `rows` (how
-//! many constraint rows the constraints and the holonomic constraints give, and the
-//! coordinates those determine).
+//! many constraint rows the constraints, the rolling contacts and the holonomic constraints
+//! give, and the coordinates those determine).
 
 mod energy;
 mod names;
@@ -14,17 +14,13 @@ mod signatures;
 
 pub use signatures::{argument_name, written_rows};
 
-use super::model::{Group, Names, Role, RoleFn, Roles};
+use super::model::{Group, Names, Role, Roles};
 use crate::engine::lower::Lowerer;
-use crate::engine::lower::geometry::GeoKind;
-use energy::{energy_roles, required};
-use names::{
-    Rows, check_group_names, check_inputs_are_read, check_names, constraint_names,
-    coordinate_names, speed_names,
-};
+use energy::{energy_roles, rows_roles};
+use names::{check_all_names, coordinate_names, speed_names};
 use proc_macro2::TokenStream;
-use rows::{constraint_count, dependent_coordinates, geometry_count, holonomic_count};
-use signatures::{check_signatures, record_expected_signatures};
+use rows::{dependent, model_shape};
+use signatures::check_signatures;
 use std::collections::HashSet;
 
 #[derive(Clone, Copy)]
@@ -144,25 +140,6 @@ impl Spec<'_> {
     }
 }
 
-/// What the role functions' signatures say the model's shape is, once checked.
-struct Shape<'r, 'a> {
-    constraints: Option<&'r RoleFn<'a>>,
-    holonomic: Option<&'r RoleFn<'a>>,
-    contacts: Option<(&'r RoleFn<'a>, usize)>,
-    bodies: Option<(&'a syn::ImplItemFn, usize)>,
-    /// Holonomic constraints: `#[holonomic]`'s and the contacts' heights.
-    k: usize,
-    /// All constraint rows, when they can be counted.
-    p: Option<usize>,
-}
-
-/// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
-/// model cannot be built at all. A mistake that does not stop the equations from being built
-/// (a name, an optional role's signature) is reported without stopping them, so that the
-/// mistakes in the bodies are found in the same build. `at` is what errors about the model
-/// as a whole point at (`impl Model`).
-/// A block with `#[hamel_system]` that holds neither the energy nor the constraints
-/// ([`Roles::is_fragment`]): one error, rather than one per role it lacks.
 fn fragment(roles: &Roles<'_>, at: &TokenStream) -> syn::Error {
     let held: Vec<String> = roles
         .by_role
@@ -266,152 +243,6 @@ pub fn check<'a>(
         },
         timed,
     })
-}
-
-/// The roles that give the rows of A: the constraints (required, unless rolling contacts
-/// give them) and the quasi-velocities (required).
-#[allow(clippy::type_complexity)]
-fn rows_roles<'r, 'a>(
-    roles: &'r Roles<'a>,
-    lowerer: &mut Lowerer<'_, '_>,
-    at: &TokenStream,
-    ok: &mut bool,
-) -> (Option<&'r RoleFn<'a>>, Option<&'r RoleFn<'a>>) {
-    let constraints = match roles.get(Role::Contacts) {
-        Some(_) => roles.get(Role::Constraints),
-        None => required(
-            roles,
-            Role::Constraints,
-            lowerer,
-            at,
-            ok,
-            "the constraint rows ω¹…ωᵖ(q, qd), linear in qd and zero on every motion",
-            " (without nonholonomic constraints a system is holonomic, and hamel is not the tool for it)",
-        ),
-    };
-    let quasi_velocities = required(
-        roles,
-        Role::QuasiVelocities,
-        lowerer,
-        at,
-        ok,
-        "the quasi-velocities ω^{p+1}…ωⁿ(q, qd) that complete the constraints to an invertible \
-         transformation ω = A(q)·qd",
-        "",
-    );
-    (constraints, quasi_velocities)
-}
-
-/// The counts the signatures give: holonomic constraints, contacts, bodies and with them
-/// every constraint row.
-fn model_shape<'r, 'a>(
-    roles: &'r Roles<'a>,
-    coordinates: &[syn::Ident],
-    m: usize,
-    lowerer: &mut Lowerer<'_, '_>,
-    ok: &mut bool,
-) -> Shape<'r, 'a> {
-    let n = coordinates.len();
-    let constraints = roles.get(Role::Constraints);
-    let holonomic = roles.get(Role::Holonomic);
-    let contacts_role = roles.get(Role::Contacts);
-    record_expected_signatures(roles, n, m, lowerer);
-    let heights = contacts_role.map_or(0, |c| c.determines.len());
-    let counted = holonomic_count(holonomic, lowerer, ok);
-    let k = counted.unwrap_or(0) + heights;
-    let contacts = geometry_count(contacts_role, GeoKind::Contact, lowerer, ok);
-    let bodies = geometry_count(roles.get(Role::Bodies), GeoKind::Body, lowerer, ok);
-    let contacts = contacts_role.zip(contacts);
-    let p = match contacts_role {
-        // A failed `#[contacts]` or `#[holonomic]` leaves the rows uncounted.
-        Some(_) if contacts.is_none() => None,
-        _ if counted.is_none() => None,
-        _ => constraint_count(constraints, contacts, k, coordinates, lowerer, ok).map(|p| p + k),
-    };
-    Shape {
-        constraints,
-        holonomic,
-        contacts,
-        bodies: roles
-            .get(Role::Bodies)
-            .zip(bodies)
-            .map(|(b, count)| (b.f, count)),
-        k,
-        p,
-    }
-}
-
-/// The coordinates the holonomic constraints and the contacts' heights determine: the
-/// holonomic role and the contacts, or `None` after a mistake (reported).
-#[allow(clippy::type_complexity)]
-fn dependent<'a>(
-    roles: &Roles<'a>,
-    shape: &Shape<'_, 'a>,
-    names: (&[syn::Ident], &[syn::Ident]),
-    lowerer: &mut Lowerer<'_, '_>,
-    ok: &mut bool,
-) -> Option<(Option<Holonomic<'a>>, Option<Contacts<'a>>)> {
-    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
-    let holonomic = match shape.holonomic {
-        Some(h) => {
-            let k = shape.k - heights;
-            let Some(dependent) = dependent_coordinates(h, Some(k), names, &[], lowerer) else {
-                *ok = false;
-                return None;
-            };
-            Some(Holonomic { f: h.f, dependent })
-        }
-        None => None,
-    };
-    let taken = holonomic.as_ref().map_or(&[][..], |h| &h.dependent[..]);
-    let contacts = match shape.contacts {
-        Some((c, count)) => {
-            let Some(dependent) = dependent_coordinates(c, None, names, taken, lowerer) else {
-                *ok = false;
-                return None;
-            };
-            Some(Contacts {
-                f: c.f,
-                attr: c.attr,
-                count,
-                dependent,
-            })
-        }
-        None => None,
-    };
-    Some((holonomic, contacts))
-}
-
-/// The constraint rows' names, and every list of names checked for clashes and reserved
-/// words.
-fn check_all_names(
-    names: &Names,
-    shape: &Shape<'_, '_>,
-    (coordinates, speeds): (&[syn::Ident], &[syn::Ident]),
-    roles: &Roles<'_>,
-    lowerer: &mut Lowerer<'_, '_>,
-    ok: &mut bool,
-) -> Option<Vec<syn::Ident>> {
-    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
-    // (A failed `#[holonomic]` leaves the rows uncounted: `p` is `None`.)
-    let rows = shape.p.map(|p| Rows {
-        constraints: shape.constraints.map(|c| c.f),
-        contacts: shape.contacts.map(|(c, count)| (c.f, count, heights)),
-        nonholonomic: p - shape.k,
-        holonomic: shape.holonomic.map(|h| h.f),
-        k: shape.k - heights,
-    });
-    let constraint_names = constraint_names(names, rows, lowerer);
-    let lists = [
-        coordinates,
-        speeds,
-        &names.inputs,
-        constraint_names.as_deref().unwrap_or_default(),
-    ];
-    check_names(lists, lowerer, ok);
-    check_group_names(&names.groups, lists, lowerer);
-    check_inputs_are_read(names, roles, coordinates.len(), lowerer);
-    constraint_names
 }
 
 /// "1 constraint", "2 constraints".

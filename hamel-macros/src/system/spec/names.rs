@@ -1,6 +1,7 @@
 //! The names of the coordinates, speeds, inputs and constraint rows: how many, that they
 //! are distinct and not reserved, and that declared inputs are read.
 
+use super::rows::ModelShape;
 use super::signatures::{expected, render};
 use super::{count, fail};
 use crate::engine::lower::Lowerer;
@@ -313,4 +314,36 @@ fn a(kind: &str) -> String {
     } else {
         format!("a {kind}")
     }
+}
+
+/// The constraint rows' names, and every list of names checked for clashes and reserved
+/// words.
+pub(super) fn check_all_names(
+    names: &Names,
+    shape: &ModelShape<'_, '_>,
+    (coordinates, speeds): (&[syn::Ident], &[syn::Ident]),
+    roles: &Roles<'_>,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<Vec<syn::Ident>> {
+    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    // (A failed `#[holonomic]` leaves the rows uncounted: `p` is `None`.)
+    let rows = shape.p.map(|p| Rows {
+        constraints: shape.constraints.map(|c| c.f),
+        contacts: shape.contacts.map(|(c, count)| (c.f, count, heights)),
+        nonholonomic: p - shape.k,
+        holonomic: shape.holonomic.map(|h| h.f),
+        k: shape.k - heights,
+    });
+    let constraint_names = constraint_names(names, rows, lowerer);
+    let lists = [
+        coordinates,
+        speeds,
+        &names.inputs,
+        constraint_names.as_deref().unwrap_or_default(),
+    ];
+    check_names(lists, lowerer, ok);
+    check_group_names(&names.groups, lists, lowerer);
+    check_inputs_are_read(names, roles, coordinates.len(), lowerer);
+    constraint_names
 }

@@ -1,10 +1,13 @@
-//! How many constraint rows a model has: the nonholonomic constraints' and the holonomic
-//! ones', and the coordinates the holonomic constraints determine.
+//! How many constraint rows a model has: the nonholonomic constraints' and the rolling
+//! contacts', the holonomic ones' and the contacts' heights (the model's shape, from the
+//! role functions' signatures), and the coordinates the holonomic constraints determine.
 
+use super::signatures::record_expected_signatures;
+use super::{Contacts, Holonomic};
 use super::{count, error_at_output, fail};
 use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::{Lowerer, Shape};
-use crate::system::model::{RoleFn, names_of};
+use crate::system::model::{Role, RoleFn, Roles, names_of};
 use syn::ext::IdentExt;
 
 /// k, from the holonomic function's result type: at least one constraint (0 without one).
@@ -266,4 +269,104 @@ fn rf_attribute(rf: &RoleFn<'_>) -> String {
         .last()
         .map(|s| s.ident.to_string())
         .unwrap_or_default()
+}
+
+/// What the role functions' signatures say the model's shape is, once checked.
+pub(super) struct ModelShape<'r, 'a> {
+    pub(super) constraints: Option<&'r RoleFn<'a>>,
+    pub(super) holonomic: Option<&'r RoleFn<'a>>,
+    pub(super) contacts: Option<(&'r RoleFn<'a>, usize)>,
+    pub(super) bodies: Option<(&'a syn::ImplItemFn, usize)>,
+    /// Holonomic constraints: `#[holonomic]`'s and the contacts' heights.
+    pub(super) k: usize,
+    /// All constraint rows, when they can be counted.
+    pub(super) p: Option<usize>,
+}
+
+/// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
+/// model cannot be built at all. A mistake that does not stop the equations from being built
+/// (a name, an optional role's signature) is reported without stopping them, so that the
+/// mistakes in the bodies are found in the same build. `at` is what errors about the model
+/// as a whole point at (`impl Model`).
+/// A block with `#[hamel_system]` that holds neither the energy nor the constraints
+/// ([`Roles::is_fragment`]): one error, rather than one per role it lacks.
+
+/// The counts the signatures give: holonomic constraints, contacts, bodies and with them
+/// every constraint row.
+pub(super) fn model_shape<'r, 'a>(
+    roles: &'r Roles<'a>,
+    coordinates: &[syn::Ident],
+    m: usize,
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> ModelShape<'r, 'a> {
+    let n = coordinates.len();
+    let constraints = roles.get(Role::Constraints);
+    let holonomic = roles.get(Role::Holonomic);
+    let contacts_role = roles.get(Role::Contacts);
+    record_expected_signatures(roles, n, m, lowerer);
+    let heights = contacts_role.map_or(0, |c| c.determines.len());
+    let counted = holonomic_count(holonomic, lowerer, ok);
+    let k = counted.unwrap_or(0) + heights;
+    let contacts = geometry_count(contacts_role, GeoKind::Contact, lowerer, ok);
+    let bodies = geometry_count(roles.get(Role::Bodies), GeoKind::Body, lowerer, ok);
+    let contacts = contacts_role.zip(contacts);
+    let p = match contacts_role {
+        // A failed `#[contacts]` or `#[holonomic]` leaves the rows uncounted.
+        Some(_) if contacts.is_none() => None,
+        _ if counted.is_none() => None,
+        _ => constraint_count(constraints, contacts, k, coordinates, lowerer, ok).map(|p| p + k),
+    };
+    ModelShape {
+        constraints,
+        holonomic,
+        contacts,
+        bodies: roles
+            .get(Role::Bodies)
+            .zip(bodies)
+            .map(|(b, count)| (b.f, count)),
+        k,
+        p,
+    }
+}
+
+/// The coordinates the holonomic constraints and the contacts' heights determine: the
+/// holonomic role and the contacts, or `None` after a mistake (reported).
+#[allow(clippy::type_complexity)]
+pub(super) fn dependent<'a>(
+    roles: &Roles<'a>,
+    shape: &ModelShape<'_, 'a>,
+    names: (&[syn::Ident], &[syn::Ident]),
+    lowerer: &mut Lowerer<'_, '_>,
+    ok: &mut bool,
+) -> Option<(Option<Holonomic<'a>>, Option<Contacts<'a>>)> {
+    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    let holonomic = match shape.holonomic {
+        Some(h) => {
+            let k = shape.k - heights;
+            let Some(dependent) = dependent_coordinates(h, Some(k), names, &[], lowerer) else {
+                *ok = false;
+                return None;
+            };
+            Some(Holonomic { f: h.f, dependent })
+        }
+        None => None,
+    };
+    let taken = holonomic.as_ref().map_or(&[][..], |h| &h.dependent[..]);
+    let contacts = match shape.contacts {
+        Some((c, count)) => {
+            let Some(dependent) = dependent_coordinates(c, None, names, taken, lowerer) else {
+                *ok = false;
+                return None;
+            };
+            Some(Contacts {
+                f: c.f,
+                attr: c.attr,
+                count,
+                dependent,
+            })
+        }
+        None => None,
+    };
+    Some((holonomic, contacts))
 }
