@@ -140,6 +140,8 @@ impl Spec<'_> {
     }
 }
 
+/// A block with `#[hamel_system]` that holds neither the energy nor the constraints
+/// ([`Roles::is_fragment`]): one error, rather than one per role it lacks.
 fn fragment(roles: &Roles<'_>, at: &TokenStream) -> syn::Error {
     let held: Vec<String> = roles
         .by_role
@@ -158,6 +160,11 @@ fn fragment(roles: &Roles<'_>, at: &TokenStream) -> syn::Error {
     )
 }
 
+/// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
+/// model cannot be built at all. A mistake that does not stop the equations from being built
+/// (a name, an optional role's signature) is reported without stopping them, so that the
+/// mistakes in the bodies are found in the same build. `at` is what errors about the model
+/// as a whole point at (`impl Model`).
 pub fn check<'a>(
     names: Names,
     roles: &Roles<'a>,

@@ -283,14 +283,6 @@ pub(super) struct ModelShape<'r, 'a> {
     pub(super) p: Option<usize>,
 }
 
-/// Check names, roles and signatures. Errors go to the lowerer's error list; `None` when the
-/// model cannot be built at all. A mistake that does not stop the equations from being built
-/// (a name, an optional role's signature) is reported without stopping them, so that the
-/// mistakes in the bodies are found in the same build. `at` is what errors about the model
-/// as a whole point at (`impl Model`).
-/// A block with `#[hamel_system]` that holds neither the energy nor the constraints
-/// ([`Roles::is_fragment`]): one error, rather than one per role it lacks.
-
 /// The counts the signatures give: holonomic constraints, contacts, bodies and with them
 /// every constraint row.
 pub(super) fn model_shape<'r, 'a>(
