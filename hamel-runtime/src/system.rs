@@ -129,8 +129,9 @@ pub trait HamelSystem: Parameters {
     /// solutions run backwards in time, so that a symmetric integrator
     /// ([`crate::GaussLegendre`], [`crate::ImplicitMidpoint`]) is ρ-reversible on it and keeps
     /// its energy error bounded over long runs. `#[hamel_system]` sets it when the model is
-    /// [`Self::CONSERVATIVE`], its kinetic energy (`#[kinetic_energy]`) is a quadratic form in
-    /// q̇, and every row — constraints, holonomic ones, quasi-velocities — is homogeneous in q̇
+    /// [`Self::CONSERVATIVE`], its Lagrangian is a quadratic form in the velocities plus a part
+    /// without them (the kinetic energy, the bodies', L or L̃ as written: no term linear in
+    /// q̇), and every row — constraints, holonomic ones, quasi-velocities — is homogeneous in q̇
     /// and does not depend on the time. It is about the model whatever its inputs: a model with
     /// `#[forces]` is not reversible even when they vanish. The default, for a hand-written
     /// implementation, is `false`.

@@ -4,7 +4,7 @@
 use super::rows::requires_velocities;
 use super::transformation::Transformation;
 use super::{array, bodies, dot, lower, pairs, subst};
-use crate::engine::graph::NodeId;
+use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::Lowerer;
 use crate::system::generic;
 use crate::system::spec::{Energy, Spec};
@@ -133,17 +133,11 @@ pub fn split_energy<'a>(
         (None, Some((b, _))) => b,
         (None, None) => return Some(None),
     };
-    let two = g.constant(2.0);
-    let doubled: Vec<NodeId> = v.iter().map(|&x| g.mul(two, x)).collect();
-    let at_2v = subst(g, &[at_v], &pairs(v, &doubled))[0];
-    let four = g.constant(4.0);
-    let expected = g.mul(four, at_v);
-    let defect = g.sub(at_2v, expected);
-    let quadratic = generic::points(3, g.input_count()).iter().all(|point| {
-        let values = g.evaluate(&[defect, at_v], point);
-        // Outside the function's domain there is no verdict against it.
-        !values[0].is_finite() || values[0].abs() <= 1e-9 * (1.0 + values[1].abs())
-    });
+    // A homogeneous quadratic form: T(2v) = 4 T(v), with no part without velocities (which the
+    // Legendre energy would count with the opposite sign).
+    let zeros = vec![g.zero(); v.len()];
+    let at_0 = subst(g, &[at_v], &pairs(v, &zeros))[0];
+    let quadratic = g.is_zero(at_0) && quadratic_form(g, at_v, v);
     if !quadratic {
         return Some(None);
     }
@@ -157,4 +151,43 @@ pub fn split_energy<'a>(
         energy = lowerer.graph.add(energy, v_value);
     }
     Some(Some(energy))
+}
+
+/// Whether `f` is a quadratic form in the velocity symbols `vars` plus a part without them,
+/// f(2v) − f(0) = 4 (f(v) − f(0)), decided at generic points (outside the function's domain
+/// there is no verdict against it).
+pub fn quadratic_form(g: &mut Graph, f: NodeId, vars: &[NodeId]) -> bool {
+    let (zero, two, four) = (g.zero(), g.constant(2.0), g.constant(4.0));
+    let doubled: Vec<NodeId> = vars.iter().map(|&x| g.mul(two, x)).collect();
+    let zeros = vec![zero; vars.len()];
+    let at_2v = subst(g, &[f], &pairs(vars, &doubled))[0];
+    let at_0 = subst(g, &[f], &pairs(vars, &zeros))[0];
+    let grown = g.sub(at_2v, at_0);
+    let part = g.sub(f, at_0);
+    let expected = g.mul(four, part);
+    let defect = g.sub(grown, expected);
+    generic::points(3, g.input_count()).iter().all(|point| {
+        let values = g.evaluate(&[defect, f], point);
+        !values[0].is_finite() || values[0].abs() <= 1e-9 * (1.0 + values[1].abs())
+    })
+}
+
+/// Whether the model's Lagrangian is a quadratic form in the velocities plus a part without
+/// them (T quadratic, no gyroscopic term linear in the velocities): as written, L(t, q, v),
+/// or in quasi-velocities, L̃(t, q, ω).
+pub fn quadratic_in_velocities<'a>(
+    lowerer: &mut Lowerer<'a, '_>,
+    spec: &Spec<'a>,
+    t: NodeId,
+    q: &[NodeId],
+    (v, omega): (&[NodeId], &[NodeId]),
+) -> Option<bool> {
+    let (l, vars) = match &spec.energy {
+        Energy::Quasi(f) => (
+            *lower(lowerer, spec, f, t, vec![array(q), array(omega)])?.first()?,
+            omega,
+        ),
+        _ => (written(lowerer, spec, t, q, v)?.0, v),
+    };
+    Some(quadratic_form(lowerer.graph, l, vars))
 }

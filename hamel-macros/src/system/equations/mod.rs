@@ -278,7 +278,10 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         }
     };
     let split_energy = lagrangian::split_energy(lowerer, spec, t, q, v, &qd)?;
-    let quadratic_kinetic = split_energy.is_some();
+    let quadratic_kinetic = match split_energy {
+        Some(_) => true,
+        None => lagrangian::quadratic_in_velocities(lowerer, spec, t, q, (v, &omega))?,
+    };
     let energy = split_energy.unwrap_or(assembled.energy);
     let g = &mut *lowerer.graph;
     let mut motion = solve(g, &assembled, &transformation, &vectors, p);
