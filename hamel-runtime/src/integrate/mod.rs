@@ -292,7 +292,10 @@ pub(crate) fn combine<V: Vector>(x: &V, h: f64, terms: &[(f64, &V)]) -> V {
 /// reads the slope just computed at once, so that wait lay on the critical path of every
 /// stage (on the robot's run, about a tenth of Dormand–Prince's time, `benches/run.rs`).
 /// A volatile read is one load of one component, which the compiler may neither widen nor
-/// merge with its neighbour's.
+/// merge with its neighbour's. Its price is paid by a right-hand side so small that it is
+/// inlined into the stage: its values could have stayed in registers and now pass through
+/// memory, a few cycles a stage (a hand-written oscillator: 3 % slower under Dormand–Prince,
+/// 44 % under RK4; every catalogue model is as fast or faster: `benches/workloads.rs`).
 #[inline(always)]
 pub(crate) fn fresh_component<V: Vector>(v: &V, i: usize) -> f64 {
     let component: &f64 = &v.as_ref()[i];
