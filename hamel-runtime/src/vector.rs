@@ -43,3 +43,20 @@ impl<const N: usize> Vector for [f64; N] {
         values.get_mut(..N)?.try_into().ok()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Vector;
+
+    #[test]
+    fn heads_borrow_the_leading_components() {
+        let mut values = [1.0, 2.0, 3.0];
+        assert_eq!(<[f64; 2]>::head(&values), Some(&[1.0, 2.0]));
+        assert_eq!(<[f64; 4]>::head(&values), None);
+        if let Some(head) = <[f64; 3]>::head_mut(&mut values) {
+            head[2] = 5.0;
+        }
+        assert_eq!(values, [1.0, 2.0, 5.0]);
+        assert_eq!(<[f64; 4]>::head_mut(&mut values), None);
+    }
+}
