@@ -29,16 +29,17 @@
 //! # Figures of record
 //!
 //! Measured with `cargo bench -p hamel-benches --bench long_runs` (release, one core of the
-//! shared two-core machine):
+//! shared two-core machine; the wall times re-measured after the explicit methods began to
+//! read the slope just computed one component at a time, every other figure the same):
 //!
 //! P1, contact oscillator, T = 10011
 //!
 //! | method | steps | evaluations | max abs(H − H₀) | drift slope (1/s) | wall (s) | |
 //! |---|---:|---:|---:|---:|---:|---|
-//! | Gauss 2, h = 0.1569 | 63800 | 951084 | 5.16e-6 | +1.12e-11 | 0.16 | max abs ΔH_y 3.4e-14, max abs Δ(H − H_y) 5.2e-6 |
-//! | midpoint, h = 0.0908 | 110374 | 916702 | 8.20e-4 | -1.04e-9 | 0.11 | max abs ΔH_y 2.4e-14, max abs Δ(H − H_y) 8.2e-4 |
-//! | RK4, h = 0.0421 | 237974 | 951896 | 3.59e-5 | -3.58e-9 | 0.02 | max abs ΔH_y 9.2e-6, max abs Δ(H − H_y) 2.7e-5 |
-//! | DP5, h = 0.0632 | 158514 | 951085 | 9.09e-6 | -9.08e-10 | 0.03 | max abs ΔH_y 2.8e-6, max abs Δ(H − H_y) 6.3e-6 |
+//! | Gauss 2, h = 0.1569 | 63800 | 951084 | 5.16e-6 | +1.12e-11 | 0.13 | max abs ΔH_y 3.4e-14, max abs Δ(H − H_y) 5.2e-6 |
+//! | midpoint, h = 0.0908 | 110374 | 916702 | 8.20e-4 | -1.04e-9 | 0.12 | max abs ΔH_y 2.4e-14, max abs Δ(H − H_y) 8.2e-4 |
+//! | RK4, h = 0.0421 | 237974 | 951896 | 3.59e-5 | -3.58e-9 | 0.01 | max abs ΔH_y 9.2e-6, max abs Δ(H − H_y) 2.7e-5 |
+//! | DP5, h = 0.0632 | 158514 | 951085 | 9.09e-6 | -9.08e-10 | 0.02 | max abs ΔH_y 2.8e-6, max abs Δ(H − H_y) 6.3e-6 |
 //!
 //! P2, vertical disk, T = 10000
 //!
@@ -46,44 +47,44 @@
 //! |---|---:|---:|---:|---:|---:|---|
 //! | Gauss 2, h = 0.0500 | 200000 | 800002 | 0.00e0 | +0.00e0 | 0.23 | max position error 2.3e-8 m |
 //! | midpoint, h = 0.0250 | 400000 | 800001 | 0.00e0 | +0.00e0 | 0.16 | max position error 7.5e-5 m |
-//! | RK4, h = 0.0500 | 201000 | 804000 | 0.00e0 | +0.00e0 | 0.02 | max position error 4.5e-8 m |
-//! | DP5, h = 0.0750 | 133334 | 800005 | 0.00e0 | +0.00e0 | 0.03 | max position error 1.5e-8 m |
+//! | RK4, h = 0.0500 | 201000 | 804000 | 0.00e0 | +0.00e0 | 0.01 | max position error 4.5e-8 m |
+//! | DP5, h = 0.0750 | 133334 | 800005 | 0.00e0 | +0.00e0 | 0.02 | max position error 1.5e-8 m |
 //!
 //! P3, force-free robot, T = 100000
 //!
 //! | method | steps | evaluations | max abs(H − H₀) | drift slope (1/s) | wall (s) | |
 //! |---|---:|---:|---:|---:|---:|---|
-//! | Gauss 2, h = 0.0100 | 10000000 | 82656280 | 3.12e-9 | -1.74e-15 | 35.36 |  |
-//! | midpoint, h = 0.0063 | 15870000 | 75786340 | 4.44e-6 | -4.53e-14 | 26.83 |  |
-//! | RK4, h = 0.0048 | 20670000 | 82680000 | 1.07e-4 | -1.07e-9 | 6.37 |  |
-//! | DP5, h = 0.0073 | 13776047 | 82656283 | 3.21e-5 | -3.21e-10 | 9.27 |  |
-//! | DP5, adaptive, rtol = atol = 1e-9 | 8248942 | 49493654 | 6.74e-4 | -6.74e-9 | 5.94 |  |
+//! | Gauss 2, h = 0.0100 | 10000000 | 82656280 | 3.12e-9 | -1.74e-15 | 31.45 |  |
+//! | midpoint, h = 0.0063 | 15870000 | 75786340 | 4.44e-6 | -4.53e-14 | 19.32 |  |
+//! | RK4, h = 0.0048 | 20670000 | 82680000 | 1.07e-4 | -1.07e-9 | 2.87 |  |
+//! | DP5, h = 0.0073 | 13776047 | 82656283 | 3.21e-5 | -3.21e-10 | 3.11 |  |
+//! | DP5, adaptive, rtol = atol = 1e-9 | 8248942 | 49493654 | 6.74e-4 | -6.74e-9 | 2.31 |  |
 //!
 //! P3, Chaplygin sleigh, T = 10000
 //!
 //! | method | steps | evaluations | max abs(H − H₀) | drift slope (1/s) | wall (s) | |
 //! |---|---:|---:|---:|---:|---:|---|
-//! | Gauss 2, h = 0.0500 | 200000 | 403014 | 3.57e-14 | +4.09e-20 | 0.33 |  |
-//! | midpoint, h = 0.0549 | 182000 | 184327 | 2.26e-14 | -2.30e-20 | 0.11 |  |
+//! | Gauss 2, h = 0.0500 | 200000 | 403014 | 3.57e-14 | +4.09e-20 | 0.31 |  |
+//! | midpoint, h = 0.0549 | 182000 | 184327 | 2.26e-14 | -2.30e-20 | 0.09 |  |
 //! | RK4, h = 0.0993 | 101000 | 404000 | 3.39e-8 | -2.03e-14 | 0.11 |  |
-//! | DP5, h = 0.1489 | 67169 | 403015 | 1.15e-7 | -6.86e-14 | 0.25 |  |
+//! | DP5, h = 0.1489 | 67169 | 403015 | 1.15e-7 | -6.86e-14 | 0.19 |  |
 //!
 //! Bounded energy: max abs(H − H₀) after 10⁵ and 10⁷ steps of Gauss 2, and DP5 at equal work
 //!
 //! | problem | method | after 10⁵ steps | after 10⁷ steps | ratio | drift slope (1/s) | wall (s) |
 //! |---|---|---:|---:|---:|---:|---:|
-//! | P1 | Gauss 2 | 5.09e-6 | 5.19e-6 | 1.02 | +1.96e-15 | 19.4 |
-//! | P1 | DP5 | 1.42e-5 | 1.43e-3 | 100.01 | -9.08e-10 | 4.6 |
+//! | P1 | Gauss 2 | 5.09e-6 | 5.19e-6 | 1.02 | +1.96e-15 | 19.0 |
+//! | P1 | DP5 | 1.42e-5 | 1.43e-3 | 100.01 | -9.08e-10 | 2.6 |
 //! | P1 | slope ratio abs(Gauss 2 / DP5) | | | 2.2e-6 | | |
-//! | robot | Gauss 2 | 2.95e-9 | 3.12e-9 | 1.06 | -1.74e-15 | 36.3 |
-//! | robot | DP5 | 3.21e-7 | 3.21e-5 | 100.00 | -3.21e-10 | 7.1 |
+//! | robot | Gauss 2 | 2.95e-9 | 3.12e-9 | 1.06 | -1.74e-15 | 31.3 |
+//! | robot | DP5 | 3.21e-7 | 3.21e-5 | 100.00 | -3.21e-10 | 3.1 |
 //! | robot | slope ratio abs(Gauss 2 / DP5) | | | 5.4e-6 | | |
 //!
 //! Stiff disk (k = 10⁶, c = 10⁶ + 1), T = 10: max state error at 100 samples
 //!
 //! | method | steps | rejected | evaluations | Jacobians | LU factorizations | max error | wall (s) |
 //! |---|---:|---:|---:|---:|---:|---:|---:|
-//! | DP5, rtol = atol = 1e-8 | 3024314 | 5 | 18145916 | 0 | 0 | 1.39e-8 | 0.90 |
+//! | DP5, rtol = atol = 1e-8 | 3024314 | 5 | 18145916 | 0 | 0 | 1.39e-8 | 0.53 |
 //! | Radau5, rtol = atol = 1e-6 | 31 | 1 | 167 | 7 | 50 | 5.18e-5 | 0.00 |
 //! | Radau5, rtol = atol = 1e-7 | 40 | 1 | 227 | 12 | 64 | 5.52e-6 | 0.00 |
 //! | Radau5, rtol = atol = 1e-8 | 54 | 1 | 307 | 19 | 80 | 2.03e-6 | 0.00 |

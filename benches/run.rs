@@ -22,24 +22,38 @@
 //! singular-crossing watch).
 //!
 //! Figures of record (201 rounds on the shared 2-core machine at a quiet moment, load
-//! average about 1.5; per-round ratio to `ode_solvers`, median and p10–p90; ms a run of
-//! `ode_solvers` about 0.43):
+//! average about 0.7; per-round ratio to `ode_solvers`, median and p10–p90; ms a run of
+//! `ode_solvers` about 0.41):
 //!
 //! ```text
-//!                                   before (20a32f0)        after (i19)
-//! DormandPrince alone               1.222 (1.201–1.242)     1.042 (1.019–1.060)
-//! Simulation, default monitors      2.292 (2.246–2.337)     1.241 (1.205–1.267)
-//! Simulation, no crossing watch     1.833 (1.795–1.870)     1.237 (1.208–1.263)
+//!                                 20a32f0               b11e5e0               i19b
+//! DormandPrince alone             1.222 (1.201–1.242)   1.040 (1.024–1.064)   0.869 (0.843–0.887)
+//! Simulation, default monitors    2.292 (2.246–2.337)   1.250 (1.222–1.281)   1.049 (1.016–1.075)
+//! Simulation, no crossing watch   1.833 (1.795–1.870)   1.245 (1.221–1.275)   1.046 (1.019–1.066)
 //! ```
 //!
-//! ("before" is this file built against the runtime at 20a32f0.) Instructions a run
-//! (callgrind, `profile <variant> 20`, per run): ode_solvers 5.54 M; DormandPrince 8.70 M
-//! before, 5.35 M after; Simulation 15.5 M before, 6.89 M after. Where the Simulation's
-//! remaining time goes: the 1001 samples' monitors (energy, q̇ and the constraint rows, each
-//! solving B and taking sines again: about 14 % of the run), the work integral (a ninth
-//! component and the power at every stage, fused with the right-hand side), and the
-//! integrator's own arithmetic, which matches ode_solvers' in instructions and costs a few
-//! per cent more time.
+//! (Each column is this file built against the runtime at that commit: 20a32f0 before issue
+//! 19, b11e5e0 its first lean path, i19b the branch that reads fresh slopes component by
+//! component; the last two were measured one after the other.) Instructions a run
+//! (callgrind, `profile <variant> 20` less `profile <variant> 0`, over 20): ode_solvers
+//! 5.51 M; DormandPrince 8.70 M at 20a32f0, 5.20 M at b11e5e0, 5.25 M now; Simulation
+//! 15.5 M, 7.02 M, 6.93 M.
+//!
+//! Where the time went: b11e5e0 already matched ode_solvers in instructions and was 4 %
+//! slower. The robot's right-hand side stores its eight derivatives one at a time or in
+//! pairs that straddle the integrator's (in this build dx₀₁, dx₂, dx₃₄, dx₅, dx₆, dx₇), and
+//! the stage combinations loaded the slope just computed two components at a time: a load
+//! spanning two stores still on their way to the cache cannot be forwarded from them and
+//! waits for them, on the critical path of every stage (each stage needs the last one's
+//! slope). The integrator now reads that slope one component at a time (`fresh_component`
+//! in `hamel-runtime/src/integrate/mod.rs`): a few more instructions, 16 % less time.
+//! ode_solvers loads the same way and keeps the wait. The Simulation's `BalanceOde` copied
+//! the derivative out of a local the same way; it now has the right-hand side write in
+//! place. Its remaining time over DormandPrince alone: the monitors at the 1001 samples
+//! (energy, q̇ and the constraint rows: four sine-cosine pairs a sample, three of them of
+//! the yaw angle; about a tenth of the run, as a build whose recorder leaves them out
+//! shows), the work integral (a ninth component, the power at every stage fused with the
+//! right-hand side) and the recording.
 
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, Error, Grid, HamelSystem, Integrator, Ode, Simulation};

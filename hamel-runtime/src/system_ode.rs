@@ -79,18 +79,21 @@ pub(crate) struct BalanceOde<'s, 'i, S, F> {
 impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'_, '_, S, F> {
     type State = S::Extended;
 
+    /// The state is read, and its derivative written, in place: a copy of the derivative
+    /// would read back components the right-hand side has only just stored, and wait for
+    /// them (see `integrate::fresh_component`).
     fn rhs(&mut self, t: f64, v: &S::Extended, dv: &mut S::Extended) -> Result<(), Error> {
-        let (x, _) = split::<S>(v);
-        let u = (self.inputs.borrow_mut())(t, &x);
-        check_inputs::<S>(&u, t, &x)?;
-        let mut dx = S::State::zeros();
+        let (Some(x), Some(dx)) = (S::State::head(v.as_ref()), S::State::head_mut(dv.as_mut()))
+        else {
+            return Err(inconsistent_extension::<S>());
+        };
+        let u = (self.inputs.borrow_mut())(t, x);
+        check_inputs::<S>(&u, t, x)?;
         let power = self
             .system
-            .rhs_power_prepared(&self.prepared, t, &x, &u, &mut dx)
-            .map_err(|s| S::singular(s, t, &x))?;
-        let n = S::State::LEN;
-        dv.as_mut()[..n].copy_from_slice(dx.as_ref());
-        dv.as_mut()[n] = power;
+            .rhs_power_prepared(&self.prepared, t, x, &u, dx)
+            .map_err(|s| S::singular(s, t, x))?;
+        dv.as_mut()[S::State::LEN] = power;
         Ok(())
     }
 
@@ -174,16 +177,23 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
 pub(crate) fn extend<S: HamelSystem>(x: &S::State) -> Result<S::Extended, Error> {
     let n = S::State::LEN;
     if S::Extended::LEN != n + 1 {
-        return Err(Error::InconsistentModel {
-            what: format!(
-                "`Extended` has {} components, but the state has {n} and the work adds one",
-                S::Extended::LEN
-            ),
-        });
+        return Err(inconsistent_extension::<S>());
     }
     let mut v = S::Extended::zeros();
     v.as_mut()[..n].copy_from_slice(x.as_ref());
     Ok(v)
+}
+
+/// The error for a model whose `Extended` is not one longer than its `State`.
+#[cold]
+fn inconsistent_extension<S: HamelSystem>() -> Error {
+    Error::InconsistentModel {
+        what: format!(
+            "`Extended` has {} components, but the state has {} and the work adds one",
+            S::Extended::LEN,
+            S::State::LEN
+        ),
+    }
 }
 
 /// The state and the work of an extended state (checked by [`extend`] to be one longer).

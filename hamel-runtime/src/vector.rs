@@ -19,6 +19,13 @@ pub trait Vector:
             v
         })
     }
+
+    /// The vector that the first `LEN` of `values` are, borrowed in place (`None` if there
+    /// are fewer): a state inside a longer one, read without a copy.
+    fn head(values: &[f64]) -> Option<&Self>;
+
+    /// [`Vector::head`], to write.
+    fn head_mut(values: &mut [f64]) -> Option<&mut Self>;
 }
 
 impl<const N: usize> Vector for [f64; N] {
@@ -26,5 +33,30 @@ impl<const N: usize> Vector for [f64; N] {
 
     fn zeros() -> Self {
         [0.0; N]
+    }
+
+    fn head(values: &[f64]) -> Option<&Self> {
+        values.get(..N)?.try_into().ok()
+    }
+
+    fn head_mut(values: &mut [f64]) -> Option<&mut Self> {
+        values.get_mut(..N)?.try_into().ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Vector;
+
+    #[test]
+    fn heads_borrow_the_leading_components() {
+        let mut values = [1.0, 2.0, 3.0];
+        assert_eq!(<[f64; 2]>::head(&values), Some(&[1.0, 2.0]));
+        assert_eq!(<[f64; 4]>::head(&values), None);
+        if let Some(head) = <[f64; 3]>::head_mut(&mut values) {
+            head[2] = 5.0;
+        }
+        assert_eq!(values, [1.0, 2.0, 5.0]);
+        assert_eq!(<[f64; 4]>::head_mut(&mut values), None);
     }
 }

@@ -5,8 +5,8 @@
 
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps,
-    too_many_steps, too_many_steps_planned,
+    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps, fresh,
+    fresh_component, too_many_steps, too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -261,11 +261,14 @@ fn error_norm<V: Vector>(
     if len == 0 {
         return 0.0;
     }
-    let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
+    let [k1, _, k3, k4, k5, k6, _] = k.each_ref().map(|v| v.as_ref());
+    // The last stage is the right-hand side's value of a moment ago.
+    let k7 = &k[6];
     let (y, y1) = (y.as_ref(), y1.as_ref());
     let mut sum = 0.0;
     for i in 0..len {
-        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+        let k7i = fresh_component(k7, i);
+        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7i);
         let sc = atol + rtol * y[i].abs().max(y1[i].abs());
         sum += (e / sc).powi(2);
     }
@@ -602,7 +605,7 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             self.ode.rhs(t1, &y1_projected, &mut self.k[0])?;
             self.stats.evaluations += 1;
         } else {
-            self.k[0] = self.k[6];
+            self.k[0] = fresh(&self.k[6]);
         }
         Ok(Some(y1_projected))
     }

@@ -265,12 +265,51 @@ pub(crate) fn equal_steps(span: f64, max_step: f64) -> (u64, f64) {
 /// sum formed before the multiplication by h, as in Hairer's codes. Always inlined: with the
 /// terms a literal of known length the sums unroll (called out of line it took a quarter of
 /// a whole Dormand–Prince run of the robot).
+///
+/// The last term is the slope the right-hand side has just written: it is read one
+/// component at a time ([`fresh_component`]).
 #[inline(always)]
 pub(crate) fn combine<V: Vector>(x: &V, h: f64, terms: &[(f64, &V)]) -> V {
     let mut out = *x;
+    let Some(((a_last, k_last), older)) = terms.split_last() else {
+        return out;
+    };
     for (i, o) in out.as_mut().iter_mut().enumerate() {
-        let sum: f64 = terms.iter().map(|(a, k)| a * k.as_ref()[i]).sum();
+        let sum = older.iter().map(|(a, k)| a * k.as_ref()[i]).sum::<f64>()
+            + a_last * fresh_component(*k_last, i);
         *o += h * sum;
+    }
+    out
+}
+
+/// Component `i` of a vector the right-hand side has only just written, read on its own.
+///
+/// A right-hand side stores its result one component at a time, or in pairs that need not
+/// line up with the pairs the integrator's vectorized arithmetic loads (generated code
+/// stores whatever the compiler paired). A load of two components that spans two such
+/// stores cannot take its value from the stores still in flight and waits until they reach
+/// the cache: a failed store-to-load forwarding, about a dozen cycles. An explicit method
+/// reads the slope just computed at once, so that wait lay on the critical path of every
+/// stage (on the robot's run, about a tenth of Dormand–Prince's time, `benches/run.rs`).
+/// A volatile read is one load of one component, which the compiler may neither widen nor
+/// merge with its neighbour's. Its price is paid by a right-hand side so small that it is
+/// inlined into the stage: its values could have stayed in registers and now pass through
+/// memory, a few cycles a stage (a hand-written oscillator: 3 % slower under Dormand–Prince,
+/// 44 % under RK4; every catalogue model is as fast or faster: `benches/workloads.rs`).
+#[inline(always)]
+pub(crate) fn fresh_component<V: Vector>(v: &V, i: usize) -> f64 {
+    let component: &f64 = &v.as_ref()[i];
+    // SAFETY: `component` is a reference, so valid, aligned and initialized for a read.
+    unsafe { core::ptr::read_volatile(component) }
+}
+
+/// A copy of a vector the right-hand side has only just written, read component by
+/// component ([`fresh_component`]).
+#[inline(always)]
+pub(crate) fn fresh<V: Vector>(v: &V) -> V {
+    let mut out = V::zeros();
+    for (i, o) in out.as_mut().iter_mut().enumerate() {
+        *o = fresh_component(v, i);
     }
     out
 }
