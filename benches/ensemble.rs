@@ -15,13 +15,13 @@
 //! Every figure is the median over the rounds of a per-round ratio, p10–p90 beside it. The
 //! startup checks that the three variants give the same bits.
 //!
-//! Figures of record (10⁴ runs, 5 rounds, the shared 2-core machine at a quiet moment, load
-//! average 0.7 at the start; median and p10–p90 of the per-round ratios):
+//! Figures of record (10⁴ runs, 7 rounds, the shared 2-core machine at a quiet moment, load
+//! average 1.1 at the start; median and p10–p90 of the per-round ratios):
 //!
 //! ```text
-//! bare loop 5.445 s, Ensemble on 1 thread 5.451 s, on 2 threads 2.934 s
-//! overhead of the Ensemble over the bare loop   1.012 (0.981–1.040)
-//! speed-up on 2 threads over 1                  1.879 (1.811–1.882), efficiency 94 %
+//! bare loop 4.489 s, Ensemble on 1 thread 4.554 s, on 2 threads 2.325 s
+//! overhead of the Ensemble over the bare loop   1.015 (0.999–1.016)
+//! speed-up on 2 threads over 1                  1.877 (1.851–2.027), efficiency 94 %
 //! ```
 //!
 //! The speed-up needs both cores free: with another process busy on one (load average
