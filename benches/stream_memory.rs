@@ -5,10 +5,10 @@
 //! `Simulation::run`.
 //!
 //! ```text
-//! cargo build --release -p hamel-benches --example stream_memory
-//! target/release/examples/stream_memory stream 10000000      # CSV into io::sink()
-//! target/release/examples/stream_memory stream 10000000 run.csv
-//! target/release/examples/stream_memory memory 10000000
+//! cargo bench -p hamel-benches --bench stream_memory -- stream 10000000   # CSV into io::sink()
+//! cargo bench -p hamel-benches --bench stream_memory -- stream 10000000 run.csv
+//! cargo bench -p hamel-benches --bench stream_memory -- memory 10000000
+//! /usr/bin/time -f %M target/release/deps/stream_memory-* stream 10000000  # peak memory
 //! ```
 //!
 //! Peak resident memory of the whole process (`/usr/bin/time -f %M`, Linux x86-64, release
@@ -87,7 +87,8 @@ fn run(args: &[String]) -> Result<String, String> {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    // `cargo bench` adds `--bench`.
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
     match run(&args) {
         Ok(report) => {
             println!("{report}");
