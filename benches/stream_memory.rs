@@ -88,7 +88,10 @@ fn run(args: &[String]) -> Result<String, String> {
 
 fn main() -> ExitCode {
     // `cargo bench` adds `--bench`.
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
     match run(&args) {
         Ok(report) => {
             println!("{report}");
