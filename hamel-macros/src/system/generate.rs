@@ -575,24 +575,7 @@ fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
                 ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx),
             }
         },
-        // Only inherent methods are called here: a call through the trait would add an error
-        // of its own where the parameter struct lacks `#[hamel_system]`.
-        rhs_power_prepared: if eq.conservative {
-            quote! {
-                match <&[f64; #count]>::try_from(prepared) {
-                    ::core::result::Result::Ok(prepared) => self.__hamel_rhs_prepared::<f64>(prepared, t, x, u, dx)?,
-                    ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx)?,
-                }
-                ::core::result::Result::Ok(0.0)
-            }
-        } else {
-            quote! {
-                match <&[f64; #count]>::try_from(prepared) {
-                    ::core::result::Result::Ok(prepared) => self.__hamel_rhs_power_prepared(prepared, t, x, u, dx),
-                    ::core::result::Result::Err(_) => self.__hamel_rhs_power_prepared(&self.__hamel_prepare(), t, x, u, dx),
-                }
-            }
-        },
+        rhs_power_prepared: rhs_power_prepared_body(eq.conservative, prepared),
         generalized_velocities: cx.method(Source::State, &eq.qd, TRANSFORMATION, &|c| {
             vector(c, &eq.qd)
         })?,
@@ -621,6 +604,30 @@ fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
         inverse_defect,
         jacobian: dual_jacobian(cx),
     })
+}
+
+/// `rhs_power_prepared`: the right-hand side and, for a model that is not conservative, the
+/// power, in one pass with the values `prepare` computes. Only inherent methods are called
+/// here: a call through the trait would add an error of its own where the parameter struct
+/// lacks `#[hamel_system]`.
+fn rhs_power_prepared_body(conservative: bool, prepared: usize) -> TokenStream {
+    let count = lit(prepared);
+    if conservative {
+        quote! {
+            match <&[f64; #count]>::try_from(prepared) {
+                ::core::result::Result::Ok(prepared) => self.__hamel_rhs_prepared::<f64>(prepared, t, x, u, dx)?,
+                ::core::result::Result::Err(_) => self.rhs_generic::<f64>(t, x, u, dx)?,
+            }
+            ::core::result::Result::Ok(0.0)
+        }
+    } else {
+        quote! {
+            match <&[f64; #count]>::try_from(prepared) {
+                ::core::result::Result::Ok(prepared) => self.__hamel_rhs_power_prepared(prepared, t, x, u, dx),
+                ::core::result::Result::Err(_) => self.__hamel_rhs_power_prepared(&self.__hamel_prepare(), t, x, u, dx),
+            }
+        }
+    }
 }
 
 /// The entries of array parameters the bodies read must exist. The struct is not in view of
