@@ -63,7 +63,7 @@ impl Rotation3 {
 
     /// The rotation by `angle` (right-handed) about `axis`, which need not have unit length
     /// (it is normalized; the zero vector gives no rotation matrix, every entry NaN):
-    /// Rodrigues' formula, R = cos θ I + sin θ [k]ₓ + (1 − cos θ) k kᵀ.
+    /// Rodrigues' formula, R = cos θ I + sin θ \[k\]ₓ + (1 − cos θ) k kᵀ.
     pub fn from_axis_angle(axis: &Vector3, angle: f64) -> Self {
         let k = axis.normalize();
         let (s, c) = angle.sin_cos();
