@@ -154,16 +154,7 @@ pub(super) fn lower<'a>(
     t: NodeId,
     args: Vec<Value>,
 ) -> Option<Vec<NodeId>> {
-    let mut all = Vec::with_capacity(args.len() + 1);
-    if spec.takes_time(f) {
-        all.push(Value::Real(t));
-    }
-    all.extend(args);
-    let value = lowerer.call_role(f, all);
-    if value.is_poison() {
-        return None;
-    }
-    value.flatten()
+    lower_value(lowerer, spec, f, t, args)?.flatten()
 }
 
 /// Lower a role function and keep its value as it is (`None` after an error, already
