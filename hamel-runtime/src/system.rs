@@ -42,6 +42,13 @@ pub trait Parameters {
         Ok(())
     }
 
+    /// The unit of the parameter `name`, as its doc comment ends: `/// wheelbase (m)` gives
+    /// `m`. `None` for an unknown name or a comment without a unit in parentheses at its end.
+    fn parameter_unit(name: &str) -> Option<&'static str> {
+        let i = Self::NAMES.iter().position(|n| *n == name)?;
+        unit_in_doc(Self::DOCS.get(i)?)
+    }
+
     /// All parameters with their names (for `Debug`-style reports).
     fn parameter_values(&self) -> NamedValues {
         let values: Vec<f64> = Self::NAMES
@@ -137,6 +144,11 @@ pub trait HamelSystem: Parameters {
     /// implementation, is `false`.
     const REVERSIBLE: bool = false;
 
+    /// The units of the model's named quantities, as `#[hamel_system(units(x = "m", ..))]`
+    /// gives them: pairs of a name (a coordinate, speed or input, `t`, or `energy`) and its
+    /// unit. Figures label their axes with them ([`Self::unit`]).
+    const UNITS: &'static [(&'static str, &'static str)] = &[];
+
     /// How many values of the right-hand side depend on the parameters alone
     /// ([`Self::prepare`]); 0 for a system that prepares nothing.
     const PREPARED_LEN: usize = 0;
@@ -147,6 +159,20 @@ pub trait HamelSystem: Parameters {
     /// `#[hamel_system]` knows it when it derives B from A; the default, `false`, keeps the
     /// watch.
     const TRANSFORMATION_DETERMINANT_CONSTANT: bool = false;
+
+    /// The unit of a named quantity ([`Self::UNITS`]): a coordinate, speed or input, `t`,
+    /// or `energy`; `energy_balance` has the energy's. `None` where the model states none.
+    fn unit(name: &str) -> Option<&'static str> {
+        let name = if name == "energy_balance" {
+            "energy"
+        } else {
+            name
+        };
+        Self::UNITS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, u)| *u)
+    }
 
     /// The right-hand side ẋ = F(t, x, u) of the reduced ODE. No heap allocation.
     fn rhs(
@@ -506,4 +532,39 @@ fn join<S: HamelSystem + ?Sized>(q: &S::Coordinates, w: &S::Speeds) -> S::State 
     x.as_mut()[..n].copy_from_slice(q.as_ref());
     x.as_mut()[n..].copy_from_slice(w.as_ref());
     x
+}
+
+/// The unit a parameter's doc comment ends with, in parentheses: "wheelbase (m)" gives "m",
+/// "rear frame centre of mass, z (negative: above the ground) (m)" gives "m".
+fn unit_in_doc(doc: &str) -> Option<&str> {
+    let inner = doc.trim().strip_suffix(')')?;
+    let open = inner.rfind('(')?;
+    let unit = inner[open + 1..].trim();
+    // A unit is short and has no spaces between words of prose ("(kg m²)" is one).
+    (!unit.is_empty() && unit.len() <= 16 && !unit.contains(':')).then_some(unit)
+}
+
+#[cfg(test)]
+mod unit_tests {
+    use super::unit_in_doc;
+
+    #[test]
+    fn units_are_read_from_the_end_of_doc_comments() {
+        assert_eq!(unit_in_doc("wheelbase (m)"), Some("m"));
+        assert_eq!(
+            unit_in_doc("rear wheel moment of inertia about its axle (kg m²)"),
+            Some("kg m²")
+        );
+        assert_eq!(
+            unit_in_doc("centre of mass, z (negative: above the ground) (m)"),
+            Some("m")
+        );
+        assert_eq!(
+            unit_in_doc("gravitational acceleration (m/s²) "),
+            Some("m/s²")
+        );
+        assert_eq!(unit_in_doc("mass"), None);
+        assert_eq!(unit_in_doc("the height (negative: above the ground)"), None);
+        assert_eq!(unit_in_doc("()"), None);
+    }
 }

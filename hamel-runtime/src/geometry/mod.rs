@@ -28,9 +28,11 @@
 //! ```
 
 mod body;
+mod mechanism;
 mod rotation;
 mod vector;
 
 pub use body::{Body, Contact, Inertia, disk_contact};
+pub use mechanism::Mechanism;
 pub use rotation::Rotation3;
 pub use vector::Vector3;
