@@ -73,6 +73,7 @@ mod error;
 mod figure;
 mod prepare;
 mod render;
+mod text;
 mod trajectory;
 
 pub use error::{ErrorKind, PlotError};

@@ -10,6 +10,7 @@ use plotters::prelude::*;
 use super::error::ErrorKind;
 use super::figure::{Figure, Legend, Panel, Style};
 use super::prepare::{Axis, Drawn, Prepared, prepare};
+use super::text::Typeset;
 
 /// The smallest panel drawn, in pixels: below this the axes' labels leave no room to plot.
 pub(crate) const MIN_PANEL: (u32, u32) = (160, 120);
@@ -23,7 +24,7 @@ static FONT: &[u8] = include_bytes!("font/DejaVuSans.ttf");
 
 /// Registers the bundled font with plotters, once per process. Plotters looks fonts up by
 /// family name in a global table, even to lay out SVG text.
-fn register_font() -> Result<(), ErrorKind> {
+pub(crate) fn register_font() -> Result<(), ErrorKind> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
@@ -58,12 +59,17 @@ pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
     register_font()?;
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
-        let backend = BitMapBackend::with_buffer(&mut rgb, (width, height));
-        let root = backend.into_drawing_area();
+        let root = bitmap(&mut rgb, (width, height)).into_drawing_area();
         draw_figure(&root, figure, true)?;
         root.present().map_err(drawing)?;
     }
     encode_png(&rgb, width, height)
+}
+
+/// The backend PNG figures are drawn on: 8-bit RGB pixels in `rgb`, row by row, with text
+/// in the bundled font set on one baseline ([`Typeset`]).
+pub(crate) fn bitmap(rgb: &mut [u8], size: (u32, u32)) -> Typeset<BitMapBackend<'_>> {
+    Typeset::new(BitMapBackend::with_buffer(rgb, size), FAMILY, FONT)
 }
 
 /// 8-bit RGB pixels, row by row, as a PNG file.
@@ -139,7 +145,7 @@ impl Sizes {
     }
 }
 
-fn font(size: f64) -> TextStyle<'static> {
+pub(crate) fn font(size: f64) -> TextStyle<'static> {
     TextStyle::from((FAMILY, size).into_font()).color(&BLACK)
 }
 

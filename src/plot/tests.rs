@@ -478,3 +478,5 @@ fn long_runs_are_thinned_to_the_resolution() {
     let svg = Figure::from(panel).to_svg().unwrap();
     assert!(svg.len() < 200_000, "{} bytes", svg.len());
 }
+
+mod text;
