@@ -69,16 +69,24 @@
 //! bundled in the library (`src/plot/font/`, with its licence): no font of the system is
 //! read, and nothing but the file written touches the disk.
 
+mod axis;
+mod colorbar;
 mod error;
+mod field;
 mod figure;
+mod heatmap;
+mod legend;
 mod prepare;
 mod render;
 mod text;
 mod trajectory;
+mod units;
 
 pub use error::{ErrorKind, PlotError};
+pub use field::{ColorScale, Field, NO_VALUE};
 pub use figure::{Figure, Format, Legend, PALETTE, PANEL_SIZE, Panel, Rgb, Scale, Series, Style};
 pub use trajectory::{constraint_residual, energy_drift, time_series, xy};
+pub use units::Units;
 
 #[cfg(test)]
 mod tests;
