@@ -440,6 +440,7 @@ fn stability_panel(
     Panel::new(title)
         .x_label(units.label("forward speed v", "v"))
         .y_label(label)
+        .x_range(0.0, 10.0)
         .field(field)
         .series(Series::line("weave speed", speeds.0, values).color(Rgb(0, 0, 0)))
         .series(Series::dashed("capsize speed", speeds.1, values).color(Rgb(0, 0, 0)))
@@ -476,8 +477,12 @@ fn stability_figure(result: &Table, threads: Option<usize>) -> Result<Figure, Er
             })
             .collect()
     };
+    let unit = |name: &str| units.unit(name).map_or(String::new(), |u| format!(" {u}"));
     let by_trail = stability_panel(
-        &format!("Stability against trail (rider {BENCHMARK_RIDER} kg)"),
+        &format!(
+            "Stability against trail (rider {BENCHMARK_RIDER}{})",
+            unit("m_b")
+        ),
         (
             &units.label("trail c", "c"),
             &trail_rows.iter().map(|r| r.0).collect::<Vec<_>>(),
@@ -490,7 +495,7 @@ fn stability_figure(result: &Table, threads: Option<usize>) -> Result<Figure, Er
         0.08,
     );
     let by_mass = stability_panel(
-        "Stability against rider mass (trail 0.08 m)",
+        &format!("Stability against rider mass (trail 0.08{})", unit("c")),
         (
             &units.label("rider mass m_b", "m_b"),
             &mass_rows.iter().map(|r| r.1).collect::<Vec<_>>(),

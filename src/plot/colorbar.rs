@@ -79,8 +79,12 @@ pub(crate) fn draw<DB: DrawingBackend>(
     for y in top..=bottom {
         let c = rd_bu(position_at(y));
         let color = RGBColor(c.0, c.1, c.2);
-        area.draw(&PathElement::new(vec![(left, y), (bar_right, y)], color))
-            .map_err(drawing)?;
+        // A filled row a pixel tall: a line would be anti-aliased across two rows in SVG.
+        area.draw(&Rectangle::new(
+            [(left, y), (bar_right, y + 1)],
+            color.filled(),
+        ))
+        .map_err(drawing)?;
     }
     // The centre level, across the bar: where the colours change side.
     if p_lo < 0.0 && p_hi > 0.0 {

@@ -132,9 +132,10 @@ pub(crate) fn prepare(panel: &Panel, area: (f64, f64)) -> Result<Prepared, Error
     })
 }
 
-/// How many labelled ticks suit an axis this many pixels long, one per `spacing` pixels.
+/// How many labelled ticks suit an axis this many pixels long, one per `spacing` pixels (to
+/// the nearest: the ticks then fall at the next round step, so that there are never more).
 pub(crate) fn ticks_for(pixels: f64, spacing: f64) -> usize {
-    ((pixels / spacing) as usize).clamp(2, 10)
+    ((pixels / spacing).round() as usize).clamp(2, 10)
 }
 
 /// Each series' points in the plot's coordinates, `None` where a point is left out (not

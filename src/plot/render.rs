@@ -58,6 +58,12 @@ pub(crate) fn svg(figure: &Figure) -> Result<String, ErrorKind> {
 
 /// The figure as the bytes of a PNG file.
 pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
+    let (width, height, rgb) = pixels(figure)?;
+    encode_png(&rgb, width, height)
+}
+
+/// The figure drawn as a PNG file's pixels: width, height and 8-bit RGB, row by row.
+pub(crate) fn pixels(figure: &Figure) -> Result<(u32, u32, Vec<u8>), ErrorKind> {
     let (width, height) = checked_size(figure)?;
     register_font()?;
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
@@ -66,7 +72,7 @@ pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
         draw_figure(&root, figure, true)?;
         root.present().map_err(drawing)?;
     }
-    encode_png(&rgb, width, height)
+    Ok((width, height, rgb))
 }
 
 /// The backend PNG figures are drawn on: 8-bit RGB pixels in `rgb`, row by row, with text

@@ -491,4 +491,7 @@ fn long_runs_are_thinned_to_the_resolution() {
     assert!(svg.len() < 200_000, "{} bytes", svg.len());
 }
 
+mod fields;
+mod legends;
 mod text;
+mod units;
