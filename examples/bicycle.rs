@@ -4,7 +4,11 @@
 //! 1. linearized about upright, straight running for v = 0 … 10 m/s: the eigenvalues of the
 //!    lateral motion (roll φ, steer δ and their rates), printed for whole speeds (the
 //!    paper's Table 2), written to `bicycle_eigenvalues.csv` and plotted against speed in
-//!    the style of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`);
+//!    the manner of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`): each mode
+//!    followed along the speed by the continuity of its eigenvector (`hamel::track_modes`)
+//!    and named by its behaviour — the weave (a complex pair, two real modes below 0.68
+//!    m/s), the capsize (the real mode that crosses zero at the capsize speed) and the
+//!    castor (the large negative one);
 //! 2. the weave and capsize speeds, where the largest real part crosses zero;
 //! 3. two nonlinear simulations: at 4.6 m/s, inside the self-stable range, a push in roll
 //!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave (a
@@ -15,13 +19,15 @@
 //! ```
 
 use hamel::models::WhippleBicycle;
-use hamel::plot::{Figure, PALETTE, Panel, Rgb, Series, Units};
+use hamel::plot::{Figure, PALETTE, Panel, Rgb, Series};
 use hamel::prelude::*;
 use hamel::roots::brent;
 use hamel::{Linearization, Mode, ModeBranch, track_modes};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
+#[path = "support/bicycle_units.rs"]
+mod bicycle_units;
 #[path = "support/progress.rs"]
 mod progress;
 
@@ -155,24 +161,6 @@ const WEAVE: Rgb = PALETTE[0];
 const CAPSIZE: Rgb = PALETTE[1];
 const CASTOR: Rgb = PALETTE[7];
 
-/// The units of the speed v and the eigenvalues λ, as far as the model states them: the
-/// speed in its length unit (the wheels' radii's) per its time unit, the eigenvalues per
-/// its time unit.
-fn units() -> Units {
-    let (length, time) = (
-        WhippleBicycle::parameter_unit("r_r"),
-        WhippleBicycle::unit("t"),
-    );
-    let mut units = Units::new();
-    if let (Some(length), Some(time)) = (length, time) {
-        units = units.with("v", &format!("{length}/{time}"));
-    }
-    if let Some(time) = time {
-        units = units.with("λ", &format!("1/{time}"));
-    }
-    units
-}
-
 /// The paper's Figure 3: the eigenvalues of the lateral motion against speed, each mode
 /// named and in its own colour, real parts solid and the weave's imaginary part dashed, the
 /// weave and capsize speeds marked where the real parts cross zero.
@@ -193,7 +181,7 @@ fn figure(modes: &NamedModes, weave: f64, capsize: f64) -> Figure {
         .map(|l| if l.im == 0.0 { f64::NAN } else { l.im.abs() })
         .collect();
     let real = |b: &ModeBranch| b.eigenvalues().map(|l| l.re).collect::<Vec<f64>>();
-    let units = units();
+    let units = bicycle_units::units();
     let speed = |v: f64| match units.unit("v") {
         Some(unit) => format!("{v:.2} {unit}"),
         None => format!("{v:.2}"),

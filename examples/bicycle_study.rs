@@ -18,8 +18,13 @@
 //! `c`. A case whose speeds the scan does not bracket is a row carrying that error.
 //!
 //! Without options the study runs the whole grid and writes `bicycle_study.csv` (and
-//! `bicycle_study.parquet` when built with `--features parquet`) and the figure
-//! `bicycle_study.svg` (and `.png`). With `--table`, `--shard i/n` and `--out DIR` it is one task of a
+//! `bicycle_study.parquet` when built with `--features parquet`), the figure
+//! `bicycle_study.svg` (and `.png`), and the stability maps `bicycle_stability.svg` (and
+//! `.png`): the largest real part of the lateral eigenvalues over speed (0 … 10 m/s in steps
+//! of 0.1) and trail at the benchmark's rider, and over speed and rider mass at the
+//! benchmark's trail (38 rows of 101 linearizations more), blue where the bicycle is
+//! self-stable and red where it is not, with the study's weave and capsize speeds drawn as
+//! the boundaries. With `--table`, `--shard i/n` and `--out DIR` it is one task of a
 //! batch engine: it runs the table's rows of shard i of n and writes
 //! `DIR/shard-000i-of-000n.parquet` (`.csv` without the feature, or with `--format csv`),
 //! whole or not at all; a shard whose file is complete is skipped, so a killed study
@@ -33,11 +38,14 @@ use std::time::Instant;
 
 use hamel::ensemble::{Shard, check_writable, is_complete, write_complete};
 use hamel::models::WhippleBicycle;
-use hamel::plot::{ColorScale, Field, Figure, PALETTE, Panel, Rgb, Series, Style, Units};
+use hamel::plot::{ColorScale, Field, Figure, PALETTE, Panel, Rgb, Series, Style};
 use hamel::prelude::*;
 use hamel::roots::brent;
 use hamel::{Ensemble, ParameterTable, StudyProgress, Table};
 use indicatif::{ProgressBar, ProgressStyle};
+
+#[path = "support/bicycle_units.rs"]
+mod bicycle_units;
 
 /// The parameter table's columns.
 const PARAMETERS: [&str; 2] = ["trail", "rider_mass"];
@@ -186,7 +194,8 @@ const HELP: &str =
     "A parameter study of the Whipple bicycle: weave and capsize speeds over trail and rider mass.
 
 Usage: bicycle_study [options]
-  (no options)            the whole grid here: bicycle_study.csv (.parquet), .svg and .png
+  (no options)            the whole grid here: bicycle_study.csv (.parquet), .svg and .png,
+                          and the stability maps bicycle_stability.svg and .png
   --write-grid FILE       write the grid as a parameter table (columns trail, rider_mass)
   --table FILE            run the cases of this parameter table (columns trail, rider_mass) ...
   --shard i/n             ... only shard i of n (0 <= i < n; default 0/1) ...
@@ -317,7 +326,7 @@ fn figure(result: &Table) -> Figure {
             .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
     };
     let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
-    let units = units();
+    let units = bicycle_units::units();
     let speed = units.label("speed", "v");
     let mut by_trail = Panel::new("Self-stable range against trail")
         .x_label(units.label("trail c", "c"))
@@ -396,25 +405,6 @@ fn abscissa_rows(rows: &[Case], threads: Option<usize>) -> Result<Vec<Vec<f64>>,
         .collect())
 }
 
-/// The units of the study's quantities, as the model states them: the trail `c` and the
-/// rider (rear frame) mass `m_b` from their doc comments, the speed `v` in the wheels'
-/// length unit per time unit and the eigenvalues `λ` per time unit once the model states
-/// its time unit.
-fn units() -> Units {
-    let mut units = Units::of::<WhippleBicycle>();
-    let (length, time) = (
-        WhippleBicycle::parameter_unit("r_r"),
-        WhippleBicycle::unit("t"),
-    );
-    if let (Some(length), Some(time)) = (length, time) {
-        units = units.with("v", &format!("{length}/{time}"));
-    }
-    if let Some(time) = time {
-        units = units.with("λ", &format!("1/{time}"));
-    }
-    units
-}
-
 /// One stability map: the largest real part over speed (x) and `parameter` (y), with the
 /// weave and capsize speeds of the study's rows at those parameters drawn over it, and the
 /// benchmark marked.
@@ -425,7 +415,7 @@ fn stability_panel(
     speeds: (&[f64], &[f64]),
     benchmark: f64,
 ) -> Panel {
-    let units = units();
+    let units = bicycle_units::units();
     let flat: Vec<f64> = abscissae.iter().flatten().copied().collect();
     // Growth rates span decades, the capsize's a tenth of the weave's at low speed: on a
     // logarithmic scale beyond 0.05 either side reads clearly.
@@ -460,7 +450,7 @@ fn stability_panel(
 /// capsize speeds — the boundaries — drawn over them.
 fn stability_figure(result: &Table, threads: Option<usize>) -> Result<Figure, Error> {
     let (trail_rows, mass_rows) = map_rows();
-    let units = units();
+    let units = bicycle_units::units();
     let (trail, mass) = (column(result, "trail")?, column(result, "rider_mass")?);
     let (weave, capsize) = (
         column(result, "weave_speed")?,

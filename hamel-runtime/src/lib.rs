@@ -22,7 +22,7 @@ mod simulation;
 mod sink;
 mod system;
 mod system_ode;
-mod tracking;
+pub mod tracking;
 mod trajectory;
 mod vector;
 
