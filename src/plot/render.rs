@@ -250,7 +250,8 @@ fn lay_out<DB: DrawingBackend>(
     let mut y_labels = 4 * sizes.gap + sizes.text as i32;
     let (mut beside, mut legend_width, mut outside) = (0, 0, panel.legend == Legend::Outside);
     let clearance = f64::from(sizes.dot.max(sizes.line as i32) + 2);
-    for pass in 0..4 {
+    let mut pass = 1;
+    loop {
         let right = 3 * sizes.gap + beside + if outside { legend_width + sizes.gap } else { 0 };
         let plot = plot_size(width, height, (x_labels, y_labels, right), sizes);
         let mut prepared = prepare(panel, plot)?;
@@ -279,7 +280,7 @@ fn lay_out<DB: DrawingBackend>(
             colorbar::width(area, prepared.colorbar.as_ref(), sizes)?,
             if outside { size.0 } else { 0 },
         );
-        if measured == (y_labels, beside, legend_width) || pass == 3 {
+        if measured == (y_labels, beside, legend_width) || pass == 4 {
             return Ok(Layout {
                 x_labels,
                 y_labels,
@@ -289,8 +290,8 @@ fn lay_out<DB: DrawingBackend>(
             });
         }
         (y_labels, beside, legend_width) = measured;
+        pass += 1;
     }
-    unreachable!("the last pass returns")
 }
 
 /// The size of the plotting area, in pixels, left by the margins (`gap` left, top and bottom,
