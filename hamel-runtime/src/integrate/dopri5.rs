@@ -4,6 +4,7 @@
 //! extension, so its step counts can be checked against the Fortran code's.
 
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::sampling::Samples;
 use super::{
     Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps, fresh,
     fresh_component, too_many_steps, too_many_steps_planned,
@@ -410,73 +411,6 @@ impl<V: Vector> Interpolant<V> for Dense<V> {
     }
 }
 
-/// The bookkeeping of sample times: which come next, and reporting those an accepted step
-/// covers.
-struct Samples<'a, T: ?Sized, V> {
-    times: &'a T,
-    next: usize,
-    observer: &'a mut dyn Observer<V>,
-}
-
-impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
-    /// The sample time `next` points at, if any is left.
-    fn upcoming(&self) -> Option<f64> {
-        (self.next < self.times.count()).then(|| self.times.time(self.next))
-    }
-
-    /// Reports the samples in the accepted step from (t, y) to t1 — up to `stop` when the
-    /// observer ends the integration within the step: at t1 the step's result as projected,
-    /// `y1`; inside the step the continuous extension, projected; at a stop the extension
-    /// there, projected, as the last sample. The extension is formed (`dense`) only if a
-    /// sample falls inside the step. Returns the time the observer stopped at, if it did: at
-    /// `stop`, or at a sample it asked to end with.
-    fn report<O: Ode<State = V>>(
-        &mut self,
-        ode: &mut O,
-        (t1, y1): (f64, &V),
-        dense: &mut dyn FnMut() -> Dense<V>,
-        formed: Option<&Dense<V>>,
-        stop: Option<f64>,
-    ) -> Result<Option<f64>, Error> {
-        let end = stop.unwrap_or(t1);
-        let mut made = None;
-        while let Some(s) = self
-            .upcoming()
-            .filter(|s| *s <= end && (stop.is_none() || *s < end))
-        {
-            let control = if s == t1 {
-                self.observer.sample(s, y1)?
-            } else {
-                let extension = match formed {
-                    Some(d) => d,
-                    None => made.get_or_insert_with(&mut *dense),
-                };
-                let mut value = extension.at(s);
-                ode.project(s, &mut value)?;
-                self.observer.sample(s, &value)?
-            };
-            self.next += 1;
-            if let Control::Stop(_) = control {
-                return Ok(Some(s));
-            }
-        }
-        if let Some(ts) = stop {
-            let mut value = if ts == t1 {
-                *y1
-            } else {
-                match formed {
-                    Some(d) => d.at(ts),
-                    None => made.get_or_insert_with(&mut *dense).at(ts),
-                }
-            };
-            ode.project(ts, &mut value)?;
-            // The run ends here whatever the observer answers.
-            let _ = self.observer.sample(ts, &value)?;
-        }
-        Ok(stop)
-    }
-}
-
 impl Integrator for DormandPrince {
     fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
@@ -494,13 +428,9 @@ impl Integrator for DormandPrince {
             next: 0,
             observer,
         };
-        while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
-            let control = samples.observer.sample(s, x0)?;
-            samples.next += 1;
-            if let Control::Stop(_) = control {
-                stats.stopped = Some(s);
-                return Ok(stats);
-            }
+        if let Some(s) = samples.report_start(t0, x0)? {
+            stats.stopped = Some(s);
+            return Ok(stats);
         }
         let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
             return Ok(stats);
@@ -590,13 +520,12 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             }
             None => None,
         };
-        let stopped = self.samples.report(
-            &mut *self.ode,
-            (t1, &y1_projected),
-            &mut extension,
-            watched.as_ref(),
-            stop,
-        )?;
+        // The extension is formed once, and only if a sample falls inside the step.
+        let mut formed = watched;
+        let at = |s| formed.get_or_insert_with(&mut extension).at(s);
+        let stopped = self
+            .samples
+            .report(&mut *self.ode, (t1, &y1_projected), at, stop)?;
         if stopped.is_some() {
             self.stats.stopped = stopped;
             return Ok(None);

@@ -13,12 +13,14 @@
 
 mod collocation;
 mod dopri5;
+mod fixed_step;
 mod gauss;
 mod midpoint;
 mod newton;
 pub mod observer;
 mod radau;
 mod rk4;
+mod sampling;
 
 pub use dopri5::DormandPrince;
 pub use gauss::GaussLegendre;

@@ -20,6 +20,7 @@ use nalgebra::{DMatrix, DVector, Dyn, LU};
 use super::collocation::{Collocation, Tableau, extrapolate};
 use super::newton::{Criterion, Newton, Outcome, factor_checked};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::sampling::Samples;
 use super::{Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, too_many_steps};
 use crate::error::Error;
 use crate::vector::Vector;
@@ -205,14 +206,11 @@ impl Integrator for Radau5 {
             next: 0,
             observer,
         };
-        while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
-            if let Control::Stop(_) = samples.observer.sample(s, x0)? {
-                return Ok(Stats {
-                    stopped: Some(s),
-                    ..Stats::default()
-                });
-            }
-            samples.next += 1;
+        if let Some(s) = samples.report_start(t0, x0)? {
+            return Ok(Stats {
+                stopped: Some(s),
+                ..Stats::default()
+            });
         }
         let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
             return Ok(Stats::default());
@@ -587,7 +585,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             Control::Continue => None,
             Control::Stop(ts) => Some(ts.clamp(t, t1)),
         };
-        let stop = samples.report(self.ode, (t1, &y1), &step, stop)?;
+        let stop = samples.report(self.ode, (t1, &y1), |s| step.at(s), stop)?;
         if stop.is_some() {
             self.stats.stopped = stop;
             return Ok(Next::Done);
@@ -600,59 +598,6 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         self.ode.rhs(t1, &y1, &mut self.f0)?;
         self.stats.evaluations += 1;
         Ok(Next::Continue)
-    }
-}
-
-/// The bookkeeping of sample times: which come next, and reporting those an accepted step
-/// covers (as Dormand–Prince does).
-struct Samples<'a, T: ?Sized, V> {
-    times: &'a T,
-    next: usize,
-    observer: &'a mut dyn Observer<V>,
-}
-
-impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
-    fn upcoming(&self) -> Option<f64> {
-        (self.next < self.times.count()).then(|| self.times.time(self.next))
-    }
-
-    /// Reports the samples in the accepted step ending at t1 — up to `stop` when the observer
-    /// ends the integration within it: at t1 the step's result as projected, inside the step
-    /// the collocation polynomial, projected; at a stop the polynomial there, projected, as
-    /// the last sample. Returns where the integration stops: at `stop`, or at a sample whose
-    /// observer asked to.
-    fn report<O: Ode<State = V>>(
-        &mut self,
-        ode: &mut O,
-        (t1, y1): (f64, &V),
-        dense: &dyn Interpolant<V>,
-        stop: Option<f64>,
-    ) -> Result<Option<f64>, Error> {
-        let end = stop.unwrap_or(t1);
-        while let Some(s) = self
-            .upcoming()
-            .filter(|s| *s <= end && (stop.is_none() || *s < end))
-        {
-            let control = if s == t1 {
-                self.observer.sample(s, y1)?
-            } else {
-                let mut value = dense.at(s);
-                ode.project(s, &mut value)?;
-                self.observer.sample(s, &value)?
-            };
-            self.next += 1;
-            // A run cancelled while a step holds many samples ends at the sample.
-            if let Control::Stop(_) = control {
-                return Ok(Some(s));
-            }
-        }
-        if let Some(ts) = stop {
-            let mut value = if ts == t1 { *y1 } else { dense.at(ts) };
-            ode.project(ts, &mut value)?;
-            // The run ends here whatever the observer answers.
-            let _ = self.observer.sample(ts, &value)?;
-        }
-        Ok(stop)
     }
 }
 
