@@ -3,11 +3,13 @@
 //! the same tableau, error norm, PI controller, initial-step heuristic and continuous
 //! extension, so its step counts can be checked against the Fortran code's.
 
+use super::initial_step::{Target, initial_step};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::sampling::Samples;
+use super::settings::{self, Adaptive, RtolFloor};
 use super::{
     Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps, fresh,
-    fresh_component, too_many_steps, too_many_steps_planned,
+    fresh_component, too_many_steps, too_many_steps_planned, UNDERFLOW_ULPS, check_span,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -92,59 +94,28 @@ impl DormandPrince {
     }
 
     fn check_settings(&self) -> Result<(), Error> {
-        let positive = |v: f64| v.is_finite() && v > 0.0;
-        let invalid = |name, value, reason| {
-            Err(Error::InvalidSetting {
-                name,
-                value,
-                reason,
-            })
+        let floor = RtolFloor {
+            value: 0.0,
+            inclusive: true,
+            reason: "the relative tolerance must be a finite number ≥ 0",
         };
-        if !(self.rtol.is_finite() && self.rtol >= 0.0) {
-            return invalid(
-                "rtol",
-                self.rtol,
-                "the relative tolerance must be a finite number ≥ 0",
-            );
-        }
-        // A positive atol keeps every scale scᵢ positive, so the error norm is never 0/0.
-        if !positive(self.atol) {
-            return invalid(
-                "atol",
-                self.atol,
-                "the absolute tolerance must be a positive finite number",
-            );
-        }
-        if let Some(h) = self.initial_step.filter(|h| !positive(*h)) {
-            return invalid(
-                "initial step",
-                h,
-                "the initial step must be a positive finite number",
-            );
-        }
-        if self.max_step.is_nan() || self.max_step <= 0.0 {
-            return invalid(
-                "max step",
-                self.max_step,
-                "the largest step must be positive (or infinite)",
-            );
-        }
-        if self.max_steps == 0 {
-            return invalid("max steps", 0.0, "the integration needs at least one step");
-        }
-        if !(self.min_step.is_finite() && (0.0..1.0).contains(&self.min_step)) {
-            return invalid(
-                "min step",
-                self.min_step,
-                "the floor on the step, relative to the span, must be in [0, 1)",
-            );
-        }
-        if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
-            return invalid(
-                "fixed step",
-                h,
-                "the fixed step must be a positive finite number",
-            );
+        settings::check(
+            &Adaptive {
+                rtol: self.rtol,
+                atol: self.atol,
+                initial_step: self.initial_step,
+                max_step: self.max_step,
+                max_steps: self.max_steps,
+                min_step: self.min_step,
+            },
+            floor,
+        )?;
+        if let Some(h) = self.fixed_step.filter(|h| !(h.is_finite() && *h > 0.0)) {
+            return Err(Error::InvalidSetting {
+                name: "fixed step",
+                value: h,
+                reason: "the fixed step must be a positive finite number",
+            });
         }
         Ok(())
     }
@@ -359,52 +330,6 @@ impl Controller {
     }
 }
 
-/// Hairer's initial step (HINIT, order 5): a step whose explicit-Euler increment is 1% of the
-/// solution's scale, then refined with a finite-difference estimate of the second derivative
-/// so that the local error of the first step is near the tolerance. Costs one evaluation.
-/// Like the error norm, it looks only at the components the step-size control covers.
-fn initial_step<O: Ode>(
-    ode: &mut O,
-    t: f64,
-    y: &O::State,
-    f0: &O::State,
-    method: &DormandPrince,
-    hmax: f64,
-    stats: &mut Stats,
-) -> Result<f64, Error> {
-    let scale = |i: usize| method.atol + method.rtol * y.as_ref()[i].abs();
-    let n = ode.controlled_components().min(O::State::LEN);
-    let dnf: f64 = (0..n).map(|i| (f0.as_ref()[i] / scale(i)).powi(2)).sum();
-    let dny: f64 = (0..n).map(|i| (y.as_ref()[i] / scale(i)).powi(2)).sum();
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-        1e-6
-    } else {
-        (dny / dnf).sqrt() * 0.01
-    };
-    // A non-finite derivative makes h NaN; start small and let step rejection deal with it.
-    if !(h > 0.0 && h.is_finite()) {
-        h = 1e-6;
-    }
-    h = h.min(hmax);
-
-    let mut f1 = O::State::zeros();
-    ode.rhs(t + h, &combine(y, h, &[(1.0, f0)]), &mut f1)?;
-    stats.evaluations += 1;
-    let der2 = (0..n)
-        .map(|i| ((f1.as_ref()[i] - f0.as_ref()[i]) / scale(i)).powi(2))
-        .sum::<f64>()
-        .sqrt()
-        / h;
-    let der12 = der2.abs().max(dnf.sqrt());
-    let h1 = if der12 <= 1e-15 {
-        (h * 1e-3).max(1e-6)
-    } else {
-        (0.01 / der12).powf(1.0 / 5.0)
-    };
-    // f64::min ignores a NaN h1, leaving a finite step.
-    Ok((100.0 * h).min(h1).min(hmax))
-}
-
 impl<V: Vector> Interpolant<V> for Dense<V> {
     fn at(&self, t: f64) -> V {
         Dense::at(self, t)
@@ -441,12 +366,8 @@ impl Integrator for DormandPrince {
         if needed > self.max_steps as f64 {
             return Err(too_many_steps_planned(ode, t0, smallest, x0, needed));
         }
-        if self.fixed_step.is_none() && t_end - t0 < UNDERFLOW_ULPS * f64::EPSILON * t0.abs() {
-            return Err(Error::SpanTooShort {
-                t0,
-                t_end,
-                state: ode.describe(x0),
-            });
+        if self.fixed_step.is_none() {
+            check_span(ode, t0, t_end, x0)?;
         }
 
         let mut k: Stages<O::State> = [O::State::zeros(); 7];
@@ -467,9 +388,6 @@ impl Integrator for DormandPrince {
         Ok(run.stats)
     }
 }
-
-/// Below this many ulps of t, t + h no longer differs from t by more than a few roundings.
-const UNDERFLOW_ULPS: f64 = 16.0;
 
 /// One integration: the ODE, the samples and their observer, the cost so far and the stages
 /// of the current step.
@@ -551,7 +469,15 @@ impl DormandPrince {
         let floor = self.min_step * (t_end - t0);
         let mut h = match self.initial_step {
             Some(h) => h.min(hmax),
-            None => initial_step(run.ode, t0, &y0, &run.k[0], self, hmax, &mut run.stats)?,
+            None => {
+                let target = Target {
+                    rtol: self.rtol,
+                    atol: self.atol,
+                    order: 4.0,
+                    hmax,
+                };
+                initial_step(run.ode, (t0, &y0, &run.k[0]), target, &mut run.stats)?
+            }
         };
         let mut controller = Controller::new();
         let (mut t, mut y) = (t0, y0);

@@ -15,12 +15,15 @@ mod collocation;
 mod dopri5;
 mod fixed_step;
 mod gauss;
+mod initial_step;
 mod midpoint;
 mod newton;
 pub mod observer;
 mod radau;
 mod rk4;
 mod sampling;
+mod settings;
+mod singular;
 
 pub use dopri5::DormandPrince;
 pub use gauss::GaussLegendre;
@@ -230,6 +233,22 @@ pub(crate) fn check_problem<O: Ode, T: SampleTimes + ?Sized>(
             });
         }
         previous = s;
+    }
+    Ok(())
+}
+
+/// Below this many ulps of t, t + h no longer differs from t by more than a few roundings.
+pub(crate) const UNDERFLOW_ULPS: f64 = 16.0;
+
+/// Refuses an adaptive integration whose span is shorter than a step can resolve at its
+/// start time (a few ulps of t0): no step could be taken, and that is not a step that shrank.
+pub(crate) fn check_span<O: Ode>(ode: &O, t0: f64, t_end: f64, x0: &O::State) -> Result<(), Error> {
+    if t_end - t0 < UNDERFLOW_ULPS * f64::EPSILON * t0.abs() {
+        return Err(Error::SpanTooShort {
+            t0,
+            t_end,
+            state: ode.describe(x0),
+        });
     }
     Ok(())
 }

@@ -12,9 +12,10 @@
 //! McLachlan & Razakarivony, *BIT* 48 (2008)), and RADAU5's test on the predicted remaining
 //! error, for the stiff method whose error control needs no more than the tolerance.
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::collocation::Tableau;
+use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
 use super::{Ode, Stats};
 use crate::error::{Error, Num};
 use crate::vector::Vector;
@@ -76,11 +77,19 @@ pub(crate) struct Newton {
     residual: DVector<f64>,
     /// RADAU5's FACCON, carried from step to step: θ/(1 − θ) of the last iteration.
     faccon: f64,
+    /// The leading components the convergence test measures (`Ode::controlled_components`):
+    /// the others (the work done on a forced system) follow the state and do not act back
+    /// on it, so they converge with it and must not hold it up.
+    controlled: usize,
+    /// The largest relative change of h for which the factorization is kept
+    /// ([`Newton::with_reuse`]).
+    reuse: f64,
 }
 
 impl Newton {
-    /// The machinery for an ODE with `n` components and a method with `stages` stages.
-    pub fn new(n: usize, stages: usize) -> Self {
+    /// The machinery for an ODE with `n` components, of which the leading `controlled` are
+    /// measured by the convergence test, and a method with `stages` stages.
+    pub fn new(n: usize, controlled: usize, stages: usize) -> Self {
         Newton {
             n,
             jacobian: DMatrix::zeros(n, n),
@@ -90,7 +99,19 @@ impl Newton {
             lu: None,
             residual: DVector::zeros(n * stages),
             faccon: 1.0,
+            controlled: controlled.clamp(1, n.max(1)),
+            reuse: 0.0,
         }
+    }
+
+    /// Keeps the factorization for a step h while |h/h_factored − 1| ≤ `ratio` (0: only for
+    /// the same h). Simplified Newton converges to the same stages with an iteration matrix
+    /// for a slightly different step, a little more slowly; a fixed-step method whose steps
+    /// differ in their last bits between sample intervals would otherwise refactor an
+    /// unchanged matrix.
+    pub fn with_reuse(mut self, ratio: f64) -> Self {
+        self.reuse = ratio;
+        self
     }
 
     /// Whether a Jacobian has been evaluated yet.
@@ -143,8 +164,9 @@ impl Newton {
         Ok(())
     }
 
-    /// Factors I − h·(A ⊗ J) unless it is factored for this h already; a singular matrix is
-    /// an error naming t, h and the state x (where the step starts).
+    /// Factors I − h·(A ⊗ J) unless it is factored for this h already (up to the reuse
+    /// ratio); a singular matrix is an error naming t, h, the growing motion that makes it
+    /// singular and the state x (where the step starts).
     pub fn factor<O: Ode, const S: usize>(
         &mut self,
         ode: &O,
@@ -152,7 +174,7 @@ impl Newton {
         (t, x, h): (f64, &O::State, f64),
         stats: &mut Stats,
     ) -> Result<(), Error> {
-        if matches!(self.lu, Some((formed, _)) if formed == h) {
+        if matches!(self.lu, Some((formed, _)) if (h / formed - 1.0).abs() <= self.reuse) {
             return Ok(());
         }
         let n = self.n;
@@ -161,13 +183,14 @@ impl Newton {
             let identity = if r == c { 1.0 } else { 0.0 };
             identity - h * tableau.a[i][j] * self.jacobian[(p, q)]
         });
-        let pivot = factor_checked(matrix, &mut self.lu, h);
         stats.factorizations += 1;
-        match pivot {
-            Some(pivot) => Err(Error::SingularIterationMatrix {
+        let mus = || method_eigenvalues(&tableau.a);
+        match factor_checked(matrix, &mut self.lu, h, &self.jacobian, mus) {
+            Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
                 t,
                 h,
-                pivot,
+                growth,
+                frequency,
                 state: ode.describe(x),
             }),
             None => Ok(()),
@@ -299,16 +322,19 @@ impl Newton {
         })
     }
 
-    /// √(mean((ΔZ / scale)²)) over every stage and component, ΔZ being in `residual`.
+    /// √(mean((ΔZ / scale)²)) over every stage and controlled component, ΔZ being in
+    /// `residual`.
     fn scaled_norm(&self, scale: &[f64]) -> f64 {
-        let n = self.n;
+        let (n, len) = (self.n, self.controlled);
         let sum: f64 = self
             .residual
             .iter()
             .enumerate()
+            .filter(|(r, _)| r % n < len)
             .map(|(r, dz)| (dz / scale[r % n]).powi(2))
             .sum();
-        (sum / self.residual.len() as f64).sqrt()
+        let stages = self.residual.len() / n.max(1);
+        (sum / (stages * len) as f64).sqrt()
     }
 
     /// Z += ΔZ.
@@ -322,31 +348,29 @@ impl Newton {
     }
 }
 
-/// Relative LU pivots below this are zero: the matrix is singular to rounding.
-const SINGULAR_PIVOT: f64 = 1e-13;
-
-/// Factors `matrix` into `slot` (with the h it is for); `Some(pivot)` when it is singular,
-/// the smallest pivot relative to the matrix's largest entry (the slot then left empty).
+/// Factors `matrix` = I − h·μ·J (for the eigenvalues μ of the method, `mus`, asked for only
+/// when needed) into `slot`, with the h it is for; `Some(λ)` when it is singular, λ = (Re, Im)
+/// the eigenvalue of J that makes it so (the slot then left empty). A tiny pivot alone is not
+/// singular ([`super::singular`]): the LU is kept, and a solve that overflows fails the
+/// iteration, which the adaptive method answers with a smaller step.
 pub(crate) fn factor_checked(
     matrix: DMatrix<f64>,
     slot: &mut Option<(f64, LU<f64, Dyn, Dyn>)>,
     h: f64,
-) -> Option<f64> {
+    jacobian: &DMatrix<f64>,
+    mus: impl FnOnce() -> Vec<Complex<f64>>,
+) -> Option<(f64, f64)> {
     let largest = matrix.amax();
     let lu = matrix.lu();
-    let smallest = lu.u().diagonal().amin();
-    let pivot = if largest > 0.0 {
-        smallest / largest
-    } else {
-        0.0
-    };
-    if pivot.is_nan() || pivot <= SINGULAR_PIVOT {
-        *slot = None;
-        Some(pivot)
-    } else {
-        *slot = Some((h, lu));
-        None
+    let pivot = relative_pivot(lu.u().diagonal().amin(), largest);
+    if pivot <= SUSPICIOUS_PIVOT {
+        if let Some(mode) = growing_mode(jacobian, h, &mus()) {
+            *slot = None;
+            return Some(mode);
+        }
     }
+    *slot = Some((h, lu));
+    None
 }
 
 /// The Jacobian by forward differences, row by row into `rows`, with Hairer's increments
@@ -414,7 +438,7 @@ mod tests {
     #[test]
     fn a_linear_problem_converges_at_once() {
         let tableau = Tableau::gauss2();
-        let mut newton = Newton::new(2, 2);
+        let mut newton = Newton::new(2, 2, 2);
         let mut stats = Stats::default();
         let (t, y, h) = (0.0, [1.0, 0.0], 0.1);
         newton.evaluate(&mut Linear, t, &y, &mut stats).unwrap();
@@ -456,7 +480,7 @@ mod tests {
             }
         }
         let tableau = Tableau::gauss1();
-        let mut newton = Newton::new(1, 1);
+        let mut newton = Newton::new(1, 1, 1);
         let mut stats = Stats::default();
         newton
             .evaluate(&mut Growth, 1.5, &[2.0], &mut stats)
