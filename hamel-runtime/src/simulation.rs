@@ -354,7 +354,9 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             };
             integrator.integrate_observed(&mut ode, self.t0, &v0, grid, &mut states)?
         };
-        driver.finish(stats)
+        let mut summary = driver.finish(stats)?;
+        summary.symmetric_not_reversible = integrator.symmetric() && !S::REVERSIBLE;
+        Ok(summary)
     }
 
     /// The checked initial state, its dependent coordinates re-solved when projecting.

@@ -8,8 +8,8 @@ use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps, fresh,
-    fresh_component, too_many_steps, too_many_steps_planned, UNDERFLOW_ULPS, check_span,
+    Integrator, MAX_STEPS, Ode, Stats, UNDERFLOW_ULPS, check_problem, check_span, check_state,
+    combine, equal_steps, fresh, fresh_component, too_many_steps, too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;

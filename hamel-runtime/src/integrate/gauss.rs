@@ -164,6 +164,11 @@ fn check_settings(method: &GaussLegendre) -> Result<(), Error> {
 }
 
 impl Integrator for GaussLegendre {
+    /// Gauss–Legendre methods are symmetric.
+    fn symmetric(&self) -> bool {
+        true
+    }
+
     fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,

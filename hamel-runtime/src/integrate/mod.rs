@@ -135,6 +135,14 @@ pub trait Integrator {
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error>;
 
+    /// Whether the method is symmetric — its step with −h undoes its step with h — as the
+    /// Gauss–Legendre methods are: on a [`crate::HamelSystem::REVERSIBLE`] model such a method
+    /// keeps the energy error bounded over long runs, on any other it does not, and a
+    /// `Simulation`'s summary says so. Default `false`.
+    fn symmetric(&self) -> bool {
+        false
+    }
+
     /// [`Integrator::integrate_observed`] with a closure that observes the samples only.
     fn integrate<O: Ode, T: SampleTimes + ?Sized>(
         &self,

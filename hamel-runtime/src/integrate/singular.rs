@@ -27,12 +27,20 @@ pub(crate) const SUSPICIOUS_PIVOT: f64 = 1e-13;
 
 /// The smallest LU pivot of a matrix relative to its largest entry (0 for a zero matrix).
 pub(crate) fn relative_pivot(smallest: f64, largest: f64) -> f64 {
-    if largest > 0.0 { smallest / largest } else { 0.0 }
+    if largest > 0.0 {
+        smallest / largest
+    } else {
+        0.0
+    }
 }
 
 /// The eigenvalue λ = (Re, Im) of `jacobian` that makes I − h·μ·J singular for one of the
 /// eigenvalues μ of the method (`mus`), if one does: the growing motion to blame.
-pub(crate) fn growing_mode(jacobian: &DMatrix<f64>, h: f64, mus: &[Complex<f64>]) -> Option<(f64, f64)> {
+pub(crate) fn growing_mode(
+    jacobian: &DMatrix<f64>,
+    h: f64,
+    mus: &[Complex<f64>],
+) -> Option<(f64, f64)> {
     if jacobian.iter().any(|v| !v.is_finite()) {
         return None;
     }

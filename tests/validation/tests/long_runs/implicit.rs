@@ -483,7 +483,9 @@ impl Ode for ControlledRobot<'_> {
 #[test]
 fn the_work_of_a_forced_model_does_not_hold_up_the_newton_iteration() {
     let (robot, x0) = stiff_robot();
-    let sim = Simulation::new(&robot, x0).end_time(1.0).sample_interval(0.01);
+    let sim = Simulation::new(&robot, x0)
+        .end_time(1.0)
+        .sample_interval(0.01);
     let controller = |t: f64, x: &[f64; 8]| robot_controller(&robot, t, x);
     let gauss = sim
         .run(&GaussLegendre::new(2, 0.001), controller)
@@ -499,7 +501,13 @@ fn the_work_of_a_forced_model_does_not_hold_up_the_newton_iteration() {
         .unwrap();
     let samples: Vec<f64> = (1..=10).map(|i| 0.5 * i as f64).collect();
     let without_w = radau
-        .integrate(&mut ControlledRobot(&robot), 0.0, &x0, &samples, &mut |_, _| Ok(()))
+        .integrate(
+            &mut ControlledRobot(&robot),
+            0.0,
+            &x0,
+            &samples,
+            &mut |_, _| Ok(()),
+        )
         .unwrap();
     let (with, without) = (with_w.summary(), without_w);
     println!(
@@ -507,7 +515,10 @@ fn the_work_of_a_forced_model_does_not_hold_up_the_newton_iteration() {
          rejected",
         with.steps, with.rejected, without.steps, without.rejected
     );
-    assert!(with.rejected.abs_diff(without.rejected) <= 2, "{with:?} against {without:?}");
+    assert!(
+        with.rejected.abs_diff(without.rejected) <= 2,
+        "{with:?} against {without:?}"
+    );
 }
 
 /// The robot's Gauss 2 run factors the iteration matrix once per Jacobian: its steps, equal
@@ -519,9 +530,57 @@ fn gauss_refactors_only_when_the_step_or_the_jacobian_changes() {
     let (robot, x0) = stiff_robot();
     let samples: Vec<f64> = (1..=100).map(|i| 0.01 * i as f64).collect();
     let stats = GaussLegendre::new(2, 0.001)
-        .integrate(&mut ControlledRobot(&robot), 0.0, &x0, &samples, &mut |_, _| Ok(()))
+        .integrate(
+            &mut ControlledRobot(&robot),
+            0.0,
+            &x0,
+            &samples,
+            &mut |_, _| Ok(()),
+        )
         .unwrap();
     println!("Gauss 2 on the stiff robot, 1 s: {stats:?}");
     assert_eq!(stats.steps, 1000);
     assert_eq!(stats.factorizations, stats.jacobians, "{stats:?}");
+}
+
+/// Nothing read `REVERSIBLE`: a symmetric method on a forced, damped or gyroscopic model
+/// gave no word that its bounded energy error does not apply, and on the stiff damped disk
+/// Gauss 2 (A-stable, not L-stable) leaves the fast mode undamped with no warning. A run of
+/// a symmetric method on a model that is not `REVERSIBLE` now says so in its summary; a run
+/// on a reversible model, or of another method, does not.
+#[test]
+fn a_symmetric_method_on_a_model_that_is_not_reversible_says_so() {
+    let note = "not REVERSIBLE";
+    let disk = StiffDisk::default();
+    let x0 = disk
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.1, 0.2], &[-0.2, 1.0])
+        .unwrap();
+    let sim = Simulation::new(&disk, x0)
+        .end_time(1.0)
+        .sample_interval(0.1);
+    let gauss = sim.run_constant(&GaussLegendre::new(2, 0.01), []).unwrap();
+    let motion = StiffMotion::new(disk.r, [0.0, 0.0, 0.1, 0.2], -0.2, 1.0, (-1.0, -1e6));
+    let error = gauss
+        .rows()
+        .map(|r| (r[5] - motion.state(r[0])[4]).abs())
+        .fold(0.0f64, f64::max);
+    println!(
+        "Gauss 2, h = 0.01, on the stiff disk: max error in the rolling rate {error:.2e}\n{}",
+        gauss.summary()
+    );
+    assert!(gauss.summary().symmetric_not_reversible);
+    assert!(gauss.summary().to_string().contains(note));
+    let dp = sim
+        .run_constant(&DormandPrince::new(1e-6, 1e-6), [])
+        .unwrap();
+    assert!(!dp.summary().to_string().contains(note));
+    let sleigh = ChaplyginSleigh::default();
+    let x0 = sleigh
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.3], &[0.2, 1.5])
+        .unwrap();
+    let reversible = Simulation::new(&sleigh, x0)
+        .end_time(1.0)
+        .run_constant(&GaussLegendre::new(2, 0.05), [])
+        .unwrap();
+    assert!(!reversible.summary().to_string().contains(note));
 }
