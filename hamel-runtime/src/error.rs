@@ -384,6 +384,13 @@ pub enum Error {
     #[error("case {case} panicked: {message}")]
     CasePanicked { case: usize, message: String },
 
+    /// A study's progress callback panicked: the study stopped, no case starting after it.
+    #[error(
+        "the study's progress callback panicked: {message}; the study was stopped (fix the \
+         callback given to `on_progress`, or run without it)"
+    )]
+    ProgressPanicked { message: String },
+
     /// An output column's name cannot be a column name (`Simulation::output`).
     #[error("the output name {name:?} cannot name a column: {reason}")]
     InvalidColumnName { name: String, reason: &'static str },
