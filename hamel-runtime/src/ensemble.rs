@@ -330,6 +330,6 @@ mod tests {
         }
         // A study whose callback is well is unchanged.
         let fine = Ensemble::new(4).threads(2).on_progress(|_| {});
-        assert_eq!(fine.run(|i| Ok(i)).unwrap().len(), 4);
+        assert_eq!(fine.run(Ok).unwrap().len(), 4);
     }
 }

@@ -230,6 +230,27 @@ pub enum Error {
         state: NamedValues,
     },
 
+    /// The reduced mass matrix became singular during a run because the inertia of the motion
+    /// along `speed` grew without bound: its diagonal entry is `value`, `growth` times what it
+    /// was at the start, while the other speeds' pivots stayed what they were and became zero
+    /// to rounding beside it. The model's geometry degenerates here (a slope or lever arm
+    /// that becomes infinite).
+    #[error(
+        "the inertia of the motion along `{speed}` grows without bound at t = {}: its entry in \
+         the reduced mass matrix is {}, {} times its value at the start, and the other speeds' \
+         pivots are zero to rounding beside it; the model's geometry degenerates here (a slope \
+         or a lever arm that becomes infinite): end the run before, or change the coordinates \
+         or the model there; state: {state}",
+        Num(*t), Num(*value), Num(*growth)
+    )]
+    UnboundedInertia {
+        t: f64,
+        speed: String,
+        value: f64,
+        growth: f64,
+        state: NamedValues,
+    },
+
     #[error(
         "singular velocity transformation at t = {}: the constraints and quasi-velocities do not \
          determine the velocity of `{coordinate}` at this configuration (the LU pivot of A(q) for it \

@@ -32,6 +32,10 @@ mod implicit;
 #[path = "common/stiff_problems.rs"]
 mod stiff_problems;
 
+// A singular mass matrix at the end of a curved ridge names the speed whose inertia diverges.
+#[path = "long_runs/ridge_skate.rs"]
+mod ridge_skate;
+
 // Radau5 on the standard stiff test set.
 #[path = "long_runs/stiff_set.rs"]
 mod stiff_set;
