@@ -28,7 +28,7 @@ use disk_closed_forms::{StiffDisk, StiffMotion};
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, Error, HamelSystem, Integrator, Ode, Radau5, Stats, Vector};
 use stiff_problems::{
-    Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error,
+    Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, radau5,
 };
 
 use compare::Row;
@@ -69,22 +69,7 @@ fn row(problem: &str, rtol: f64, (stats, error, wall): (Stats, f64, f64)) -> Row
 /// Radau5 on one problem of the test set at every tolerance.
 fn test_set<P: StiffProblem>(rows: &mut Vec<Row>) {
     for rtol in TOLERANCES {
-        let ((end, stats), wall) = timed(|| {
-            let mut end = P::start();
-            let stats = Radau5::new(rtol, rtol * P::ATOL_RATIO)
-                .integrate(
-                    &mut P::default(),
-                    0.0,
-                    &P::start(),
-                    &[P::T_END],
-                    &mut |_, y| {
-                        end = *y;
-                        Ok(())
-                    },
-                )
-                .expect("the run");
-            (end, stats)
-        });
+        let ((end, stats), wall) = timed(|| radau5::<P>(rtol).expect("the run"));
         rows.push(row(P::NAME, rtol, (stats, mixed_error::<P>(&end), wall)));
     }
 }

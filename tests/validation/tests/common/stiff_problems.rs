@@ -14,7 +14,7 @@
 //! absolute (relative to atol/rtol) below. Each problem sets atol/rtol
 //! ([`StiffProblem::ATOL_RATIO`]) to the size below which a component is negligible.
 
-use hamel::{Error, Ode};
+use hamel::{Error, Integrator, Ode, Radau5, Stats};
 
 /// A problem of the test set.
 pub trait StiffProblem: Ode + Default {
@@ -27,6 +27,24 @@ pub trait StiffProblem: Ode + Default {
     fn start() -> Self::State;
     /// The Test Set's reference solution at `T_END`.
     fn reference() -> Self::State;
+}
+
+/// Radau5 with rtol and atol = rtol·`P::ATOL_RATIO`, default settings otherwise, from the
+/// start to the end of `P`'s span: the end state and the statistics.
+pub fn radau5<P: StiffProblem>(rtol: f64) -> Result<(P::State, Stats), Error> {
+    let mut end = P::start();
+    let method = Radau5::new(rtol, rtol * P::ATOL_RATIO);
+    let stats = method.integrate(
+        &mut P::default(),
+        0.0,
+        &P::start(),
+        &[P::T_END],
+        &mut |_, y| {
+            end = *y;
+            Ok(())
+        },
+    )?;
+    Ok((end, stats))
 }
 
 /// The Test Set's mixed error of `y` at the end of `P`'s span.
