@@ -15,36 +15,48 @@ mod stiff_problems;
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod};
-use hamel::{Ode, Vector};
+use diffsol::{DenseMatrix, MatrixCommon, NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod};
+
+/// The last column of a solution matrix.
+fn last_column(ys: &NalgebraMat<f64>) -> Vec<f64> {
+    let last = ys.ncols() - 1;
+    (0..ys.nrows()).map(|i| ys.get_index(i, last)).collect()
+}
 use stiff_problems::{Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error};
 
 const TOLERANCES: [f64; 7] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
 
 fn to_state<P: StiffProblem>(x: &[f64]) -> P::State {
-    let mut s = P::State::zeros();
+    let mut s = <P::State as hamel::Vector>::zeros();
     s.as_mut().copy_from_slice(x);
     s
 }
 
+/// A diffsol vector's components.
+fn components(x: &(impl std::ops::Index<usize, Output = f64> + ?Sized), n: usize) -> Vec<f64> {
+    (0..n).map(|i| x[i]).collect()
+}
+
 /// One run of `method` ("bdf" or "esdirk34") on `P`: the end state, or None if it failed.
 fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
-    let n = P::State::LEN;
+    let n = <P::State as hamel::Vector>::LEN;
     let problem = OdeBuilder::<NalgebraMat<f64>>::new()
         .rtol(rtol)
         .atol(vec![rtol * P::ATOL_RATIO; n])
         .rhs_implicit(
             move |x, _p, t, y| {
-                let mut f = P::State::zeros();
+                let mut f = <P::State as hamel::Vector>::zeros();
                 P::default()
-                    .rhs(t, &to_state::<P>(x.as_slice()), &mut f)
+                    .rhs(t, &to_state::<P>(&components(x, n)), &mut f)
                     .unwrap();
-                y.as_mut_slice().copy_from_slice(f.as_ref());
+                for (i, v) in f.as_ref().iter().enumerate() {
+                    y[i] = *v;
+                }
             },
             move |x, _p, t, v, y| {
                 let mut j = vec![0.0; n * n];
                 P::default()
-                    .jacobian(t, &to_state::<P>(x.as_slice()), &mut j)
+                    .jacobian(t, &to_state::<P>(&components(x, n)), &mut j)
                     .unwrap();
                 for r in 0..n {
                     y[r] = (0..n).map(|c| j[r * n + c] * v[c]).sum();
@@ -52,7 +64,11 @@ fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
             },
         )
         .init(
-            move |_p, _t, y| y.as_mut_slice().copy_from_slice(P::start().as_ref()),
+            move |_p, _t, y| {
+                for (i, v) in P::start().as_ref().iter().enumerate() {
+                    y[i] = *v;
+                }
+            },
             n,
         )
         .build()
@@ -61,12 +77,12 @@ fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
         "bdf" => {
             let mut solver = problem.bdf::<NalgebraLU<f64>>().ok()?;
             let (ys, _, _) = solver.solve(P::T_END).ok()?;
-            ys.column(ys.ncols() - 1).iter().copied().collect()
+            last_column(&ys)
         }
         _ => {
             let mut solver = problem.esdirk34::<NalgebraLU<f64>>().ok()?;
             let (ys, _, _) = solver.solve(P::T_END).ok()?;
-            ys.column(ys.ncols() - 1).iter().copied().collect()
+            last_column(&ys)
         }
     };
     Some(end)
