@@ -151,8 +151,8 @@ pub fn report(hamel: Vec<Row>) {
 }
 
 /// Per problem: at the errors hamel's Radau5 achieved, the other solvers' evaluations and
-/// wall times interpolated to the same error, as ratios hamel/other (median over the
-/// tolerances where both curves reach the error).
+/// wall times interpolated to the same error, as ratios hamel/other: the median and the
+/// largest over the tolerances where both curves reach the error.
 fn equal_error(rows: &[Row], problems: &[String]) {
     println!(
         "\nAt equal achieved error: hamel Radau5 / other (median over the errors both reach)\n"
@@ -178,7 +178,20 @@ fn equal_error(rows: &[Row], problems: &[String]) {
                 return "–".into();
             }
             ratios.sort_by(f64::total_cmp);
-            format!("{:.2} (n = {})", ratios[ratios.len() / 2], ratios.len())
+            let (median, worst) = (ratios[ratios.len() / 2], ratios[ratios.len() - 1]);
+            let shown = |v: f64| {
+                if v < 0.1 {
+                    format!("{v:.1e}")
+                } else {
+                    format!("{v:.2}")
+                }
+            };
+            format!(
+                "{} (largest {}, n = {})",
+                shown(median),
+                shown(worst),
+                ratios.len()
+            )
         };
         let evaluations = |r: &Row| r.evaluations;
         let wall = |r: &Row| r.wall;

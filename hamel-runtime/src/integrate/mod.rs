@@ -20,6 +20,7 @@ mod midpoint;
 mod newton;
 pub mod observer;
 mod radau;
+mod radau_stages;
 mod rk4;
 mod sampling;
 mod settings;

@@ -61,6 +61,169 @@ pub(crate) enum Outcome {
     },
 }
 
+/// The stage slopes F_i = f(t + cᵢh, y + Zᵢ), counted.
+pub(crate) fn stage_slopes<O: Ode, const S: usize>(
+    ode: &mut O,
+    c: &[f64; S],
+    (t, y, h): (f64, &O::State, f64),
+    z: &[O::State; S],
+    f: &mut [O::State; S],
+    stats: &mut Stats,
+) -> Result<(), Error> {
+    for (i, fi) in f.iter_mut().enumerate() {
+        let mut yi = *y;
+        for (v, dz) in yi.as_mut().iter_mut().zip(z[i].as_ref()) {
+            *v += dz;
+        }
+        ode.rhs(t + c[i] * h, &yi, fi)?;
+    }
+    stats.evaluations += S;
+    Ok(())
+}
+
+/// The bookkeeping of one iteration's convergence, whatever the linear algebra of its
+/// corrections: the observed contraction, and when to stop ([`Criterion`]).
+pub(crate) struct Convergence {
+    criterion: Criterion,
+    max_iterations: usize,
+    /// The last scaled correction (NaN before the first).
+    previous: f64,
+    /// The contraction reported: the largest before rounding (to rounding), RADAU5's
+    /// smoothed one (predicted).
+    rate: f64,
+    theta: f64,
+    theta_old: f64,
+}
+
+impl Convergence {
+    /// A new iteration; `faccon` is RADAU5's FACCON carried from the last step, which it
+    /// relaxes (`faccon^0.8`) as RADAU5 does.
+    pub fn new(criterion: Criterion, faccon: &mut f64) -> Self {
+        *faccon = faccon.max(f64::EPSILON).powf(0.8);
+        let max_iterations = match criterion {
+            Criterion::Rounding => NEWTON_MAX_ITERATIONS,
+            Criterion::Predicted { max_iterations, .. } => max_iterations,
+        };
+        Convergence {
+            criterion,
+            max_iterations,
+            previous: f64::NAN,
+            rate: 0.0,
+            theta: 0.0,
+            theta_old: 0.0,
+        }
+    }
+
+    pub fn max_iterations(&self) -> usize {
+        self.max_iterations
+    }
+
+    fn failed(&self, k: usize, rate: f64, increment: f64, shrink: f64) -> Outcome {
+        Outcome::Failed {
+            iterations: k,
+            rate,
+            increment,
+            shrink,
+        }
+    }
+
+    /// Judges the k-th correction, of scaled size `increment` (its solve having succeeded
+    /// or not), before it is applied: a failure ends the iteration.
+    pub fn judge(
+        &mut self,
+        k: usize,
+        increment: f64,
+        solved: bool,
+        faccon: &mut f64,
+    ) -> Option<Outcome> {
+        // A stage where f is not finite, or a solve that overflowed.
+        if !(solved && increment.is_finite()) {
+            return Some(self.failed(k, f64::NAN, increment, 0.5));
+        }
+        self.theta = if k >= 2 {
+            increment / self.previous
+        } else {
+            0.0
+        };
+        if let Criterion::Predicted {
+            tolerance,
+            max_iterations,
+        } = self.criterion
+        {
+            if k >= 2 {
+                // RADAU5: the geometric mean of the last two rates, once there are two.
+                let smoothed = if k == 2 {
+                    self.theta
+                } else {
+                    (self.theta * self.theta_old).sqrt()
+                };
+                self.theta_old = self.theta;
+                self.rate = smoothed;
+                if smoothed >= 0.99 {
+                    return Some(self.failed(k, smoothed, increment, 0.5));
+                }
+                *faccon = smoothed / (1.0 - smoothed);
+                let left = (max_iterations - k) as i32;
+                let predicted = *faccon * increment * smoothed.powi(left) / tolerance;
+                if predicted >= 1.0 {
+                    let q = predicted.clamp(1e-4, 20.0);
+                    let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
+                    return Some(self.failed(k, smoothed, increment, shrink));
+                }
+            }
+        }
+        None
+    }
+
+    /// After the k-th correction is applied: converged, hopeless, or (`None`) on.
+    pub fn settled(&mut self, k: usize, increment: f64, faccon: f64) -> Option<Outcome> {
+        let theta = self.theta;
+        self.previous = increment.max(f64::MIN_POSITIVE);
+        let converged = |rate| {
+            Some(Outcome::Converged {
+                iterations: k,
+                rate,
+            })
+        };
+        match self.criterion {
+            Criterion::Rounding => {
+                if k >= 2 && increment > ROUNDING_FLOOR {
+                    self.rate = self.rate.max(theta);
+                }
+                let stalled = k >= 2 && theta >= 1.0;
+                // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
+                // ulp: the stages are at rounding already.
+                let below_ulp = k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
+                if increment <= f64::EPSILON
+                    || below_ulp
+                    || (stalled && increment <= ROUNDING_FLOOR)
+                {
+                    return converged(self.rate);
+                }
+                // Diverging, or so slow that rounding is out of reach in the iterations left.
+                let left = (self.max_iterations - k) as f64;
+                if stalled || (k >= 2 && increment * theta.powf(left) > ROUNDING_FLOOR) {
+                    return Some(self.failed(k, theta, increment, 0.5));
+                }
+                None
+            }
+            Criterion::Predicted { tolerance, .. } => (faccon * increment <= tolerance)
+                .then_some(())
+                .and(converged(self.rate)),
+        }
+    }
+
+    /// The failure after the last allowed iteration.
+    pub fn exhausted(&self) -> Outcome {
+        Outcome::Failed {
+            iterations: self.max_iterations,
+            rate: self.rate,
+            increment: self.previous,
+            shrink: 0.5,
+        }
+    }
+}
+
 /// The Jacobian, the factored iteration matrix and the iteration's workspace, for one
 /// integration (allocated once; a factorization allocates its matrix).
 pub(crate) struct Newton {
@@ -212,22 +375,10 @@ impl Newton {
         stats: &mut Stats,
     ) -> Result<Outcome, Error> {
         let n = self.n;
-        let max_iterations = match criterion {
-            Criterion::Rounding => NEWTON_MAX_ITERATIONS,
-            Criterion::Predicted { max_iterations, .. } => max_iterations,
-        };
+        let mut convergence = Convergence::new(criterion, &mut self.faccon);
         let mut f = [O::State::zeros(); S];
-        let (mut previous, mut rate, mut theta_old) = (f64::NAN, 0.0f64, 0.0);
-        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
-        for k in 1..=max_iterations {
-            for (i, fi) in f.iter_mut().enumerate() {
-                let mut yi = *y;
-                for (v, dz) in yi.as_mut().iter_mut().zip(z[i].as_ref()) {
-                    *v += dz;
-                }
-                ode.rhs(t + tableau.c[i] * h, &yi, fi)?;
-            }
-            stats.evaluations += S;
+        for k in 1..=convergence.max_iterations() {
+            stage_slopes(ode, &tableau.c, (t, y, h), z, &mut f, stats)?;
             for (i, (row, zi)) in tableau.a.iter().zip(z.iter()).enumerate() {
                 for p in 0..n {
                     let sum: f64 = row.iter().zip(&f).map(|(a, fj)| a * fj.as_ref()[p]).sum();
@@ -239,87 +390,15 @@ impl Newton {
             };
             let solved = lu.solve_mut(&mut self.residual);
             let increment = self.scaled_norm(scale);
-            let failed = |rate: f64, shrink: f64| Outcome::Failed {
-                iterations: k,
-                rate,
-                increment,
-                shrink,
-            };
-            // A stage where f is not finite, or a solve that overflowed.
-            if !(solved && increment.is_finite()) {
-                return Ok(failed(f64::NAN, 0.5));
-            }
-            let theta = if k >= 2 { increment / previous } else { 0.0 };
-            if let Criterion::Predicted {
-                tolerance,
-                max_iterations,
-            } = criterion
-            {
-                if k >= 2 {
-                    // RADAU5: the geometric mean of the last two rates, once there are two.
-                    let smoothed = if k == 2 {
-                        theta
-                    } else {
-                        (theta * theta_old).sqrt()
-                    };
-                    theta_old = theta;
-                    rate = smoothed;
-                    if smoothed >= 0.99 {
-                        return Ok(failed(smoothed, 0.5));
-                    }
-                    self.faccon = smoothed / (1.0 - smoothed);
-                    let left = (max_iterations - k) as i32;
-                    let predicted = self.faccon * increment * smoothed.powi(left) / tolerance;
-                    if predicted >= 1.0 {
-                        let q = predicted.clamp(1e-4, 20.0);
-                        let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
-                        return Ok(failed(smoothed, shrink));
-                    }
-                }
+            if let Some(failed) = convergence.judge(k, increment, solved, &mut self.faccon) {
+                return Ok(failed);
             }
             self.apply(z);
-            previous = increment.max(f64::MIN_POSITIVE);
-            match criterion {
-                Criterion::Rounding => {
-                    if k >= 2 && increment > ROUNDING_FLOOR {
-                        rate = rate.max(theta);
-                    }
-                    let stalled = k >= 2 && theta >= 1.0;
-                    // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
-                    // ulp: the stages are at rounding already.
-                    let below_ulp =
-                        k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
-                    if increment <= f64::EPSILON
-                        || below_ulp
-                        || (stalled && increment <= ROUNDING_FLOOR)
-                    {
-                        return Ok(Outcome::Converged {
-                            iterations: k,
-                            rate,
-                        });
-                    }
-                    // Diverging, or so slow that rounding is out of reach in the iterations left.
-                    let left = (max_iterations - k) as f64;
-                    if stalled || (k >= 2 && increment * theta.powf(left) > ROUNDING_FLOOR) {
-                        return Ok(failed(theta, 0.5));
-                    }
-                }
-                Criterion::Predicted { tolerance, .. } => {
-                    if self.faccon * increment <= tolerance {
-                        return Ok(Outcome::Converged {
-                            iterations: k,
-                            rate,
-                        });
-                    }
-                }
+            if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
+                return Ok(outcome);
             }
         }
-        Ok(Outcome::Failed {
-            iterations: max_iterations,
-            rate,
-            increment: previous,
-            shrink: 0.5,
-        })
+        Ok(convergence.exhausted())
     }
 
     /// √(mean((ΔZ / scale)²)) over every stage and controlled component, ΔZ being in

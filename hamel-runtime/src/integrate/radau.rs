@@ -1,10 +1,11 @@
 //! Radau IIA of order 5 with step-size control, for stiff systems (stiff springs and
 //! dampers, tyre and motor models): after Hairer's RADAU5 (Hairer & Wanner, *Solving Ordinary
 //! Differential Equations II*, IV.8) — the same error estimate, Newton stopping test,
-//! predictive (Gustafsson) step-size controller, Jacobian reuse and tolerance convention —
-//! with the stage equations solved as one real system of 3n equations instead of RADAU5's
-//! transformed real and complex ones (the same iterates in exact arithmetic, more work per
-//! factorization: irrelevant for the small n of a mechanical system).
+//! predictive (Gustafsson) step-size controller, Jacobian reuse and tolerance convention,
+//! and the same transformed stage equations: one real and one complex system of n equations
+//! ([`super::radau_stages`]). An earlier version solved one real system of 3n equations, the
+//! same iterates in exact arithmetic; at n = 8 (HIRES) and n = 20 (the pollution model) it was
+//! 8 to 11 times slower than diffsol's BDF at equal error (`benches/work_precision.rs`).
 //!
 //! Why not a crate: diffsol (0.18, BDF and SDIRK methods) was measured
 //! (`benches/diffsol_build_cost.sh`): with only its nalgebra backend it still brings 83 more
@@ -15,12 +16,13 @@
 //! colours into a matrix by repeated calls, each of which would cost a whole dual-number
 //! Jacobian here. The scheme is written on nalgebra's LU instead.
 
-use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
+use nalgebra::DVector;
 
 use super::collocation::{Collocation, Tableau, extrapolate};
 use super::initial_step::{Target, initial_step};
-use super::newton::{Criterion, Newton, Outcome, factor_checked};
+use super::newton::{Criterion, Newton, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::radau_stages::TransformedStages;
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
@@ -37,8 +39,9 @@ use crate::vector::Vector;
 ///
 /// The tolerances are RADAU5's: rtol and atol are mapped to 0.1·rtol^(2/3) and
 /// 0.1·rtol^(2/3)·atol/rtol before the local error is held to them. The global error is then
-/// not rtol: on the standard stiff problems it came out between about 0.1 and 1000 times
-/// rtol, depending on the problem (measured per problem in `hamel::docs::running`). Samples
+/// not rtol: on the standard stiff test set it came out between 0.06 and 17 times rtol, on
+/// stiff mechanical models up to 660 times (measured per problem in
+/// `hamel::docs::running`). Samples
 /// inside a step come from the collocation polynomial (third order, as RADAU5's CONTR5),
 /// projected; the integrator never shortens a step to hit a sample.
 ///
@@ -214,19 +217,17 @@ impl Integrator for Radau5 {
     }
 }
 
-/// The constants of RADAU5's error estimate: the real eigenvalue u₁ of A⁻¹, and the weights
-/// of the stage increments in the embedded formula (its DD1…DD3).
+/// The constants of RADAU5's error estimate: the weights of the stage increments in the
+/// embedded formula (its DD1…DD3); its matrix (u₁/h) I − J, u₁ the real eigenvalue of A⁻¹, is
+/// the transformed iteration's real one ([`TransformedStages::real_lu`]).
 struct Estimate {
-    u1: f64,
     dd: [f64; 3],
 }
 
 impl Estimate {
     fn new() -> Self {
         let r = 6f64.sqrt();
-        let u1 = 30.0 / (6.0 + 81f64.cbrt() - 9f64.cbrt());
         Estimate {
-            u1,
             dd: [-(13.0 + 7.0 * r) / 3.0, (-13.0 + 7.0 * r) / 3.0, -1.0 / 3.0],
         }
     }
@@ -238,12 +239,12 @@ struct Run<'a, 't, O: Ode> {
     tableau: &'t Tableau<3>,
     ode: &'a mut O,
     stats: Stats,
+    /// The Jacobian, evaluated afresh when the iteration slows down.
     newton: Newton,
+    /// The factored matrices of RADAU5's transformed iteration (the real one is the error
+    /// estimate's too).
+    stages: TransformedStages,
     estimate: Estimate,
-    /// The LU factors of (u₁/h) I − J for the error estimate, with the h and the Jacobian
-    /// (by its count) they are for.
-    e1: Option<(f64, LU<f64, Dyn, Dyn>)>,
-    e1_jacobian: usize,
     /// The tolerances as RADAU5 transforms them, and its Newton tolerance.
     rtol: f64,
     atol: f64,
@@ -350,9 +351,8 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             ode,
             stats,
             newton: Newton::new(O::State::LEN, controlled, 3),
+            stages: TransformedStages::new(O::State::LEN, controlled, tableau),
             estimate: Estimate::new(),
-            e1: None,
-            e1_jacobian: 0,
             rtol,
             atol,
             fnewt,
@@ -512,8 +512,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// it was old, and the attempt counted as rejected).
     fn solve_stages(&mut self) -> Result<Option<Solved<O::State>>, Error> {
         let (t, y, h) = (self.t, self.y, self.h);
-        self.newton
-            .factor(self.ode, self.tableau, (t, &y, h), &mut self.stats)?;
+        self.factor()?;
         let mut z = match &self.last {
             Some(last) if !self.first && last.t + last.h == t => extrapolate(last, &y, h),
             _ => [O::State::zeros(); 3],
@@ -524,7 +523,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             max_iterations: self.method.max_iterations,
         };
         let fresh = self.newton.fresh;
-        let outcome = self.newton.iterate(
+        let outcome = self.stages.iterate(
             self.ode,
             self.tableau,
             (t, &y, h),
@@ -593,10 +592,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     fn error(&mut self, z: &[O::State; 3]) -> Result<f64, Error> {
         let n = O::State::LEN;
         let (t, y, h) = (self.t, self.y, self.h);
-        self.factor_estimate()?;
-        let Some((_, lu)) = &self.e1 else {
-            unreachable!("factored just now");
-        };
+        let lu = self.stages.real_lu();
         let mut f2 = DVector::<f64>::zeros(n);
         for (i, zi) in z.iter().enumerate() {
             for (k, v) in zi.as_ref().iter().enumerate() {
@@ -635,29 +631,18 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         (sum / len as f64).sqrt().max(1e-10)
     }
 
-    /// Factors (u₁/h) I − J unless done for this h and Jacobian; singular when J has the
-    /// eigenvalue u₁/h (μ = 1/u₁ in [`super::singular`]).
-    fn factor_estimate(&mut self) -> Result<(), Error> {
-        let h = self.h;
-        let current = self.stats.jacobians;
-        if matches!(self.e1, Some((formed, _)) if formed == h) && self.e1_jacobian == current {
-            return Ok(());
-        }
-        let n = O::State::LEN;
-        let j = self.newton.jacobian();
-        let matrix = DMatrix::from_fn(n, n, |r, c| {
-            let diagonal = if r == c { self.estimate.u1 / h } else { 0.0 };
-            diagonal - j[(r, c)]
-        });
-        self.stats.factorizations += 1;
-        self.e1_jacobian = current;
-        // (u₁/h)·(I − (h/u₁) J): the suspicion is judged on I − (h/u₁) J.
-        let mu = || vec![Complex::new(1.0 / self.estimate.u1, 0.0)];
-        match factor_checked(matrix, &mut self.e1, h, j, mu) {
+    /// Factors the transformed iteration's matrices for the current h and Jacobian (unless
+    /// done already); a singular one is an error naming the growing mode that makes it so.
+    fn factor(&mut self) -> Result<(), Error> {
+        let id = (self.h, self.stats.jacobians);
+        let singular =
+            self.stages
+                .factor(self.newton.jacobian(), id, self.tableau, &mut self.stats);
+        match singular {
             None => Ok(()),
             Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
                 t: self.t,
-                h,
+                h: self.h,
                 growth,
                 frequency,
                 state: self.ode.describe(&self.y),
@@ -725,14 +710,17 @@ mod tests {
 
     #[test]
     fn the_estimate_constants_are_radau5s() {
-        let e = Estimate::new();
         // RADAU5: U1 = 1/((6 + 81^(1/3) − 9^(1/3))/30), the real eigenvalue of A⁻¹.
-        assert!((e.u1 - 3.637_834_252_744_496).abs() < 1e-14);
+        let u1 = super::super::radau_stages::Transformation::new(&Tableau::radau_iia()).gamma;
+        assert!((u1 - 3.637_834_252_744_496).abs() < 1e-12);
         // The eigenvalue: det(A⁻¹ − u₁ I) = 0, i.e. det(I − u₁ A) = 0.
         let a = Tableau::radau_iia().a;
-        let m = DMatrix::from_fn(3, 3, |i, j| {
-            (if i == j { 1.0 } else { 0.0 }) - e.u1 * a[i][j]
+        let m = nalgebra::DMatrix::from_fn(3, 3, |i, j| {
+            (if i == j { 1.0 } else { 0.0 }) - u1 * a[i][j]
         });
-        assert!(m.determinant().abs() < 1e-13);
+        assert!(m.determinant().abs() < 1e-12);
+        // RADAU5's DD1…DD3.
+        let dd = Estimate::new().dd;
+        assert!((dd[0] + (13.0 + 7.0 * 6f64.sqrt()) / 3.0).abs() < 1e-15);
     }
 }
