@@ -155,7 +155,7 @@ pub fn report(hamel: Vec<Row>) {
 /// largest over the tolerances where both curves reach the error.
 fn equal_error(rows: &[Row], problems: &[String]) {
     println!(
-        "\nAt equal achieved error: hamel Radau5 / other (median over the errors both reach)\n"
+        "\nAt equal achieved error: hamel Radau5 / other median (largest) over the errors both reach\n"
     );
     println!(
         "| problem | evaluations / scipy Radau | wall / scipy Radau | wall / scipy BDF | wall / diffsol BDF | wall / diffsol SDIRK |"
