@@ -420,8 +420,8 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         let moved = self.ode.project(t1, &mut y1_projected)?;
         let k = &self.k;
         // The continuous extension interpolates the step's own result, before projection.
-        let mut extension = || Dense::new(t, h, (y, &y1), k);
-        let watched = self.watching.then(&mut extension);
+        let extension = || Dense::new(t, h, (y, &y1), k);
+        let watched = self.watching.then(&extension);
         let stop = match &watched {
             Some(dense) => {
                 let view = StepView {
@@ -438,9 +438,13 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             }
             None => None,
         };
-        // The extension is formed once, and only if a sample falls inside the step.
-        let mut formed = watched;
-        let at = |s| formed.get_or_insert_with(&mut extension).at(s);
+        // The extension is formed once, and only if a sample falls inside the step; the one
+        // formed for the observer is read in place (moving it, 5n values, cost a copy a step).
+        let mut made = None;
+        let at = |s| match &watched {
+            Some(dense) => dense.at(s),
+            None => made.get_or_insert_with(&extension).at(s),
+        };
         let stopped = self
             .samples
             .report(&mut *self.ode, (t1, &y1_projected), at, stop)?;

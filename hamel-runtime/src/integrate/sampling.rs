@@ -41,6 +41,7 @@ impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
     /// falls inside the step), projected; at a stop the extension there, projected, as the
     /// last sample. Returns the time the observer stopped at, if it did: at `stop`, or at a
     /// sample it asked to end with.
+    #[inline]
     pub fn report<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
