@@ -12,14 +12,20 @@
 //!   the final state, the summary, event times, chosen samples; eigenvalues and modes.
 //! * [`ParameterTable`] reads a study's cases from CSV, and [`Shard`] splits them among the
 //!   tasks of a batch engine (a Slurm job array, Ray or Dask tasks): "run row i, write a
-//!   result", each shard written whole or not at all ([`write_complete`]).
+//!   result", each shard written whole or not at all and complete only once its manifest is
+//!   written after it ([`write_shard`], [`shard_state`]).
+//!
+//! `hamel::study` (in the `hamel` crate) builds a study's command line on these.
 
 mod select;
 mod shard;
 mod table;
 
 pub use select::{ModeColumns, Outputs};
-pub use shard::{Shard, check_writable, is_complete, write_complete};
+pub use shard::{
+    Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path, shard_state,
+    write_complete, write_shard,
+};
 pub use table::{CaseError, CsvWriter, ParameterTable, Table};
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
