@@ -65,6 +65,8 @@ pub mod parquet;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod prelude;
+#[cfg(feature = "study")]
+pub mod study;
 
 #[doc(hidden)]
 pub use hamel_macros::__hamel_with_helpers;
