@@ -5,6 +5,15 @@
 use crate::error::Error;
 
 impl Error {
+    /// A case's failure of its own ([`Error::CaseFailed`]): `kind` groups such failures in a
+    /// study's table (`no_reversal`), `message` says what happened to the study's user.
+    pub fn case_failed(kind: impl Into<String>, message: impl Into<String>) -> Error {
+        Error::CaseFailed {
+            kind: kind.into(),
+            message: message.into(),
+        }
+    }
+
     /// The error's kind in snake case, the variant's name (`singular_mass_matrix`,
     /// `root_not_bracketed`, `case_panicked`), or the kind a case gave
     /// ([`Error::CaseFailed`]).
