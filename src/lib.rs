@@ -9,6 +9,8 @@
 //!   contacts, the velocities derived by the macro.
 //! * [`docs::running`] — running a simulation: events, extra columns, streaming, progress,
 //!   the limits that end every run, and what the summary flags.
+//! * [`docs::studies`] — studies of any model (`hamel::study`): the command line of a batch
+//!   engine's task in a few lines, and stability along a parameter ([`ModeSweep`]).
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
