@@ -217,7 +217,7 @@ impl Table {
     /// `case,<columns>,error_kind,error`, a record of another length, a case index that is not
     /// a whole number or repeats, a value that is not a number, an error without its kind.
     pub fn parse_csv(text: &str, source: &str) -> Result<Table, Error> {
-        let mut reader = reader(text);
+        let mut reader = reader(text.as_bytes());
         let header = header(&mut reader, source, "a study table")?;
         let problem = |p: String| table_error(source, 1, "", p);
         let width = header.len();
@@ -431,16 +431,25 @@ fn read_text(path: &Path) -> Result<String, Error> {
 
 /// A reader of RFC 4180 text: records of any length (checked here, to say which line),
 /// a byte-order mark (which spreadsheets write) skipped.
-fn reader(text: &str) -> csv::Reader<&[u8]> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
+    if input
+        .fill_buf()
+        .is_ok_and(|b| b.starts_with("\u{feff}".as_bytes()))
+    {
+        input.consume(3);
+    }
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .from_reader(text.as_bytes())
+        .from_reader(input)
 }
 
 /// The first record, the header; `what` names the table in the message of an empty one.
-fn header(reader: &mut csv::Reader<&[u8]>, source: &str, what: &str) -> Result<Vec<String>, Error> {
+fn header<R: std::io::Read>(
+    reader: &mut csv::Reader<R>,
+    source: &str,
+    what: &str,
+) -> Result<Vec<String>, Error> {
     match reader.records().next() {
         Some(record) => Ok(record_fields(record, source)?.1),
         None => Err(table_error(
@@ -495,14 +504,38 @@ fn record_fields(
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParameterTable {
     names: Vec<String>,
-    rows: Vec<Vec<f64>>,
+    /// The rows one after another, each as long as the names: a table of 10⁶ cases of two
+    /// parameters is 16 MB.
+    values: Vec<f64>,
+    count: usize,
 }
 
 impl ParameterTable {
     /// The table in `text` (`source` names it in errors, a path); its columns must be
     /// `known`, each once, in any order.
     pub fn parse(text: &str, source: &str, known: &[&str]) -> Result<ParameterTable, Error> {
-        let mut reader = reader(text);
+        ParameterTable::from_reader(text.as_bytes(), source, known)
+    }
+
+    /// The table in the file at `path`, read as a stream (the table is held as numbers, not
+    /// as text).
+    pub fn read(path: impl AsRef<Path>, known: &[&str]) -> Result<ParameterTable, Error> {
+        let path = path.as_ref();
+        let file = std::fs::File::open(path).map_err(|e| Error::Read {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let source = path.display().to_string();
+        ParameterTable::from_reader(std::io::BufReader::new(file), &source, known)
+    }
+
+    /// The table read from `input`.
+    fn from_reader(
+        input: impl std::io::BufRead,
+        source: &str,
+        known: &[&str],
+    ) -> Result<ParameterTable, Error> {
+        let mut reader = reader(input);
         let names = header(&mut reader, source, "a parameter table").map_err(|e| match e {
             Error::Table { file, line, .. } => Error::Table {
                 file,
@@ -514,34 +547,37 @@ impl ParameterTable {
         })?;
         let names: Vec<String> = names.iter().map(|n| n.trim().to_string()).collect();
         check_header(&names, source, known)?;
-        let mut rows = Vec::new();
-        for record in reader.records() {
-            let (line, fields) = record_fields(record, source)?;
-            if fields.iter().all(|f| f.trim().is_empty()) {
+        let (mut values, mut count) = (Vec::new(), 0);
+        let mut record = csv::StringRecord::new();
+        loop {
+            match reader.read_record(&mut record) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(e) => return Err(record_fields(Err(e), source).unwrap_err()),
+            }
+            let line = record.position().map_or(0, |p| p.line() as usize);
+            if record.iter().all(|f| f.trim().is_empty()) {
                 continue;
             }
-            if fields.len() > names.len() {
+            if record.len() > names.len() {
                 return Err(table_error(
                     source,
                     line,
                     "",
-                    format!("{} values for {} columns", fields.len(), names.len()),
+                    format!("{} values for {} columns", record.len(), names.len()),
                 ));
             }
-            let mut row = Vec::with_capacity(names.len());
             for (j, name) in names.iter().enumerate() {
-                let field = fields.get(j).map_or("", |f| f.trim());
-                row.push(parse_value(field).map_err(|p| table_error(source, line, name, p))?);
+                let field = record.get(j).map_or("", |f| f.trim());
+                values.push(parse_value(field).map_err(|p| table_error(source, line, name, p))?);
             }
-            rows.push(row);
+            count += 1;
         }
-        Ok(ParameterTable { names, rows })
-    }
-
-    /// The table in the file at `path`.
-    pub fn read(path: impl AsRef<Path>, known: &[&str]) -> Result<ParameterTable, Error> {
-        let path = path.as_ref();
-        ParameterTable::parse(&read_text(path)?, &path.display().to_string(), known)
+        Ok(ParameterTable {
+            names,
+            values,
+            count,
+        })
     }
 
     /// A table of these columns and rows (each as long as the names, every value a finite
@@ -565,7 +601,12 @@ impl ParameterTable {
                 });
             }
         }
-        Ok(ParameterTable { names, rows })
+        let count = rows.len();
+        Ok(ParameterTable {
+            names,
+            values: rows.into_iter().flatten().collect(),
+            count,
+        })
     }
 
     /// The column names, in order.
@@ -575,22 +616,23 @@ impl ParameterTable {
 
     /// The number of rows (cases).
     pub fn len(&self) -> usize {
-        self.rows.len()
+        self.count
     }
 
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty()
+        self.count == 0
     }
 
     /// Row i's values, in the order of [`Self::names`].
     pub fn row(&self, i: usize) -> Option<&[f64]> {
-        self.rows.get(i).map(Vec::as_slice)
+        let width = self.names.len();
+        (i < self.count).then(|| &self.values[i * width..(i + 1) * width])
     }
 
     /// Row i's value of the column `name`, if both exist.
     pub fn get(&self, i: usize, name: &str) -> Option<f64> {
         let j = self.names.iter().position(|n| n == name)?;
-        self.rows.get(i).map(|r| r[j])
+        self.row(i).map(|r| r[j])
     }
 
     /// The CSV text, numbers exact (they read back to the same bits): [`Self::parse`] with
@@ -599,7 +641,7 @@ impl ParameterTable {
         let mut writer = csv::Writer::from_writer(Vec::new());
         let text = (|| -> csv::Result<Vec<u8>> {
             writer.write_record(&self.names)?;
-            for row in &self.rows {
+            for row in (0..self.count).filter_map(|i| self.row(i)) {
                 writer.write_record(row.iter().map(|v| format!("{v:?}")))?;
             }
             writer.into_inner().map_err(|e| e.into_error().into())
