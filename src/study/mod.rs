@@ -236,8 +236,8 @@ impl<'a> Study<'a> {
     }
 
     /// [`Self::main`] with these arguments.
-    pub fn main_with(self, args: &[String]) -> ExitCode {
-        cli::main(&self, args)
+    pub fn main_with(&self, args: &[String]) -> ExitCode {
+        cli::main(self, args)
     }
 
     /// The study's own mistakes, before anything runs: no parameters, a parameter without
