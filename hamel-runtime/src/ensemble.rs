@@ -23,8 +23,8 @@ mod table;
 
 pub use select::{ModeColumns, Outputs};
 pub use shard::{
-    Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path, shard_state,
-    write_complete, write_shard,
+    Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path,
+    remove_leftovers, shard_state, write_complete, write_shard,
 };
 pub use table::{CaseError, CsvWriter, ParameterTable, Table};
 

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::ensemble::{
-    Shard, ShardState, Written, check_writable, shard_state, write_complete, write_shard,
+    Shard, ShardState, Written, check_writable, remove_leftovers, shard_state, write_complete,
+    write_shard,
 };
 use crate::{Error, ParameterTable, Table};
 
@@ -244,6 +245,7 @@ fn shard_task(study: &Study, s: &Settings, table: &Path, out: &Path) -> Result<(
     let stamp = stamp(study, &cases, shard, s.format);
     match shard_state(&path, &stamp) {
         ShardState::Complete => {
+            remove_leftovers(&path);
             println!("{} is complete: nothing to do", path.display());
             return Ok(());
         }

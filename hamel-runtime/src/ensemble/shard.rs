@@ -323,8 +323,8 @@ pub fn write_shard(
     if written.is_none() {
         return by_another(path, stamp);
     }
-    sync_directory(path);
     remove_leftovers(path);
+    sync_directory(path);
     Ok(Written::Written)
 }
 
@@ -388,8 +388,12 @@ fn sync_directory(path: &Path) {
     }
 }
 
-/// Removes the files that killed tasks left while writing this shard or its manifest.
-fn remove_leftovers(path: &Path) {
+/// Removes the files that killed tasks left while writing the shard at `path` or its
+/// manifest (`<name>.partial-*`): [`write_shard`] does after writing, and a task that finds
+/// the shard complete should (the task that completed it may have been killed before it
+/// did). A task still writing one of them finds the shard complete when it renames, and
+/// says so ([`Written::ByAnother`]).
+pub fn remove_leftovers(path: &Path) {
     let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
         return;
     };
