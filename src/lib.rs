@@ -9,6 +9,8 @@
 //!   contacts, the velocities derived by the macro.
 //! * [`docs::running`] — running a simulation: events, extra columns, streaming, progress,
 //!   the limits that end every run, and what the summary flags.
+//! * [`docs::studies`] — studies of any model (`hamel::study`): the command line of a batch
+//!   engine's task in a few lines, and stability along a parameter ([`ModeSweep`]).
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
@@ -65,6 +67,8 @@ pub mod parquet;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod prelude;
+#[cfg(feature = "study")]
+pub mod study;
 
 #[doc(hidden)]
 pub use hamel_macros::__hamel_with_helpers;

@@ -419,6 +419,16 @@ pub enum Error {
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
 
+    /// A file could not be read: missing, unreadable, or not what it should be.
+    #[error("cannot read {path}: {message}")]
+    Read { path: String, message: String },
+
+    /// A case of a study failed for a reason of its own (a reversal that never came, no
+    /// stable range in the scan): `kind` groups such failures in the study's table
+    /// (`error_kind`), `message` says what happened to the study's user.
+    #[error("{message}")]
+    CaseFailed { kind: String, message: String },
+
     /// Newton's method found no value of a dependent coordinate that satisfies its holonomic
     /// constraint, starting from the values in `configuration` (the configuration given to
     /// `assemble`, or the state after an integrator step when projecting).
