@@ -317,8 +317,12 @@ pub fn generate(
             let contacts = spec.geometry.contacts.as_ref();
             if let Some(c) = contacts {
                 let name = c.f.sig.ident.unraw();
+                let axis = |row: usize| ["x", "y"][row % 2];
                 rows.extend(
-                    (0..c.count).flat_map(|i| [format!("{name}{i}_x"), format!("{name}{i}_y")]),
+                    c.reading
+                        .kept
+                        .iter()
+                        .map(|&row| format!("{name}{}_{}", row / 2, axis(row))),
                 );
             }
             if let Some(h) = &spec.holonomic {

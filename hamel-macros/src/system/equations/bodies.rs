@@ -11,15 +11,15 @@
 //! A body B touching a surface S at P rolls without slipping when the material points of
 //! both at P move alike: v_B + ω_B × (P − r_B) = v_S + ω_S × (P − r_S), along the surface.
 //! That is the velocity of the material point, not Ṗ: the contact point itself moves over
-//! the body as it rolls. The surfaces are horizontal, so the rows are the x and y
-//! components; the contact's height above the surface is a holonomic condition.
+//! the body as it rolls. The rows are the slip's components along two tangents of the
+//! surface at P; the contact's height above the surface is a holonomic condition.
 
 use super::{array, pairs};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::geometry::{
-    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Turn, Vec3, add, apply,
-    apply_transposed, cross, dot, scale, sub,
+    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Spin, Turn, Vec3, add, apply,
+    apply_transposed, contact_frame, cross, dot, scale, sub,
 };
 use crate::engine::lower::{Lowerer, Value};
 use crate::system::spec::Spec;
@@ -108,16 +108,19 @@ impl Motion {
     }
 
     /// The angular velocity ω of a rotation, in the frame it maps to: for a product of turns
-    /// about fixed axes, R = F₁ ⋯ Fₖ, ω = Σᵢ (F₁ ⋯ Fᵢ₋₁) aᵢ θ̇ᵢ; otherwise from Ṙ Rᵀ = [ω]ₓ.
+    /// about fixed axes (or quaternions), R = F₁ ⋯ Fₖ, ω = Σᵢ (F₁ ⋯ Fᵢ₋₁) ωᵢ with ωᵢ = aᵢ θ̇ᵢ
+    /// for a turn about aᵢ and 2 (w v̇ − ẇ v + v × v̇)/|q|² for a quaternion q = (w, v);
+    /// otherwise from Ṙ Rᵀ = [ω]ₓ.
     pub fn spin(&mut self, g: &mut Graph, r: &Rotation) -> Vec3 {
         if let Some(w) = self.spins.get(&r.matrix) {
             return *w;
         }
         let moving = g.depends_on(&self.moving);
         let fixed = |turns: &&Vec<Turn>| {
-            turns
-                .iter()
-                .all(|turn| turn.axis.iter().all(|a| !moving[a.index()]))
+            turns.iter().all(|turn| match &turn.spin {
+                Spin::Axis { axis, .. } => axis.iter().all(|a| !moving[a.index()]),
+                Spin::Quaternion(_) => true,
+            })
         };
         let w = match r.turns.as_ref().filter(fixed) {
             Some(turns) => {
@@ -125,10 +128,9 @@ impl Motion {
                 let mut omega = [zero; 3];
                 let mut before = geometry::identity(g).matrix;
                 for turn in turns {
-                    let rate = self.rate(g, &[turn.angle])[0];
-                    let axis = apply(g, &before, turn.axis);
-                    let own = scale(g, rate, axis);
-                    omega = add(g, omega, own);
+                    let own = self.turn_spin(g, &turn.spin);
+                    let carried = apply(g, &before, own);
+                    omega = add(g, omega, carried);
                     before = geometry::product(g, &before, &turn.matrix);
                 }
                 omega
@@ -150,6 +152,30 @@ impl Motion {
         w
     }
 
+    /// The angular velocity of one turn in the frame it turns in.
+    fn turn_spin(&mut self, g: &mut Graph, spin: &Spin) -> Vec3 {
+        match *spin {
+            Spin::Axis { axis, angle } => {
+                let rate = self.rate(g, &[angle])[0];
+                scale(g, rate, axis)
+            }
+            Spin::Quaternion([w, x, y, z]) => {
+                let d = self.rate(g, &[w, x, y, z]);
+                let (v, dv) = ([x, y, z], [d[1], d[2], d[3]]);
+                let along = scale(g, w, dv);
+                let back = scale(g, d[0], v);
+                let twist = cross(g, v, dv);
+                let sum = sub(g, along, back);
+                let sum = add(g, sum, twist);
+                let squares = [g.mul(w, w), g.mul(x, x), g.mul(y, y), g.mul(z, z)];
+                let norm2 = g.sum(&squares);
+                let two = g.constant(2.0);
+                let factor = g.div(two, norm2);
+                scale(g, factor, sum)
+            }
+        }
+    }
+
     /// The body angular velocity Ω = Rᵀ ω, in the body's own axes.
     pub fn body_spin(&mut self, g: &mut Graph, r: &Rotation) -> Vec3 {
         let w = self.spin(g, r);
@@ -158,7 +184,7 @@ impl Motion {
 
     /// The velocity of the material point of `body` that is at `point`, in the ground frame:
     /// v + ω × (P − r).
-    fn material_velocity(&mut self, g: &mut Graph, body: &Body, point: Vec3) -> Vec3 {
+    pub fn material_velocity(&mut self, g: &mut Graph, body: &Body, point: Vec3) -> Vec3 {
         let velocity = self.velocity(g, &body.centre);
         let omega = self.spin(g, &body.orientation);
         let arm = sub(g, point, body.centre.at);
@@ -205,24 +231,6 @@ pub fn bodies<'a>(
         .into_iter()
         .map(|geo| match geo {
             Geo::Body(b) => Some(*b),
-            _ => None,
-        })
-        .collect()
-}
-
-/// The contacts of `#[contacts]` at (t, q), or `None` after a mistake (reported).
-pub fn contacts<'a>(
-    lowerer: &mut Lowerer<'a, '_>,
-    spec: &Spec<'a>,
-    t: NodeId,
-    q: &[NodeId],
-) -> Option<Vec<Contact>> {
-    let f = spec.geometry.contacts.as_ref()?.f;
-    let value = super::lower_value(lowerer, spec, f, t, vec![array(q)])?;
-    items(value, GeoKind::Contact)?
-        .into_iter()
-        .map(|geo| match geo {
-            Geo::Contact(c) => Some(*c),
             _ => None,
         })
         .collect()
@@ -348,24 +356,25 @@ pub fn potential_energy(g: &mut Graph, bodies: &[Body], gravity: Vec3) -> NodeId
     g.sum(&terms)
 }
 
-/// Two rows per contact: the x and y components of the slip, the velocity of the rolling
-/// body's material point at the contact relative to the surface's.
+/// Two rows per contact: the slip, the velocity of the rolling body's material point at the
+/// contact relative to the surface's, along the contact frame's two tangents (`contact_frame`:
+/// a wheel's heading and axle, or the surface's x and y axes).
 pub fn rolling_rows(g: &mut Graph, contacts: &[Contact], motion: &mut Motion) -> Vec<NodeId> {
     let mut rows = Vec::with_capacity(2 * contacts.len());
     for c in contacts {
         let body = motion.material_velocity(g, &c.body, c.point);
-        let surface = motion.material_velocity(g, &c.surface, c.point);
+        let surface = motion.material_velocity(g, &c.surface.frame, c.point);
         let slip = sub(g, body, surface);
-        rows.extend([slip[0], slip[1]]);
+        let frame = contact_frame(g, c);
+        rows.extend(frame.tangents.map(|t| dot(g, slip, t)));
     }
     rows
 }
 
-/// Each contact's height above its surface, the horizontal plane through the surface body's
-/// centre (z = 0 for the ground).
+/// Each contact's height above its surface (z for the ground).
 pub fn heights(g: &mut Graph, contacts: &[Contact]) -> Vec<NodeId> {
     contacts
         .iter()
-        .map(|c| g.sub(c.point[2], c.surface.centre.at[2]))
+        .map(|c| contact_frame(g, c).height)
         .collect()
 }

@@ -28,6 +28,8 @@
 
 mod bodies;
 mod contacts;
+
+pub use contacts::{ContactReading, read as read_contacts};
 mod gamma;
 mod hamel;
 mod inverse;
@@ -231,11 +233,11 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
     let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
     let g = &mut *lowerer.graph;
     let inputs = Inputs {
-        t: g.new_input("t"),
-        q: fresh(g, "q", n),
+        t: spec.symbols.t,
+        q: spec.symbols.q.clone(),
         w: fresh(g, "w", spec.dims.free()),
         u: fresh(g, "u", m),
-        v: fresh(g, "v", n),
+        v: spec.symbols.v.clone(),
     };
     let omega = fresh(g, "omega", n);
     let (t, q, v) = (inputs.t, inputs.q.as_slice(), inputs.v.as_slice());
