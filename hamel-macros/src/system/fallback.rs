@@ -115,14 +115,19 @@ fn dimensions(
         coordinates.len()
     };
     let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
-    let p = super::spec::written_rows(roles)
-        .filter(|&p| p < n)
-        .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
-        .or_else(|| {
-            (speed_names > 0)
-                .then(|| n.checked_sub(speed_names))
-                .flatten()
-        })?;
+    let from_rows = super::spec::written_rows(roles).filter(|&p| p < n);
+    let from_speeds = written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k));
+    // Rolling contacts may give fewer rows than two each (two wheels on one axle) and
+    // fewer heights than `determines(..)` names: the speeds say better.
+    let (first, second) = match roles.get(Role::Contacts) {
+        Some(_) => (from_speeds, from_rows),
+        None => (from_rows, from_speeds),
+    };
+    let p = first.or(second).or_else(|| {
+        (speed_names > 0)
+            .then(|| n.checked_sub(speed_names))
+            .flatten()
+    })?;
     Some((n, p, m))
 }
 
@@ -258,6 +263,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         reversible: false,
         constant_determinant: false,
         units: Vec::new(),
+        check_bodies: None,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -16,6 +16,7 @@ mod ldlt;
 mod linearity;
 mod mechanism;
 mod model;
+mod notes;
 mod parameters;
 mod rank;
 mod rate_bodies;

@@ -18,7 +18,7 @@ use super::{array, pairs};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::geometry::{
-    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Spin, Turn, Vec3, add, apply,
+    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Vec3, add, apply,
     apply_transposed, contact_frame, cross, dot, scale, sub,
 };
 use crate::engine::lower::{Lowerer, Value};
@@ -107,73 +107,19 @@ impl Motion {
         v
     }
 
-    /// The angular velocity ω of a rotation, in the frame it maps to: for a product of turns
-    /// about fixed axes (or quaternions), R = F₁ ⋯ Fₖ, ω = Σᵢ (F₁ ⋯ Fᵢ₋₁) ωᵢ with ωᵢ = aᵢ θ̇ᵢ
-    /// for a turn about aᵢ and 2 (w v̇ − ẇ v + v × v̇)/|q|² for a quaternion q = (w, v);
-    /// otherwise from Ṙ Rᵀ = [ω]ₓ.
+    /// The angular velocity ω of a rotation, in the frame it maps to
+    /// (`geometry::angular_velocity`), kept for the next time the rotation is met.
     pub fn spin(&mut self, g: &mut Graph, r: &Rotation) -> Vec3 {
         if let Some(w) = self.spins.get(&r.matrix) {
             return *w;
         }
         let moving = g.depends_on(&self.moving);
-        let fixed = |turns: &&Vec<Turn>| {
-            turns.iter().all(|turn| match &turn.spin {
-                Spin::Axis { axis, .. } => axis.iter().all(|a| !moving[a.index()]),
-                Spin::Quaternion(_) => true,
-            })
-        };
-        let w = match r.turns.as_ref().filter(fixed) {
-            Some(turns) => {
-                let zero = g.zero();
-                let mut omega = [zero; 3];
-                let mut before = geometry::identity(g).matrix;
-                for turn in turns {
-                    let own = self.turn_spin(g, &turn.spin);
-                    let carried = apply(g, &before, own);
-                    omega = add(g, omega, carried);
-                    before = geometry::product(g, &before, &turn.matrix);
-                }
-                omega
-            }
-            None => {
-                let entries: Vec<NodeId> = r.matrix.iter().flatten().copied().collect();
-                let d = self.rate(g, &entries);
-                let rate = [[d[0], d[1], d[2]], [d[3], d[4], d[5]], [d[6], d[7], d[8]]];
-                // (Ṙ Rᵀ)_ij = row i of Ṙ · row j of R; ω = (W₂₁, W₀₂, W₁₀).
-                let m = &r.matrix;
-                [
-                    dot(g, rate[2], m[1]),
-                    dot(g, rate[0], m[2]),
-                    dot(g, rate[1], m[0]),
-                ]
-            }
-        };
+        let seeds = &self.seeds;
+        let w = geometry::angular_velocity(g, r, &moving, &mut |g, nodes| {
+            diff::tangent(g, nodes, seeds)
+        });
         self.spins.insert(r.matrix, w);
         w
-    }
-
-    /// The angular velocity of one turn in the frame it turns in.
-    fn turn_spin(&mut self, g: &mut Graph, spin: &Spin) -> Vec3 {
-        match *spin {
-            Spin::Axis { axis, angle } => {
-                let rate = self.rate(g, &[angle])[0];
-                scale(g, rate, axis)
-            }
-            Spin::Quaternion([w, x, y, z]) => {
-                let d = self.rate(g, &[w, x, y, z]);
-                let (v, dv) = ([x, y, z], [d[1], d[2], d[3]]);
-                let along = scale(g, w, dv);
-                let back = scale(g, d[0], v);
-                let twist = cross(g, v, dv);
-                let sum = sub(g, along, back);
-                let sum = add(g, sum, twist);
-                let squares = [g.mul(w, w), g.mul(x, x), g.mul(y, y), g.mul(z, z)];
-                let norm2 = g.sum(&squares);
-                let two = g.constant(2.0);
-                let factor = g.div(two, norm2);
-                scale(g, factor, sum)
-            }
-        }
     }
 
     /// The body angular velocity Ω = Rᵀ ω, in the body's own axes.

@@ -79,13 +79,12 @@ pub struct Geometry<'a> {
     pub contacts: Option<Contacts<'a>>,
 }
 
-/// `#[contacts]`: how many, what they give (the rows kept, the heights that are holonomic
+/// `#[contacts]`: what they give (the rows kept, the heights that are holonomic
 /// constraints), and the coordinates their heights determine (one per contact whose height
 /// varies with the coordinates, in order).
 pub struct Contacts<'a> {
     pub f: &'a syn::ImplItemFn,
     pub attr: &'a syn::Attribute,
-    pub count: usize,
     pub reading: ContactReading,
     pub dependent: Vec<usize>,
 }
@@ -239,13 +238,7 @@ pub fn check<'a>(
         lowerer,
         &mut ok,
     );
-    let holonomic = dependent(
-        roles,
-        &mut shape,
-        (&coordinates, written_speeds),
-        lowerer,
-        &mut ok,
-    );
+    let holonomic = dependent(&mut shape, (&coordinates, written_speeds), lowerer, &mut ok);
     let speeds = speed_names(names.speeds.clone(), names.garbled, n, shape.p, lowerer);
     let constraint_names = check_all_names(
         &names,

@@ -379,7 +379,6 @@ fn readable(f: &syn::ImplItemFn, n: usize, lowerer: &mut Lowerer<'_, '_>) -> boo
 /// holonomic role and the contacts, or `None` after a mistake (reported).
 #[allow(clippy::type_complexity)]
 pub(super) fn dependent<'a>(
-    roles: &Roles<'a>,
     shape: &mut ModelShape<'_, 'a>,
     names: (&[syn::Ident], &[syn::Ident]),
     lowerer: &mut Lowerer<'_, '_>,
@@ -399,7 +398,7 @@ pub(super) fn dependent<'a>(
     };
     let taken = holonomic.as_ref().map_or(&[][..], |h| &h.dependent[..]);
     let contacts = match shape.contacts {
-        Some((c, count)) => {
+        Some((c, _)) => {
             let Some(dependent) = dependent_coordinates(c, None, names, taken, lowerer) else {
                 *ok = false;
                 return None;
@@ -411,7 +410,6 @@ pub(super) fn dependent<'a>(
             Some(Contacts {
                 f: c.f,
                 attr: c.attr,
-                count,
                 reading,
                 dependent,
             })

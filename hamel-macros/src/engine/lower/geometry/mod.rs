@@ -19,9 +19,11 @@
 mod algebra;
 mod lowering;
 mod shapes;
+mod spin;
 
 pub use algebra::*;
 pub use shapes::contact_frame;
+pub use spin::angular_velocity;
 
 use crate::engine::graph::{Graph, NodeId};
 use std::rc::Rc;
