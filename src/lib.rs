@@ -157,7 +157,7 @@ macro_rules! angular_velocity {
 /// #[hamel_system]
 /// pub struct Top { pub i1: f64, pub i2: f64, pub i3: f64 }
 ///
-/// #[hamel_system(coordinates(w, x, y, z), speeds(p, q, r), constraints(unit))]
+/// #[hamel_system(coordinates(w, x, y, z), speeds(w1, w2, w3), constraints(unit))]
 /// impl Top {
 ///     #[bodies]
 ///     fn bodies(&self, q: &[f64; 4]) -> [Body; 1] {

@@ -142,7 +142,9 @@ fn typed_arguments(f: &syn::ImplItemFn) -> impl Iterator<Item = &syn::Type> {
 /// rustc would not know) with the index constants, `rhs_generic` and `impl HamelSystem` as
 /// stand-ins. The bodies of the functions the errors are about are left out too (an
 /// `unreachable!()`), so that rustc does not report the same mistake again in its own words
-/// (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
+/// (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic), and so are
+/// those of the functions that use `rate!` and its kin: only the macro knows what they mean,
+/// and their run-time stand-ins are compile errors of their own.
 pub fn fallback(
     imp: &syn::ItemImpl,
     faulty: &HashSet<String>,
@@ -155,7 +157,8 @@ pub fn fallback(
         match item {
             syn::ImplItem::Fn(f) => {
                 taken.insert(f.sig.ident.to_string());
-                if faulty.contains(&f.sig.ident.to_string()) {
+                let rates = crate::engine::lower::uses_rate(f);
+                if faulty.contains(&f.sig.ident.to_string()) || rates {
                     f.block = syn::parse_quote!({
                         ::core::unreachable!(
                             "hamel: this function has errors, reported at build time"
