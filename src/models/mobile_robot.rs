@@ -84,28 +84,23 @@ impl MobileRobot {
     /// the right; wheel i turns by φᵢ relative to the body.
     #[bodies]
     pub fn bodies(&self, q: &[f64; 5]) -> [Body; 3] {
-        let [x, y, alpha, phi1, phi2] = *q;
-        let frame = self.heading(q) * Rotation3::about_y(alpha);
-        let axle = Vector3::new(x, y, self.r);
-        let centre = axle + frame * Vector3::new(0.0, 0.0, self.l);
+        let heading = Rotation3::about_z(self.r * (q[3] - q[4]) / self.b);
+        let frame = heading * Rotation3::about_y(q[2]);
+        let centre = Vector3::new(q[0], q[1], self.r) + frame * Vector3::new(0.0, 0.0, self.l);
         let inertia = Inertia::principal(self.jx, self.jy, self.jz);
-        let body = Body::new(self.m0, inertia, centre, frame);
-        [body, self.wheel(q, -1.0, phi1), self.wheel(q, 1.0, phi2)]
+        let (right, left) = (self.wheel(q, -0.5, q[3]), self.wheel(q, 0.5, q[4]));
+        [Body::new(self.m0, inertia, centre, frame), right, left]
     }
 
-    /// A wheel, a thin disk on the axle (its y axis) at `side` · b/2 to the left of its centre.
+    /// A wheel, a thin disk on the axle (its y axis), `side` · b to the left of its centre.
     fn wheel(&self, q: &[f64; 5], side: f64, angle: f64) -> Body {
-        let centre = Vector3::new(q[0], q[1], self.r)
-            + self.heading(q) * Vector3::new(0.0, 0.5 * side * self.b, 0.0);
-        let diameter = 0.25 * self.mw * self.r * self.r;
-        let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
-        let orientation = self.heading(q) * Rotation3::about_y(q[2] + angle);
-        let disk = Shape::disk(self.r, Vector3::y());
-        Body::new(self.mw, inertia, centre, orientation).with_shape(disk)
-    }
-
-    fn heading(&self, q: &[f64; 5]) -> Rotation3 {
-        Rotation3::about_z(self.r * (q[3] - q[4]) / self.b)
+        let heading = Rotation3::about_z(self.r * (q[3] - q[4]) / self.b);
+        let centre = Vector3::new(q[0], q[1], self.r) + side * self.b * (heading * Vector3::y());
+        let orientation = heading * Rotation3::about_y(q[2] + angle);
+        let d = 0.25 * self.mw * self.r * self.r;
+        let inertia = Inertia::principal(d, 2.0 * d, d);
+        let wheel = Body::new(self.mw, inertia, centre, orientation);
+        wheel.with_shape(Shape::disk(self.r, Vector3::y()))
     }
 
     #[gravity]
@@ -125,21 +120,16 @@ impl MobileRobot {
     #[contacts]
     fn contacts(&self, q: &[f64; 5]) -> [Contact; 2] {
         let [_, right, left] = self.bodies(q);
-        [
-            Contact::rolling(right, Surface::ground()),
-            Contact::rolling(left, Surface::ground()),
-        ]
+        let road = Surface::ground();
+        [Contact::rolling(right, road), Contact::rolling(left, road)]
     }
 
     /// ω³ = α̇ (pitch rate), ω⁴ = path velocity, ω⁵ = ϑ̇ (yaw rate).
     #[quasi_velocities]
     pub fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        [
-            qd[2],
-            qd[0] * theta.cos() + qd[1] * theta.sin(),
-            self.r / self.b * (qd[3] - qd[4]),
-        ]
+        let k = self.r / self.b;
+        let (s, c) = (k * (q[3] - q[4])).sin_cos();
+        [qd[2], qd[0] * c + qd[1] * s, k * (qd[3] - qd[4])]
     }
 
     /// The motor torques act between the body and each wheel, on the relative angles φᵢ.
