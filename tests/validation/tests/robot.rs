@@ -264,6 +264,9 @@ fn generated_accelerations_equal_the_closed_form_on_their_own_scale() {
     println!("closed form, ω̇ block on its own scale: worst {worst:.2e}");
 }
 
+/// γʲ_{l,k} expected of a model, by (j, l − p, k − p).
+type Expected<'a> = dyn Fn(usize, usize, usize) -> f64 + 'a;
+
 /// γ¹₄,₅ = −1, γ¹₅,₄ = +1 (1-based, as in `hamel::docs::design`) and every other γʲ_{l,k} with
 /// l, k > 2 vanishes, at every configuration. `gamma` is indexed [j][l − p][k − p], 0-based,
 /// p = 2. The robot from its wheels has the paper's rows in the other order and sign (a
@@ -286,7 +289,7 @@ fn gamma_has_only_the_two_entries_of_the_paper() {
         let by_hand = MobileRobotByHand::from(&robot);
         for _ in 0..RANDOM_POINTS {
             let q = random_configuration(&mut rng);
-            let rows: [(&str, _, &dyn Fn(usize, usize, usize) -> f64); 3] = [
+            let rows: [(&str, _, &Expected); 3] = [
                 ("MobileRobot", robot.gamma(0.0, &q).unwrap(), &wheels),
                 (
                     "MobileRobotByHand",

@@ -271,6 +271,40 @@ fn a_disk_rolls_straight_down_an_incline_at_two_thirds_g_sin_alpha() {
 // 3. A disk on a tilted turntable
 // ---------------------------------------------------------------------------------------
 
+mod tables {
+    use hamel::geometry::{Body, Inertia, Rotation3, Vector3};
+
+    pub struct Tables;
+
+    #[hamel::helpers]
+    impl Tables {
+        /// A turntable tilted by `tilt` about the ground's x axis and turned by `spin` t about
+        /// its own normal.
+        pub fn table(tilt: f64, spin: f64, t: f64) -> Body {
+            let pose = Rotation3::about_x(tilt) * Rotation3::about_z(spin * t);
+            Body::new(
+                1.0,
+                Inertia::principal(1.0, 1.0, 1.0),
+                Vector3::zeros(),
+                pose,
+            )
+        }
+
+        /// A thin disk (mass m, radius r) on `table`: q its contact point in the table's
+        /// axes, its yaw, lean and spin relative to it.
+        pub fn disk(m: f64, r: f64, table: Body, q: &[f64; 5]) -> Body {
+            let heading = table.orientation * Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+            let contact = table.point(Vector3::new(q[0], q[1], 0.0));
+            let centre = contact + heading * Vector3::new(0.0, 0.0, r);
+            let diameter = m * r * r / 4.0;
+            let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
+            Body::new(m, inertia, centre, heading * Rotation3::about_y(q[4]))
+        }
+    }
+}
+
+use tables::Tables;
+
 /// A thin disk on a turntable tilted by `tilt` about the ground's x axis and turning at
 /// `spin` rad/s about its own normal: the coordinates are relative to the table (the contact
 /// point in its axes, yaw, lean and spin).
@@ -285,28 +319,14 @@ pub struct TurntableDisk {
 
 #[hamel_system(
     coordinates(x, y, psi, phi, theta),
-    speeds(yaw_rate, lean_rate, spin_rate)
+    speeds(yaw_rate, lean_rate, spin_rate),
+    helpers(Tables)
 )]
 impl TurntableDisk {
-    fn table(&self, t: f64) -> Body {
-        let pose = Rotation3::about_x(self.tilt) * Rotation3::about_z(self.spin * t);
-        Body::new(
-            1.0,
-            Inertia::principal(1.0, 1.0, 1.0),
-            Vector3::zeros(),
-            pose,
-        )
-    }
-
     #[bodies]
     fn bodies(&self, t: f64, q: &[f64; 5]) -> [Body; 1] {
-        let table = self.table(t);
-        let heading = table.orientation * Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
-        let contact = table.point(Vector3::new(q[0], q[1], 0.0));
-        let centre = contact + heading * Vector3::new(0.0, 0.0, self.r);
-        let diameter = self.m * self.r * self.r / 4.0;
-        let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
-        let disk = Body::new(self.m, inertia, centre, heading * Rotation3::about_y(q[4]));
+        let table = Tables::table(self.tilt, self.spin, t);
+        let disk = Tables::disk(self.m, self.r, table, q);
         [disk.with_shape(Shape::disk(self.r, Vector3::y()))]
     }
 
@@ -318,7 +338,8 @@ impl TurntableDisk {
     #[contacts]
     fn contacts(&self, t: f64, q: &[f64; 5]) -> [Contact; 1] {
         let [disk] = self.bodies(t, q);
-        [Contact::rolling(disk, Surface::of(self.table(t)))]
+        let table = Tables::table(self.tilt, self.spin, t);
+        [Contact::rolling(disk, Surface::of(table))]
     }
 
     #[quasi_velocities]
@@ -340,33 +361,14 @@ pub struct TurntableDiskWritten {
 
 #[hamel_system(
     coordinates(x, y, psi, phi, theta),
-    speeds(yaw_rate, lean_rate, spin_rate)
+    speeds(yaw_rate, lean_rate, spin_rate),
+    helpers(Tables)
 )]
 impl TurntableDiskWritten {
-    fn table(&self, t: f64) -> Body {
-        let pose = Rotation3::about_x(self.tilt) * Rotation3::about_z(self.spin * t);
-        Body::new(
-            1.0,
-            Inertia::principal(1.0, 1.0, 1.0),
-            Vector3::zeros(),
-            pose,
-        )
-    }
-
     #[bodies]
     fn bodies(&self, t: f64, q: &[f64; 5]) -> [Body; 1] {
-        let table = self.table(t);
-        let heading = table.orientation * Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
-        let contact = table.point(Vector3::new(q[0], q[1], 0.0));
-        let centre = contact + heading * Vector3::new(0.0, 0.0, self.r);
-        let diameter = self.m * self.r * self.r / 4.0;
-        let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
-        [Body::new(
-            self.m,
-            inertia,
-            centre,
-            heading * Rotation3::about_y(q[4]),
-        )]
+        let table = Tables::table(self.tilt, self.spin, t);
+        [Tables::disk(self.m, self.r, table, q)]
     }
 
     #[gravity]
@@ -377,7 +379,7 @@ impl TurntableDiskWritten {
     #[contacts]
     fn contacts(&self, t: f64, q: &[f64; 5]) -> [Contact; 1] {
         let [disk] = self.bodies(t, q);
-        let table = self.table(t);
+        let table = Tables::table(self.tilt, self.spin, t);
         [Contact::on(
             disk,
             table,
@@ -1202,4 +1204,98 @@ fn a_free_top_tumbles_for_a_thousand_seconds_as_euler_and_poinsot_say() {
     assert!(signs, "every quaternion component changes sign");
     assert!(rates < 1e-8, "{rates:e}");
     assert!(drift < 1e-9, "{drift:e}");
+}
+
+// ---------------------------------------------------------------------------------------
+// 7. Shared helpers by path; a singularity into a boxed error
+// ---------------------------------------------------------------------------------------
+
+mod wheels {
+    use hamel::geometry::{Body, Inertia, Rotation3, Shape, Vector3};
+
+    pub struct Wheels;
+
+    #[hamel::helpers]
+    impl Wheels {
+        /// A coin at (x, y) with yaw, lean and spin q[2..5].
+        pub fn coin(m: f64, r: f64, q: &[f64; 5]) -> Body {
+            let heading = Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+            let centre = Vector3::new(q[0], q[1], 0.0) + heading * Vector3::new(0.0, 0.0, r);
+            let diameter = m * r * r / 4.0;
+            let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
+            let body = Body::new(m, inertia, centre, heading * Rotation3::about_y(q[4]));
+            body.with_shape(Shape::disk(r, Vector3::y()))
+        }
+    }
+}
+
+/// The catalogue's rolling disk, its helpers named and called by their path, its contact
+/// found from its shape.
+#[hamel_system]
+pub struct PathCoin {
+    pub m: f64,
+    pub r: f64,
+    pub g: f64,
+}
+
+#[hamel_system(coordinates(x, y, psi, phi, theta), helpers(wheels::Wheels))]
+impl PathCoin {
+    #[bodies]
+    fn bodies(&self, q: &[f64; 5]) -> [Body; 1] {
+        [wheels::Wheels::coin(self.m, self.r, q)]
+    }
+
+    #[gravity]
+    fn gravity(&self) -> Vector3 {
+        Vector3::new(0.0, 0.0, -self.g)
+    }
+
+    #[contacts]
+    fn contacts(&self, q: &[f64; 5]) -> [Contact; 1] {
+        [Contact::rolling(
+            wheels::Wheels::coin(self.m, self.r, q),
+            Surface::ground(),
+        )]
+    }
+
+    #[quasi_velocities]
+    fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+        [qd[2], qd[3], qd[4]]
+    }
+}
+
+fn coin_rhs(x: &[f64; 8]) -> Result<[f64; 8], Box<dyn std::error::Error>> {
+    let coin = PathCoin {
+        m: 0.1,
+        r: 0.05,
+        g: 9.81,
+    };
+    let mut dx = [0.0; 8];
+    coin.rhs(0.0, x, &[], &mut dx)?;
+    Ok(dx)
+}
+
+/// Helpers called by their path; the disk's rows along its heading and axle give the motion
+/// of the catalogue's disk, whose rows are along the ground's axes; a singularity (the coin
+/// lying flat) goes into a `Box<dyn Error>` with `?`.
+#[test]
+fn helpers_by_path_and_a_singularity_as_a_boxed_error() {
+    let disk = hamel::models::RollingDisk::default();
+    let x = [0.1, 0.2, 0.3, 0.2, 0.0, 1.0, -0.5, 20.0];
+    let mut expected = [0.0; 8];
+    disk.rhs(0.0, &x, &[], &mut expected).unwrap();
+    let got = coin_rhs(&x).unwrap();
+    assert!(
+        normwise(&got, &expected) < 1e-13,
+        "{got:?} against {expected:?}"
+    );
+    let flat = [0.0, 0.0, 0.0, PI / 2.0, 0.0, 1.0, 0.0, 1.0];
+    // Flat, the disk's lowest point is undefined: its rows are not finite numbers.
+    let error = coin_rhs(&flat).unwrap_err();
+    let singularity = error.downcast_ref::<Singularity>();
+    assert!(
+        matches!(singularity, Some(Singularity::NonFinite { .. })),
+        "{error}"
+    );
+    assert!(error.to_string().contains("not a finite number"), "{error}");
 }

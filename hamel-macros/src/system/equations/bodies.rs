@@ -198,7 +198,7 @@ pub fn gravity<'a>(
 }
 
 /// The vocabulary values of an array of `kind`.
-fn items(value: Value, kind: GeoKind) -> Option<Vec<Geo>> {
+pub(super) fn items(value: Value, kind: GeoKind) -> Option<Vec<Geo>> {
     match value {
         Value::Array(items) => items
             .into_iter()

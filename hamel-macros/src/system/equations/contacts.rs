@@ -121,16 +121,7 @@ fn lower_all<'a>(
         args.push(Value::Real(symbols.t));
     }
     args.push(super::array(&symbols.q));
-    match lowerer.call_role(f, args) {
-        Value::Array(items) => items
-            .into_iter()
-            .map(|item| match item {
-                Value::Geo(geo) if geo.kind() == kind => Some(geo),
-                _ => None,
-            })
-            .collect(),
-        _ => None,
-    }
+    bodies::items(lowerer.call_role(f, args), kind)
 }
 
 /// The body of `#[bodies]` each contact is on; an error for a contact on a body that is not

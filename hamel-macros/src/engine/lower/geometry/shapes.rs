@@ -4,7 +4,7 @@
 
 use super::{
     Body, Contact, ShapeKind, ShapeNodes, Surface, SurfaceKind, Vec3, add, apply, apply_transposed,
-    column, cross, dot, neg, norm, normalize, scale, sub,
+    column, cross, disk_contact, dot, neg, norm, normalize, scale, sub,
 };
 use crate::engine::graph::{Func, Graph, NodeId};
 
@@ -14,18 +14,11 @@ fn shape_centre(g: &mut Graph, body: &Body, shape: &ShapeNodes) -> Vec3 {
     add(g, body.centre.at, arm)
 }
 
-/// The point of a disk's rim (centre, unit axle, radius) farthest along the unit `direction`.
+/// The point of a disk's rim (centre, unit axle, radius) farthest along the unit `direction`:
+/// its lowest point on a plane whose normal is −`direction`.
 fn rim(g: &mut Graph, centre: Vec3, axle: Vec3, radius: NodeId, direction: Vec3) -> Vec3 {
-    let along = dot(g, direction, axle);
-    let tilted = scale(g, along, axle);
-    let across = sub(g, direction, tilted);
-    let one = g.one();
-    let square = g.mul(along, along);
-    let left = g.sub(one, square);
-    let length = g.unary(Func::Sqrt, left);
-    let factor = g.div(radius, length);
-    let offset = scale(g, factor, across);
-    add(g, centre, offset)
+    let up = neg(g, direction);
+    disk_contact(g, centre, axle, radius, up)
 }
 
 /// The point of `shape`, carried by `body`, farthest along the unit vector `direction`
