@@ -89,6 +89,28 @@ impl Vocabulary {
         ]
     }
 
+    /// Inertias, bodies and their fields.
+    fn bodies(&self, x: [f64; 6]) -> [f64; 10] {
+        let inertia = Inertia::new(x[0], x[1], x[2], x[3], x[4], x[5]);
+        let m = inertia.matrix();
+        let point = Body::point_mass(x[0], Vector3::new(x[1], x[2], x[3]));
+        let body = Body::new(x[4], inertia, point.centre, Rotation3::about_x(x[5]));
+        let contact = Contact::ground(body, point.point(Vector3::x()));
+        let rotated = body.orientation * Vector3::new(x[0], x[1], x[2]);
+        [
+            m[0][1],
+            m[2][0] + inertia.yz,
+            contact.body.mass,
+            contact.body.inertia.zz,
+            point.mass + point.inertia.xx,
+            rotated.z,
+            contact.point.x,
+            body.centre.y,
+            body.orientation[(1, 2)],
+            point.orientation.matrix()[0][0],
+        ]
+    }
+
     /// Bodies with each shape, on each surface: the contact point, the surface's normal and
     /// the height there.
     fn contacts(&self, x: [f64; 8]) -> [f64; 36] {
@@ -162,6 +184,10 @@ fn the_vocabulary_gives_the_same_values_both_ways() {
             (
                 v.contacts(x).to_vec(),
                 v.contacts_generic::<f64>(x).to_vec(),
+            ),
+            (
+                v.bodies(six).to_vec(),
+                v.bodies_generic::<f64>(six).to_vec(),
             ),
         ];
         for (runtime, mirror) in pairs {
