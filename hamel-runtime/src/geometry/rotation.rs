@@ -98,7 +98,7 @@ impl Rotation3 {
 
     /// The rotation of the quaternion w + x i + y j + z k, which need not have unit length
     /// (the rotation of q/|q|; the zero quaternion gives no rotation matrix, every entry NaN):
-    /// R = I + 2 (w [v]ₓ + [v]ₓ²) / |q|² for v = (x, y, z). Orientations by quaternions have
+    /// R = I + 2 (w \[v\]ₓ + \[v\]ₓ²) / |q|² for v = (x, y, z). Orientations by quaternions have
     /// no singularity; nalgebra's `UnitQuaternion::from_quaternion` followed by its rotation
     /// matrix.
     pub fn from_quaternion(w: f64, x: f64, y: f64, z: f64) -> Self {
