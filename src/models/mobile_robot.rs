@@ -124,12 +124,13 @@ impl MobileRobot {
         [Contact::rolling(right, road), Contact::rolling(left, road)]
     }
 
-    /// ω³ = α̇ (pitch rate), ω⁴ = path velocity, ω⁵ = ϑ̇ (yaw rate).
+    /// ω³ = α̇ (pitch rate), ω⁴ = path velocity, ω⁵ = ϑ̇ (yaw rate). The yaw is written as in
+    /// `bodies`, so that the macro sees sin² + cos² of the same angle.
     #[quasi_velocities]
     pub fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
-        let k = self.r / self.b;
-        let (s, c) = (k * (q[3] - q[4])).sin_cos();
-        [qd[2], qd[0] * c + qd[1] * s, k * (qd[3] - qd[4])]
+        let (s, c) = (self.r * (q[3] - q[4]) / self.b).sin_cos();
+        let yaw_rate = self.r / self.b * (qd[3] - qd[4]);
+        [qd[2], qd[0] * c + qd[1] * s, yaw_rate]
     }
 
     /// The motor torques act between the body and each wheel, on the relative angles φᵢ.

@@ -139,6 +139,9 @@ pub struct Spec<'a> {
     /// The role functions that take the time as a leading argument (by name).
     timed: HashSet<String>,
     pub symbols: Symbols,
+    /// Whether the bodies' speeds are taken in the frame of their first turns
+    /// (`equations::bodies::squared_speed`): `equations::build_cheaper` tries both.
+    pub heading_frames: std::cell::Cell<bool>,
 }
 
 impl Spec<'_> {
@@ -287,6 +290,7 @@ pub fn check<'a>(
         units,
         timed,
         symbols,
+        heading_frames: std::cell::Cell::new(false),
     })
 }
 
