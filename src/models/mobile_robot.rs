@@ -5,12 +5,15 @@
 //!
 //! Two models of the same robot, written the two ways hamel accepts:
 //!
-//! * [`MobileRobot`] — the everyday form: kinetic and potential energy from the bodies'
-//!   3D motion, the constraints and the quasi-velocities; B = A⁻¹ is computed numerically.
+//! * [`MobileRobot`] — stated from geometry: the body and its two wheels, both wheels
+//!   rolling on the ground (`Contact::rolling`); the macro derives the energy and the
+//!   rolling constraints, finds that the second wheel's rows repeat the first's and keeps two;
+//!   B = A⁻¹ is computed numerically.
 //! * [`MobileRobotPaper`] — the paper's form: L̃(q, ω) of its eq. (12) with A and B given.
 //!
 //! Both have the same parameters and give the same motion (the test suite checks it).
 
+use crate::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
 use crate::hamel_system;
 
 /// Parameters of the mobile robot. Defaults: a 10 kg body on 1 kg wheels of 0.1 m radius.
@@ -57,7 +60,8 @@ impl Default for MobileRobot {
     coordinates(x, y, alpha, phi1, phi2),
     speeds(w3, w4, w5),
     inputs(tau1, tau2),
-    constraints(no_side_slip, no_slip),
+    constraints(no_slip, no_side_slip),
+    bodies(body, right_wheel, left_wheel),
     units(
         t = "s",
         x = "m",
@@ -74,62 +78,59 @@ impl Default for MobileRobot {
     )
 )]
 impl MobileRobot {
-    /// T of the body and the wheels. The body's centre of gravity sits l·(sin α e_f + cos α e_z)
-    /// from the axle's centre (e_f: forward, e_a: along the axle, to the left); the yaw
-    /// ϑ = r(φ₁ − φ₂)/b follows from the wheel angles; wheel i spins at α̇ + φ̇ᵢ.
-    #[kinetic_energy]
-    pub fn kinetic_energy(&self, q: &[f64; 5], qd: &[f64; 5]) -> f64 {
-        let [_, _, alpha, phi1, phi2] = *q;
-        let [xd, yd, alphad, phi1d, phi2d] = *qd;
-        let theta = self.r * (phi1 - phi2) / self.b;
-        let thetad = self.r * (phi1d - phi2d) / self.b;
-        let (s, c) = theta.sin_cos();
-        let (sa, ca) = alpha.sin_cos();
-        // Body: translation of its centre of gravity, rotation about the axle and the vertical.
-        let vx = xd + self.l * alphad * ca * c - self.l * sa * thetad * s;
-        let vy = yd + self.l * alphad * ca * s + self.l * sa * thetad * c;
-        let vz = -self.l * alphad * sa;
-        let body = 0.5 * self.m0 * (vx * vx + vy * vy + vz * vz)
-            + 0.5 * (self.jx * sa * sa + self.jz * ca * ca) * thetad * thetad
-            + 0.5 * self.jy * alphad * alphad;
-        // Wheels: centres at ±b/2 along the axle (wheel 1 on the right), ideal disks.
-        let half = 0.5 * self.b * thetad;
-        let (c1x, c1y) = (xd + half * c, yd + half * s);
-        let (c2x, c2y) = (xd - half * c, yd - half * s);
-        // ½·(½ m_w r²)·spin² per wheel, ½·(¼ m_w r²)·ϑ̇² per wheel for the yaw.
-        let quarter = 0.25 * self.mw * self.r * self.r;
-        let wheels = 0.5 * self.mw * (c1x * c1x + c1y * c1y + c2x * c2x + c2y * c2y)
-            + quarter * ((alphad + phi1d).powi(2) + (alphad + phi2d).powi(2))
-            + quarter * thetad * thetad;
-        body + wheels
+    /// The body pitches by α about the axle, whose centre is at (x, y, r); its centre of
+    /// gravity is l from the axle. The yaw ϑ = r(φ₁ − φ₂)/b follows from the wheel angles (the
+    /// coordinates build in what the difference of the wheels' rolling gives). Wheel 1 is on
+    /// the right; wheel i turns by φᵢ relative to the body.
+    #[bodies]
+    pub fn bodies(&self, q: &[f64; 5]) -> [Body; 3] {
+        let heading = Rotation3::about_z(self.r * (q[3] - q[4]) / self.b);
+        let frame = heading * Rotation3::about_y(q[2]);
+        let centre = Vector3::new(q[0], q[1], self.r) + frame * Vector3::new(0.0, 0.0, self.l);
+        let inertia = Inertia::principal(self.jx, self.jy, self.jz);
+        let (right, left) = (self.wheel(q, -0.5, q[3]), self.wheel(q, 0.5, q[4]));
+        [Body::new(self.m0, inertia, centre, frame), right, left]
     }
 
-    /// V: the body's centre of gravity is l cos α above the axle.
+    /// A wheel, a thin disk on the axle (its y axis), `side` · b to the left of its centre.
+    fn wheel(&self, q: &[f64; 5], side: f64, angle: f64) -> Body {
+        let heading = Rotation3::about_z(self.r * (q[3] - q[4]) / self.b);
+        let centre = Vector3::new(q[0], q[1], self.r) + side * self.b * (heading * Vector3::y());
+        let orientation = heading * Rotation3::about_y(q[2] + angle);
+        let d = 0.25 * self.mw * self.r * self.r;
+        let inertia = Inertia::principal(d, 2.0 * d, d);
+        let wheel = Body::new(self.mw, inertia, centre, orientation);
+        wheel.with_shape(Shape::disk(self.r, Vector3::y()))
+    }
+
+    #[gravity]
+    fn gravity(&self) -> Vector3 {
+        Vector3::new(0.0, 0.0, -self.g)
+    }
+
+    /// The paper's potential is zero with the body's centre of gravity at the axle's height.
     #[potential_energy]
-    pub fn potential_energy(&self, q: &[f64; 5]) -> f64 {
-        self.m0 * self.g * self.l * q[2].cos()
+    fn datum(&self, _q: &[f64; 5]) -> f64 {
+        -(self.m0 + 2.0 * self.mw) * self.g * self.r
     }
 
-    /// No slip sideways (ω¹) and no slip along the path (ω²).
-    #[constraints]
-    pub fn no_slip(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 2] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        let (s, c) = theta.sin_cos();
-        [
-            qd[0] * s - qd[1] * c,
-            self.r * qd[2] + 0.5 * self.r * (qd[3] + qd[4]) - (qd[0] * c + qd[1] * s),
-        ]
+    /// Both wheels roll on the ground. On one axle, the second wheel's rows repeat the
+    /// first's (`Mechanism::NOTES`): `no_slip` and `no_side_slip` are both wheels' forces
+    /// along the heading and the axle.
+    #[contacts]
+    fn contacts(&self, q: &[f64; 5]) -> [Contact; 2] {
+        let [_, right, left] = self.bodies(q);
+        let road = Surface::ground();
+        [Contact::rolling(right, road), Contact::rolling(left, road)]
     }
 
-    /// ω³ = α̇ (pitch rate), ω⁴ = path velocity, ω⁵ = ϑ̇ (yaw rate).
+    /// ω³ = α̇ (pitch rate), ω⁴ = path velocity, ω⁵ = ϑ̇ (yaw rate). The yaw is written as in
+    /// `bodies`, so that the macro sees sin² + cos² of the same angle.
     #[quasi_velocities]
     pub fn speeds(&self, q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
-        let theta = self.r * (q[3] - q[4]) / self.b;
-        [
-            qd[2],
-            qd[0] * theta.cos() + qd[1] * theta.sin(),
-            self.r / self.b * (qd[3] - qd[4]),
-        ]
+        let (s, c) = (self.r * (q[3] - q[4]) / self.b).sin_cos();
+        let yaw_rate = self.r / self.b * (qd[3] - qd[4]);
+        [qd[2], qd[0] * c + qd[1] * s, yaw_rate]
     }
 
     /// The motor torques act between the body and each wheel, on the relative angles φᵢ.
