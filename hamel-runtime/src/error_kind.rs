@@ -34,6 +34,7 @@ impl Error {
             Error::ConstraintViolation { .. } => "constraint_violation",
             Error::SingularMassMatrix { .. } => "singular_mass_matrix",
             Error::UnboundedInertia { .. } => "unbounded_inertia",
+            Error::UnphysicalBody { .. } => "unphysical_body",
             Error::SingularTransformation { .. } => "singular_transformation",
             Error::InverseMismatch { .. } => "inverse_mismatch",
             Error::StepSizeUnderflow { .. } => "step_size_underflow",
