@@ -7,7 +7,8 @@
 //!
 //! `benches/work_precision/run.sh` compares it with scipy's `Radau` and `BDF` and diffsol's
 //! BDF and ESDIRK34 by calling this binary in two modes:
-//! - `round R PROBLEM`: one run of Radau5 on PROBLEM at every tolerance, appended to
+//! - `round R PROBLEM`: Radau5 on PROBLEM at every tolerance, a batch of runs of at least
+//!   0.1 s each (the wall time the batch's mean), appended to
 //!   `target/work_precision/hamel.csv` as round R (the other solvers are run likewise, round
 //!   after round, alternating with it);
 //! - `report`: the tables of all three CSVs, the side-by-side ratios at equal error and one
@@ -55,8 +56,28 @@ const PROBLEMS: [(&str, NewRun); 7] = [
     ("stiff robot", stiff_robot),
 ];
 
-/// One round on `problem`: a run at every tolerance, each timed once, after an untimed
-/// warm-up run (the first run in a process pays for cold caches).
+/// The least time a batch of runs takes: runs shorter than this are repeated, and their wall
+/// time is the batch's mean. A sub-millisecond run fits in one time slice of a loaded machine
+/// or loses a whole one to another process, where a long run (scipy's) gets the machine's
+/// average share: batches of similar length see the same share.
+const BATCH_SECONDS: f64 = 0.1;
+
+/// `f`'s last result and its mean wall time over a batch of at least [`BATCH_SECONDS`].
+fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let mut runs = 0;
+    loop {
+        let result = f();
+        runs += 1;
+        let elapsed = start.elapsed().as_secs_f64();
+        if elapsed >= BATCH_SECONDS {
+            return (result, elapsed / runs as f64);
+        }
+    }
+}
+
+/// One round on `problem`: a batch at every tolerance, after an untimed warm-up run (the
+/// first run in a process pays for cold caches).
 fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
     let (_, new) = PROBLEMS
         .iter()
@@ -70,9 +91,7 @@ fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
     Ok(TOLERANCES
         .iter()
         .map(|&rtol| {
-            let start = Instant::now();
-            let (stats, error) = run(rtol);
-            let wall = start.elapsed().as_secs_f64();
+            let ((stats, error), wall) = batch(|| run(rtol));
             Row {
                 round,
                 problem: problem.into(),

@@ -2,7 +2,7 @@
 //! from the CSVs `run.sh` has the three write round by round, as tables and as one figure per
 //! problem (error against wall time, both logarithmic).
 //!
-//! Wall-time ratios are taken per round, between runs made minutes apart at most (`run.sh`
+//! Wall-time ratios are taken per round, between runs made close together (`run.sh`
 //! alternates the solvers problem by problem), and only then summarized over the rounds: the
 //! machine's speed drifts, and cancels from a ratio of runs made close together.
 

@@ -6,9 +6,9 @@
 # python3 and crates.io; the CSVs go to target/work_precision/.
 #
 # The machine's speed drifts, so the solvers are interleaved: ROUNDS rounds (default 7), each
-# running every solver once on each problem at every tolerance, problem by problem, the
-# solver that starts moving on by one each round. The report takes each wall-time ratio per
-# round before the median over the rounds.
+# running every solver once on each problem at every tolerance (a batch of runs of at least
+# 0.1 s each), problem by problem, the solver that starts moving on by one each round. The
+# report takes each wall-time ratio per round before the median over the rounds.
 #
 #   bash benches/work_precision/run.sh [ROUNDS]
 set -euo pipefail

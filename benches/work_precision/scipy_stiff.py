@@ -1,8 +1,9 @@
 """scipy's Radau and BDF on the stiff test set of benches/work_precision.rs: the same problems,
 spans, tolerances (atol = ATOL_RATIO * rtol), exact Jacobians and mixed error against the Bari
 Test Set's references (tests/validation/tests/common/stiff_problems.rs has the definitions and
-the sources). One round of run.sh on one problem: each method at each tolerance, timed once
-(after an untimed warm-up run), one CSV row per run appended to OUT.csv: the counts are
+the sources). One round of run.sh on one problem: each method at each tolerance, a batch of
+runs of at least BATCH_SECONDS (after an untimed warm-up run; see benches/work_precision.rs),
+one CSV row per batch appended to OUT.csv, the wall time the batch's mean: the counts are
 scipy's nfev (right-hand sides, the Jacobian's excluded, as hamel counts them when the
 Jacobian is given), njev and nlu.
 
@@ -16,6 +17,18 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 TOLERANCES = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
+BATCH_SECONDS = 0.1
+
+
+def batch(f):
+    """f's last result and its mean wall time over a batch of at least BATCH_SECONDS."""
+    runs, start = 0, time.perf_counter()
+    while True:
+        result = f()
+        runs += 1
+        elapsed = time.perf_counter() - start
+        if elapsed >= BATCH_SECONDS:
+            return result, elapsed / runs
 
 
 def rober():
@@ -158,9 +171,7 @@ def main(out, round_number, problem_name):
     rows = []
     for method in ["Radau", "BDF"]:
         for rtol in TOLERANCES:
-            start = time.perf_counter()
-            sol = run(method, rtol)
-            wall = time.perf_counter() - start
+            sol, wall = batch(lambda: run(method, rtol))
             if not sol.success:
                 print(f"{name} {method} {rtol:g}: {sol.message}", file=sys.stderr)
                 continue

@@ -1,8 +1,8 @@
 //! diffsol's BDF and ESDIRK34 (its SDIRK) on the stiff test set of
 //! `benches/work_precision.rs`: the same problems (their right-hand sides and Jacobians from
 //! `tests/validation/tests/common/stiff_problems.rs`), tolerances and mixed error. One round
-//! of `run.sh` on one problem: each method at each tolerance, timed once (after an untimed
-//! warm-up run), one row per run appended to OUT.csv. diffsol takes the Jacobian as a
+//! of `run.sh` on one problem: each method at each tolerance, a batch of runs of at least
+//! 0.1 s (after an untimed warm-up run), one row per batch appended to OUT.csv. diffsol takes the Jacobian as a
 //! Jacobian–vector product: here the problem's dense Jacobian times v (one Jacobian
 //! evaluation per product, a few hundred nanoseconds for these sizes). diffsol exposes no evaluation counts through this
 //! interface: the CSV's counts are empty.
@@ -95,15 +95,30 @@ fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
     Some(end)
 }
 
+/// The least time a batch of runs takes, as in `benches/work_precision.rs` (see there).
+const BATCH_SECONDS: f64 = 0.1;
+
+/// `f`'s last result and its mean wall time over a batch of at least [`BATCH_SECONDS`].
+fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let mut runs = 0;
+    loop {
+        let result = f();
+        runs += 1;
+        let elapsed = start.elapsed().as_secs_f64();
+        if elapsed >= BATCH_SECONDS {
+            return (result, elapsed / runs as f64);
+        }
+    }
+}
+
 /// One round on `P`: the CSV rows of each method at each tolerance.
 fn rows<P: StiffProblem>(round: usize) -> String {
     run::<P>("bdf", TOLERANCES[0]);
     let mut out = String::new();
     for (method, label) in [("bdf", "diffsol BDF"), ("esdirk34", "diffsol ESDIRK34")] {
         for rtol in TOLERANCES {
-            let start = Instant::now();
-            let end = run::<P>(method, rtol);
-            let wall = start.elapsed().as_secs_f64();
+            let (end, wall) = batch(|| run::<P>(method, rtol));
             let Some(end) = end else {
                 eprintln!("{} {label} {rtol:e}: failed", P::NAME);
                 continue;
