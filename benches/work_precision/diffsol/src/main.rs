@@ -2,10 +2,13 @@
 //! `benches/work_precision.rs`: the same problems (their right-hand sides and Jacobians from
 //! `tests/validation/tests/common/stiff_problems.rs`), tolerances and mixed error. One round
 //! of `run.sh` on one problem: each method at each tolerance, a batch of runs of at least
-//! 0.1 s (after an untimed warm-up run), one row per batch appended to OUT.csv. diffsol takes the Jacobian as a
-//! Jacobian–vector product: here the problem's dense Jacobian times v (one Jacobian
-//! evaluation per product, a few hundred nanoseconds for these sizes). diffsol exposes no evaluation counts through this
-//! interface: the CSV's counts are empty.
+//! 0.1 s (after an untimed warm-up run), one row per batch appended to OUT.csv.
+//!
+//! diffsol takes the Jacobian as a Jacobian–vector product: here the problem's dense Jacobian
+//! times v (one Jacobian evaluation per product, a few hundred nanoseconds for these sizes).
+//! Its statistics give the accepted steps, the error-test failures (the rejected column) and
+//! the Jacobian/LU setups (the LU column); it counts no right-hand-side evaluations or
+//! Jacobians, whose columns stay empty.
 //!
 //!     cargo run --release --manifest-path benches/work_precision/diffsol/Cargo.toml -- \
 //!         OUT.csv ROUND PROBLEM
@@ -20,6 +23,7 @@ use std::io::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use diffsol::ode_solver::OdeSolverStatistics;
 use diffsol::{DenseMatrix, MatrixCommon, NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod};
 
 /// The last column of a solution matrix.
@@ -44,8 +48,9 @@ fn components(x: &(impl std::ops::Index<usize, Output = f64> + ?Sized), n: usize
     (0..n).map(|i| x[i]).collect()
 }
 
-/// One run of `method` ("bdf" or "esdirk34") on `P`: the end state, or None if it failed.
-fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
+/// One run of `method` ("bdf" or "esdirk34") on `P`: the end state and the solver's
+/// statistics, or None if it failed.
+fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<(Vec<f64>, OdeSolverStatistics)> {
     let n = <P::State as hamel::Vector>::LEN;
     let problem = OdeBuilder::<NalgebraMat<f64>>::new()
         .rtol(rtol)
@@ -80,19 +85,18 @@ fn run<P: StiffProblem>(method: &str, rtol: f64) -> Option<Vec<f64>> {
         )
         .build()
         .ok()?;
-    let end = match method {
+    Some(match method {
         "bdf" => {
             let mut solver = problem.bdf::<NalgebraLU<f64>>().ok()?;
             let (ys, _, _) = solver.solve(P::T_END).ok()?;
-            last_column(&ys)
+            (last_column(&ys), solver.get_statistics().clone())
         }
         _ => {
             let mut solver = problem.esdirk34::<NalgebraLU<f64>>().ok()?;
             let (ys, _, _) = solver.solve(P::T_END).ok()?;
-            last_column(&ys)
+            (last_column(&ys), solver.get_statistics().clone())
         }
-    };
-    Some(end)
+    })
 }
 
 /// The least time a batch of runs takes, as in `benches/work_precision.rs` (see there).
@@ -119,15 +123,18 @@ fn rows<P: StiffProblem>(round: usize) -> String {
     for (method, label) in [("bdf", "diffsol BDF"), ("esdirk34", "diffsol ESDIRK34")] {
         for rtol in TOLERANCES {
             let (end, wall) = batch(|| run::<P>(method, rtol));
-            let Some(end) = end else {
+            let Some((end, stats)) = end else {
                 eprintln!("{} {label} {rtol:e}: failed", P::NAME);
                 continue;
             };
             let error = mixed_error::<P>(&to_state::<P>(&end));
             let _ = writeln!(
                 out,
-                "{round},{},{label},{rtol:e},{error:e},,,,,,{wall:e}",
-                P::NAME
+                "{round},{},{label},{rtol:e},{error:e},{},{},,,{},{wall:e}",
+                P::NAME,
+                stats.number_of_steps,
+                stats.number_of_error_test_failures,
+                stats.number_of_linear_solver_setups,
             );
         }
     }
