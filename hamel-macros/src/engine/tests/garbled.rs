@@ -624,9 +624,9 @@ fn check_soup(attr: TokenStream, item: TokenStream) -> Result<(), TestCaseError>
 }
 
 /// A runner with a fixed seed (the same cases every run) that writes no regression files.
-fn runner(cases: u32) -> TestRunner {
+fn runner(full: u32) -> TestRunner {
     TestRunner::new(Config {
-        cases,
+        cases: super::fuzz_cases(full),
         failure_persistence: None,
         rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_50f0),
         ..Config::default()

@@ -6,11 +6,25 @@
 //!   against hyper-dual numbers evaluated on the same tree.
 //!
 //! The unit tests next to each engine module test its parts; these test the whole path.
+//!
+//! The random tests draw a fixed sequence of cases (fixed seeds), so every run repeats the
+//! same ones. `cargo test` runs the first fifth of each sequence, which keeps the workspace
+//! suite within its time budget in a debug build; `HAMEL_FUZZ=full` runs all of them, and
+//! `.ci/run` does so on every submission.
 
 mod garbled;
 mod random_exprs;
 
 use proc_macro2::{Delimiter, TokenStream, TokenTree};
+
+/// How many of a random test's `full` cases to run: all of them with `HAMEL_FUZZ=full`, else
+/// the first fifth (the same cases every run, as the seeds are fixed).
+fn fuzz_cases(full: u32) -> u32 {
+    match std::env::var("HAMEL_FUZZ").as_deref() {
+        Ok("full") => full,
+        _ => (full / 5).max(1),
+    }
+}
 
 /// The messages of every `compile_error!` in `tokens`, in order.
 ///

@@ -1039,6 +1039,7 @@ fn check(body: &Body, at: &Point) -> Result<Vec<String>, TestCaseError> {
 /// A runner with a fixed seed (the same cases every run, so a failure reproduces and the
 /// suite does not flicker) that writes no regression files.
 fn runner(cases: u32, seed: u64) -> TestRunner {
+    let cases = super::fuzz_cases(cases);
     TestRunner::new(Config {
         cases,
         max_global_rejects: cases,
@@ -1050,10 +1051,10 @@ fn runner(cases: u32, seed: u64) -> TestRunner {
 
 #[test]
 fn derivatives_match_hyper_dual_numbers() {
-    const CASES: u32 = 3000;
+    let cases = super::fuzz_cases(3000);
     let (skipped, ill) = (Cell::new(0u32), Cell::new(0u32));
     let result =
-        runner(CASES, 0x0d1f_f00d).run(&(body(), point()), |(body, at)| match check(&body, &at) {
+        runner(3000, 0x0d1f_f00d).run(&(body(), point()), |(body, at)| match check(&body, &at) {
             Ok(found) => {
                 if let Some(first) = found.first() {
                     ill.set(ill.get() + 1);
@@ -1071,10 +1072,10 @@ fn derivatives_match_hyper_dual_numbers() {
         panic!("{e}");
     }
     let (skipped, ill) = (skipped.get(), ill.get());
-    eprintln!("{CASES} cases: {ill} ill-conditioned; {skipped} more skipped as overflowing");
+    eprintln!("{cases} cases: {ill} ill-conditioned; {skipped} more skipped as overflowing");
     // Skips and excuses must stay rare, or the test would quietly test little.
-    assert!(skipped < CASES / 10, "{skipped} cases skipped");
-    assert!(ill < CASES / 50, "{ill} cases ill-conditioned");
+    assert!(skipped < cases / 10, "{skipped} cases skipped");
+    assert!(ill < cases / 50, "{ill} cases ill-conditioned");
 }
 
 /// The hand-written derivatives of the reference against num-dual's own arithmetic, where
