@@ -1,0 +1,296 @@
+//! How each body is drawn: the shape given for it by name, else the disk or sphere its
+//! contact makes it, else the uniform solid of its mass and inertia; its colour, a line
+//! saying what it is drawn as, and a warning when its inertia is no body's.
+
+use super::equivalent::{Equivalent, box_edges, ellipsoid_semi_axes, short};
+use super::error::{ErrorKind, SceneError};
+use super::infer::{Rolling, rolling_shapes};
+use super::shape::{Form, Shape};
+use crate::geometry::{Body, Mechanism, Vector3};
+
+/// The bodies' colours, in order (Tableau 10 without its red and green, which the axes use).
+pub(crate) const PALETTE: [u32; 8] = [
+    0x4e79a7, 0xf28e2b, 0x76b7b2, 0xb07aa1, 0xedc948, 0x9c755f, 0xff9da7, 0xbab0ac,
+];
+/// A body that cannot be drawn from its inertia is a marker of this colour.
+pub(crate) const WARNING_COLOR: u32 = 0xd62728;
+
+/// A solid in a body's axes, about the point `Look::offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Solid {
+    /// A thin disk normal to `axis` (a unit vector).
+    Disk {
+        radius: f64,
+        axis: Vector3,
+    },
+    Sphere {
+        radius: f64,
+    },
+    /// Semi-axes along the columns of `axes`, a rotation.
+    Ellipsoid {
+        semi_axes: [f64; 3],
+        axes: [[f64; 3]; 3],
+    },
+    /// Edges along the columns of `axes`, a rotation.
+    Box {
+        edges: [f64; 3],
+        axes: [[f64; 3]; 3],
+    },
+    /// Along `axis` (a unit vector).
+    Cylinder {
+        radius: f64,
+        length: f64,
+        axis: Vector3,
+    },
+    /// A point mass, or a body that cannot be drawn from its inertia: a small sphere.
+    Marker {
+        radius: f64,
+    },
+}
+
+impl Solid {
+    /// Half the solid's largest extent; `None` for a marker, whose size follows the others'.
+    pub(crate) fn half_size(&self) -> Option<f64> {
+        let largest = |v: &[f64; 3]| v.iter().fold(0.0_f64, |m, &x| m.max(x));
+        match self {
+            Solid::Disk { radius, .. } | Solid::Sphere { radius } => Some(*radius),
+            Solid::Ellipsoid { semi_axes, .. } => Some(largest(semi_axes)),
+            Solid::Box { edges, .. } => Some(0.5 * edges.iter().map(|e| e * e).sum::<f64>().sqrt()),
+            Solid::Cylinder { radius, length, .. } => Some(radius.hypot(0.5 * length)),
+            Solid::Marker { .. } => None,
+        }
+    }
+}
+
+/// How one body is drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Look {
+    pub name: String,
+    pub solid: Solid,
+    /// The solid's centre, in the body's axes from its centre of mass.
+    pub offset: Vector3,
+    pub color: u32,
+    /// What the body is drawn as, and from what ("disk of radius 0.3, from its contact").
+    pub description: String,
+    /// Why the body is not drawn from its inertia, when its inertia is no body's.
+    pub warning: Option<String>,
+    /// The length of its axes' triad.
+    pub triad: f64,
+}
+
+/// Every body's look at (t, q), with the shapes `given` by name. An unknown name or a shape
+/// that cannot be drawn is an error; so are bodies whose number, mass or inertia the model
+/// gives wrong.
+pub(crate) fn looks<M: Mechanism>(
+    model: &M,
+    t: f64,
+    q: &M::Coordinates,
+    given: &[(String, Shape)],
+) -> Result<Vec<Look>, SceneError> {
+    let names = M::BODIES;
+    if names.is_empty() {
+        return Err(ErrorKind::NoBodies.into());
+    }
+    for (name, shape) in given {
+        if !names.contains(&name.as_str()) {
+            return Err(ErrorKind::UnknownBody {
+                name: name.clone(),
+                known: names.join(", "),
+            }
+            .into());
+        }
+        if let Some(problem) = shape.problem() {
+            return Err(ErrorKind::InvalidShape {
+                body: name.clone(),
+                problem,
+            }
+            .into());
+        }
+    }
+    let bodies = checked_bodies(model, t, q)?;
+    let rolling = rolling_shapes(model, t, q, bodies.len());
+    let mut looks: Vec<Look> = names
+        .iter()
+        .zip(&bodies)
+        .zip(rolling)
+        .enumerate()
+        .map(|(i, ((name, body), rolling))| {
+            // The last shape given for a body wins.
+            let shape = given.iter().rev().find(|(n, _)| n == name).map(|(_, s)| s);
+            look(name, body, rolling, shape, PALETTE[i % PALETTE.len()])
+        })
+        .collect();
+    size_markers_and_triads(&mut looks);
+    Ok(looks)
+}
+
+/// The model's bodies at (t, q), as many as it names, with a finite mass and inertia.
+pub(crate) fn checked_bodies<M: Mechanism>(
+    model: &M,
+    t: f64,
+    q: &M::Coordinates,
+) -> Result<Vec<Body>, SceneError> {
+    let bodies = model.bodies_at(t, q);
+    if bodies.len() != M::BODIES.len() {
+        return Err(ErrorKind::Count {
+            what: "bodies",
+            expected: M::BODIES.len(),
+            got: bodies.len(),
+            t,
+        }
+        .into());
+    }
+    for (name, body) in M::BODIES.iter().zip(&bodies) {
+        let i = body.inertia;
+        let values = [body.mass, i.xx, i.yy, i.zz, i.xy, i.yz, i.zx];
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(ErrorKind::NonFinite {
+                what: format!("the mass or inertia of body `{name}`"),
+                t,
+            }
+            .into());
+        }
+    }
+    Ok(bodies)
+}
+
+/// One body's look, before markers and triads are sized.
+fn look(
+    name: &str,
+    body: &Body,
+    rolling: Option<Rolling>,
+    shape: Option<&Shape>,
+    color: u32,
+) -> Look {
+    let mut warning = None;
+    let (solid, description) = match (shape.map(|s| s.form), rolling) {
+        (Some(form), _) => given(form, name, body, &mut warning),
+        (None, Some(Rolling::Disk { radius, axis })) => (
+            Solid::Disk { radius, axis },
+            format!("disk of radius {}, from its contact", short(radius)),
+        ),
+        (None, Some(Rolling::Sphere { radius })) => (
+            Solid::Sphere { radius },
+            format!("sphere of radius {}, from its contact", short(radius)),
+        ),
+        (None, None) => from_inertia(name, body, false, &mut warning),
+    };
+    let color = match (shape.and_then(|s| s.color), &warning) {
+        (Some(c), _) => c,
+        (None, Some(_)) => WARNING_COLOR,
+        (None, None) => color,
+    };
+    Look {
+        name: name.to_string(),
+        solid,
+        offset: shape.map_or(Vector3::zeros(), |s| s.offset),
+        color,
+        description,
+        warning,
+        triad: 0.0,
+    }
+}
+
+/// The uniform box or ellipsoid of the body's mass and inertia, or a marker and a warning.
+fn from_inertia(
+    name: &str,
+    body: &Body,
+    as_box: bool,
+    warning: &mut Option<String>,
+) -> (Solid, String) {
+    match Equivalent::of(body.mass, &body.inertia) {
+        Equivalent::PointMass => (Solid::Marker { radius: 0.0 }, "point mass".to_string()),
+        Equivalent::Impossible(reason) => {
+            *warning = Some(format!("body `{name}`: {reason}"));
+            (
+                Solid::Marker { radius: 0.0 },
+                "marker: its inertia is no body's (see the warning)".to_string(),
+            )
+        }
+        Equivalent::Solid { spans, axes } if as_box => {
+            let edges = box_edges(spans);
+            let text = format!(
+                "uniform box of its mass and inertia, edges {}",
+                sizes(&edges)
+            );
+            (Solid::Box { edges, axes }, text)
+        }
+        Equivalent::Solid { spans, axes } => {
+            let semi_axes = ellipsoid_semi_axes(spans);
+            let text = format!(
+                "uniform ellipsoid of its mass and inertia, semi-axes {}",
+                sizes(&semi_axes)
+            );
+            (Solid::Ellipsoid { semi_axes, axes }, text)
+        }
+    }
+}
+
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// A shape given by name, as a solid.
+fn given(form: Form, name: &str, body: &Body, warning: &mut Option<String>) -> (Solid, String) {
+    match form {
+        Form::InertiaBox => from_inertia(name, body, true, warning),
+        Form::InertiaEllipsoid => from_inertia(name, body, false, warning),
+        Form::Box(edges) => (
+            Solid::Box {
+                edges,
+                axes: IDENTITY,
+            },
+            format!("box {}, as given", sizes(&edges)),
+        ),
+        Form::Ellipsoid(semi_axes) => (
+            Solid::Ellipsoid {
+                semi_axes,
+                axes: IDENTITY,
+            },
+            format!("ellipsoid, semi-axes {}, as given", sizes(&semi_axes)),
+        ),
+        Form::Cylinder(radius, length, axis) => (
+            Solid::Cylinder {
+                radius,
+                length,
+                axis: axis.unit(),
+            },
+            format!(
+                "cylinder of radius {} and length {}, as given",
+                short(radius),
+                short(length)
+            ),
+        ),
+        Form::Disk(radius, axis) => (
+            Solid::Disk {
+                radius,
+                axis: axis.unit(),
+            },
+            format!("disk of radius {}, as given", short(radius)),
+        ),
+        Form::Sphere(radius) => (
+            Solid::Sphere { radius },
+            format!("sphere of radius {}, as given", short(radius)),
+        ),
+    }
+}
+
+fn sizes(v: &[f64; 3]) -> String {
+    format!("{} × {} × {}", short(v[0]), short(v[1]), short(v[2]))
+}
+
+/// Markers get a tenth of the largest body's size (or 0.05 when every body is a marker);
+/// each triad reaches past its body's surface, and is never shorter than a quarter of the
+/// largest body's size, so that a small body's axes still show.
+fn size_markers_and_triads(looks: &mut [Look]) {
+    let largest = looks
+        .iter()
+        .filter_map(|l| l.solid.half_size())
+        .fold(0.0_f64, f64::max);
+    let largest = if largest > 0.0 { largest } else { 0.5 };
+    for look in looks {
+        if let Solid::Marker { radius } = &mut look.solid {
+            *radius = 0.1 * largest;
+        }
+        let own = look.solid.half_size().unwrap_or(0.0) + look.offset.norm();
+        look.triad = (1.25 * own).max(0.25 * largest);
+    }
+}

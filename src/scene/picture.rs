@@ -1,0 +1,282 @@
+//! [`Picture`]: a model's bodies at one configuration, in front, side and top views.
+
+use std::path::Path;
+
+use super::error::{ErrorKind, SceneError};
+use super::look::{Look, looks};
+use super::outline::{Line, outline};
+use super::shape::Shape;
+use super::view::{Directions, View, direction_name};
+use super::write::write_whole;
+use crate::geometry::{Body, Mechanism, Vector3};
+use crate::plot::{Figure, Legend, Panel, Rgb, Series};
+
+/// A model stated from its bodies, drawn at one configuration in three orthographic views
+/// (front, side and top), as SVG or PNG: each body as in a [`Scene`](super::Scene) (the
+/// disk or sphere its contact makes it, else the uniform ellipsoid of its inertia, or a
+/// shape given with [`Picture::shape`]), its axes as a triad (x red, y green, z blue), the
+/// contact points and the ground. One unit is as long across as up each view. A picture
+/// of a model in its reference configuration shows at a glance a sign slip in a body's
+/// position, an inertia in the wrong axes, or a contact point off its body.
+///
+/// ```
+/// use hamel::models::RollingDisk;
+/// use hamel::prelude::*;
+/// use hamel::scene::Picture;
+///
+/// let disk = RollingDisk::default();
+/// let q = [0.0, 0.0, 0.0, 0.3, 0.0]; // leaning by 0.3 rad
+/// let svg = Picture::new(&disk, 0.0, &q)?.to_svg()?;
+/// assert!(svg.contains("side, looking along y"));
+/// # Ok::<(), hamel::Error>(())
+/// ```
+pub struct Picture<'a, M: Mechanism> {
+    model: &'a M,
+    t: f64,
+    q: M::Coordinates,
+    shapes: Vec<(String, Shape)>,
+    size: (u32, u32),
+}
+
+/// The default size of a picture, in pixels: three views side by side.
+pub const PICTURE_SIZE: (u32, u32) = (1500, 520);
+
+impl<'a, M: Mechanism> Picture<'a, M> {
+    /// `model` at time `t` and configuration `q`: every value must be finite, and so must
+    /// the bodies' poses, masses and inertias there.
+    pub fn new(model: &'a M, t: f64, q: &M::Coordinates) -> Result<Self, SceneError> {
+        let values = std::iter::once(&t).chain(q.as_ref());
+        if let Some((i, _)) = values.enumerate().find(|(_, v)| !v.is_finite()) {
+            let what = match i {
+                0 => "the time".to_string(),
+                i => format!("coordinate `{}`", M::COORDINATES[i - 1]),
+            };
+            return Err(ErrorKind::NonFinite { what, t }.into());
+        }
+        let picture = Picture {
+            model,
+            t,
+            q: *q,
+            shapes: Vec::new(),
+            size: PICTURE_SIZE,
+        };
+        picture.bodies()?;
+        Ok(picture)
+    }
+
+    /// Draws the body called `body` as `shape` (see [`Scene::shape`](super::Scene::shape)).
+    pub fn shape(mut self, body: &str, shape: Shape) -> Self {
+        self.shapes.push((body.to_string(), shape));
+        self
+    }
+
+    /// The picture's size in pixels (default [`PICTURE_SIZE`]).
+    pub fn size(mut self, width: u32, height: u32) -> Self {
+        self.size = (width, height);
+        self
+    }
+
+    /// What cannot be drawn as the model states it (see [`Scene::warnings`](super::Scene::warnings)).
+    pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
+        let looks = looks(self.model, self.t, &self.q, &self.shapes)?;
+        Ok(looks.into_iter().filter_map(|l| l.warning).collect())
+    }
+
+    /// The three views as a [`Figure`] of three panels, to save or to combine.
+    pub fn figure(&self) -> Result<Figure, SceneError> {
+        let looks = looks(self.model, self.t, &self.q, &self.shapes)?;
+        let bodies = self.bodies()?;
+        let contacts: Vec<Vector3> = self
+            .model
+            .contacts_at(self.t, &self.q)
+            .iter()
+            .map(|c| c.point)
+            .collect();
+        let directions = Directions::new(self.model.gravity_vector());
+        let unit = M::unit("x").map_or(String::new(), |u| format!(" ({u})"));
+        let mut figure = Figure::new().columns(3).size(self.size.0, self.size.1);
+        for view in View::all(&directions) {
+            let ground = (directions.up.z.abs() == 1.0) && view.name != "top";
+            let panel = panel(&view, &looks, &bodies, &contacts, ground, &unit);
+            let legend = if view.name == "side" {
+                Legend::Auto
+            } else {
+                Legend::Hidden
+            };
+            figure = figure.panel(panel.legend(legend));
+        }
+        Ok(figure)
+    }
+
+    /// The picture as an SVG document.
+    pub fn to_svg(&self) -> Result<String, SceneError> {
+        self.figure()?.to_svg().map_err(drawing)
+    }
+
+    /// The picture as the bytes of a PNG file.
+    pub fn to_png(&self) -> Result<Vec<u8>, SceneError> {
+        self.figure()?.to_png().map_err(drawing)
+    }
+
+    /// Writes the picture as SVG, whole or not at all.
+    pub fn write_svg(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
+        let path = path.as_ref();
+        let svg = self.to_svg().map_err(|e| e.at(path))?;
+        write_whole(path, svg.as_bytes())
+    }
+
+    /// Writes the picture as PNG, whole or not at all.
+    pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
+        let path = path.as_ref();
+        let png = self.to_png().map_err(|e| e.at(path))?;
+        write_whole(path, &png)
+    }
+
+    /// Writes SVG or PNG, as the path's extension says (in any case).
+    pub fn save(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
+        let path = path.as_ref();
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("svg") => self.write_svg(path),
+            Some("png") => self.write_png(path),
+            _ => Err(SceneError::from(ErrorKind::UnknownFormat).at(path)),
+        }
+    }
+
+    fn bodies(&self) -> Result<Vec<Body>, SceneError> {
+        let bodies = super::look::checked_bodies(self.model, self.t, &self.q)?;
+        for (name, body) in M::BODIES.iter().zip(&bodies) {
+            let finite = body.centre.to_array().iter().all(|v| v.is_finite())
+                && body
+                    .orientation
+                    .matrix()
+                    .iter()
+                    .flatten()
+                    .all(|v| v.is_finite());
+            if !finite {
+                return Err(ErrorKind::NonFinite {
+                    what: format!("the pose of body `{name}`"),
+                    t: self.t,
+                }
+                .into());
+            }
+        }
+        Ok(bodies)
+    }
+}
+
+fn drawing(e: crate::plot::PlotError) -> SceneError {
+    ErrorKind::Drawing {
+        message: e.to_string(),
+    }
+    .into()
+}
+
+/// The triad's colours: x red, y green, z blue.
+const AXES: [(&str, Rgb); 3] = [
+    ("x axes", Rgb(214, 39, 40)),
+    ("y axes", Rgb(44, 160, 44)),
+    ("z axes", Rgb(31, 119, 180)),
+];
+
+/// One view: a line series per body, one per axis of the triads, the contacts and the
+/// ground, on axes of equal scale that hold everything with a margin.
+fn panel(
+    view: &View,
+    looks: &[Look],
+    bodies: &[Body],
+    contacts: &[Vector3],
+    ground: bool,
+    unit: &str,
+) -> Panel {
+    let title = format!(
+        "{}, looking along {}",
+        view.name,
+        direction_name(view.looking())
+    );
+    let mut series = Vec::new();
+    let mut all: Vec<(f64, f64)> = Vec::new();
+    for (look, body) in looks.iter().zip(bodies) {
+        let lines = outline(look, body, view);
+        all.extend(lines.iter().flatten());
+        let name = match look.warning {
+            Some(_) => format!("{} (cannot be drawn from its inertia)", look.name),
+            None => look.name.clone(),
+        };
+        series.push(joined(&name, &lines).color(rgb(look.color)));
+    }
+    for (k, (name, color)) in AXES.iter().enumerate() {
+        let lines: Vec<Line> = looks
+            .iter()
+            .zip(bodies)
+            .map(|(look, body)| {
+                let axis = body.orientation * [Vector3::x(), Vector3::y(), Vector3::z()][k];
+                vec![
+                    view.project(body.centre),
+                    view.project(body.centre + look.triad * axis),
+                ]
+            })
+            .collect();
+        all.extend(lines.iter().flatten());
+        series.push(joined(name, &lines).color(*color));
+    }
+    if !contacts.is_empty() {
+        let (x, y): (Vec<f64>, Vec<f64>) = contacts.iter().map(|&p| view.project(p)).unzip();
+        all.extend(x.iter().copied().zip(y.iter().copied()));
+        series.push(Series::points("contacts", &x, &y).color(Rgb(0, 0, 0)));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = bounds(&all);
+    if ground {
+        (y0, y1) = (y0.min(0.0), y1.max(0.0));
+    }
+    let margin = 0.08 * (x1 - x0).max(y1 - y0).max(1e-9);
+    (x0, x1, y0, y1) = (x0 - margin, x1 + margin, y0 - margin, y1 + margin);
+    if ground {
+        series.push(Series::dashed("ground", &[x0, x1], &[0.0, 0.0]).color(Rgb(120, 120, 120)));
+    }
+    let mut panel = Panel::new(title)
+        .x_label(format!("{}{unit}", direction_name(view.right)))
+        .y_label(format!("{}{unit}", direction_name(view.up)))
+        .x_range(x0, x1)
+        .y_range(y0, y1)
+        .equal_aspect();
+    for s in series {
+        panel = panel.series(s);
+    }
+    panel
+}
+
+/// One series of several polylines, broken where one ends (a non-finite point breaks a line).
+fn joined(name: &str, lines: &[Line]) -> Series {
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (i, line) in lines.iter().enumerate() {
+        if i > 0 {
+            x.push(f64::NAN);
+            y.push(f64::NAN);
+        }
+        for &(a, b) in line {
+            x.push(a);
+            y.push(b);
+        }
+    }
+    Series::line(name, &x, &y)
+}
+
+fn bounds(points: &[(f64, f64)]) -> (f64, f64, f64, f64) {
+    points.iter().fold(
+        (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |(x0, x1, y0, y1), &(x, y)| (x0.min(x), x1.max(x), y0.min(y), y1.max(y)),
+    )
+}
+
+fn rgb(color: u32) -> Rgb {
+    Rgb((color >> 16) as u8, (color >> 8) as u8, color as u8)
+}

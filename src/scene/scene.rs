@@ -1,0 +1,188 @@
+//! [`Scene`]: a trajectory of a model with bodies, animated in one self-contained HTML page.
+
+use std::path::Path;
+
+use super::data::{Contents, Shown, json};
+use super::error::{ErrorKind, SceneError};
+use super::html::page;
+use super::infer::owner;
+use super::look::{Look, looks};
+use super::motion::{Motion, configuration, coordinate_columns, sample};
+use super::shape::Shape;
+use super::view::Directions;
+use super::write::write_whole;
+use crate::Trajectory;
+use crate::geometry::Mechanism;
+
+/// A trajectory of a model stated from its bodies, as a 3D animation in one HTML file that
+/// opens from disk in any browser, with no network: three.js is embedded in it.
+///
+/// Each body is drawn from what the model says: a wheel as the disk its contact runs round,
+/// a ball as its sphere, any other body as the uniform ellipsoid of its mass and principal
+/// moments of inertia (so a wrong inertia looks wrong), each with its axes as a triad (x
+/// red, y green, z blue); [`Scene::shape`] gives a body a shape of your own. The ground grid,
+/// gravity's direction and each contact's trace on the ground are drawn too. The page plays,
+/// pauses, changes speed (real time by default), has a time slider and an orbit camera, and
+/// shows the time and the columns chosen with [`Scene::show`] beside the scene. Its frames
+/// are the trajectory's samples as computed, nothing interpolated: sample at the frame rate
+/// you want to watch (`Simulation::sample_interval(1.0 / 60.0)`).
+///
+/// ```
+/// use hamel::models::RollingDisk;
+/// use hamel::prelude::*;
+/// use hamel::scene::{Scene, Shape};
+///
+/// let disk = RollingDisk::default();
+/// let x0 = disk.state_builder().set("phi", 0.1).set("spin_rate", -20.0).build()?;
+/// let run = Simulation::new(&disk, x0)
+///     .end_time(1.0)
+///     .sample_interval(1.0 / 60.0)
+///     .run_constant(&DormandPrince::new(1e-8, 1e-10), [])?;
+/// let scene = Scene::new(&disk, &run)?.show(["phi", "spin_rate"]).title("a rolling disk");
+/// let html = scene.to_html()?;
+/// assert!(html.starts_with("<!doctype html>") && html.contains("a rolling disk"));
+/// # let dir = std::env::temp_dir().join(format!("hamel-doc-scene-{}", std::process::id()));
+/// # std::fs::create_dir_all(&dir).unwrap();
+/// # let path = dir.join("disk.html");
+/// scene.write_html(&path)?;
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok::<(), hamel::Error>(())
+/// ```
+///
+/// A model without bodies has no scene: `Scene::new` does not compile for it (it needs
+/// [`Mechanism`], which `#[hamel_system]` implements for models with `#[bodies]`).
+pub struct Scene<'a, M: Mechanism> {
+    model: &'a M,
+    trajectory: &'a Trajectory,
+    shown: Option<Vec<String>>,
+    shapes: Vec<(String, Shape)>,
+    title: Option<String>,
+}
+
+impl<'a, M: Mechanism> Scene<'a, M> {
+    /// The scene of `trajectory`, a run of `model`. The trajectory must have a column for
+    /// each of the model's coordinates and at least one sample.
+    pub fn new(model: &'a M, trajectory: &'a Trajectory) -> Result<Self, SceneError> {
+        coordinate_columns::<M>(trajectory)?;
+        Ok(Scene {
+            model,
+            trajectory,
+            shown: None,
+            shapes: Vec::new(),
+            title: None,
+        })
+    }
+
+    /// The columns shown beside the scene, with their units, at each sample (by default the
+    /// model's coordinates). Names not in the trajectory are an error when the page is made.
+    pub fn show<I, S>(mut self, columns: I) -> Self
+    where
+        I: IntoIterator<Item = S>,
+        S: Into<String>,
+    {
+        self.shown = Some(columns.into_iter().map(Into::into).collect());
+        self
+    }
+
+    /// Draws the body called `body` (one of [`Mechanism::BODIES`]) as `shape`. A name that is
+    /// not a body's, or a shape with a size that is not finite and positive, is an error
+    /// when the page is made.
+    pub fn shape(mut self, body: &str, shape: Shape) -> Self {
+        self.shapes.push((body.to_string(), shape));
+        self
+    }
+
+    /// The page's title (by default the model's type and the time span).
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+
+    /// What cannot be drawn as the model states it: a body whose mass and inertia no rigid
+    /// body has (inertia not positive definite, principal moments that violate the triangle
+    /// inequality) is drawn as a red marker, and the page lists the reason.
+    pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
+        let (t, q) = self.first()?;
+        let looks = looks(self.model, t, &q, &self.shapes)?;
+        Ok(looks.into_iter().filter_map(|l| l.warning).collect())
+    }
+
+    /// The page, as one HTML document.
+    pub fn to_html(&self) -> Result<String, SceneError> {
+        let columns = coordinate_columns::<M>(self.trajectory)?;
+        let times = self.trajectory.times();
+        let shown = self.shown_columns()?;
+        let (t, q) = self.first()?;
+        let looks: Vec<Look> = looks(self.model, t, &q, &self.shapes)?;
+        let motion: Motion = sample(self.model, times, &columns)?;
+        let placed = self.model.bodies_at(t, &q);
+        let contact_bodies: Vec<Option<usize>> = self
+            .model
+            .contacts_at(t, &q)
+            .iter()
+            .map(|c| owner(&c.body, &placed))
+            .collect();
+        let gravity = self.model.gravity_vector();
+        let data = json(&Contents {
+            looks: &looks,
+            motion: &motion,
+            directions: Directions::new(gravity),
+            gravity,
+            contact_bodies: &contact_bodies,
+            shown: &shown,
+            time_unit: M::unit("t").unwrap_or("s"),
+        });
+        Ok(page(&self.page_title(times), &data))
+    }
+
+    /// Writes the page to `path`, whole or not at all: nothing is written if the scene
+    /// cannot be made, and a failure to write leaves no partial file.
+    pub fn write_html(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
+        let path = path.as_ref();
+        let html = self.to_html().map_err(|e| e.at(path))?;
+        write_whole(path, html.as_bytes())
+    }
+
+    /// The first sample's time and configuration.
+    fn first(&self) -> Result<(f64, M::Coordinates), SceneError> {
+        let columns = coordinate_columns::<M>(self.trajectory)?;
+        Ok((self.trajectory.times()[0], configuration(&columns, 0)))
+    }
+
+    fn shown_columns(&self) -> Result<Vec<Shown<'a>>, SceneError> {
+        let names: Vec<&str> = match &self.shown {
+            Some(names) => names.iter().map(String::as_str).collect(),
+            None => M::COORDINATES.to_vec(),
+        };
+        names
+            .into_iter()
+            .map(|name| {
+                let found = self.trajectory.names().iter().find(|n| n.as_str() == name);
+                let (name, values) = found
+                    .and_then(|n| Some((n.as_str(), self.trajectory.column(n)?)))
+                    .ok_or_else(|| ErrorKind::UnknownColumn {
+                        name: name.to_string(),
+                        known: self.trajectory.names().join(", "),
+                    })?;
+                Ok(Shown {
+                    name,
+                    unit: M::unit(name),
+                    values,
+                })
+            })
+            .collect()
+    }
+
+    fn page_title(&self, times: &[f64]) -> String {
+        if let Some(title) = &self.title {
+            return title.clone();
+        }
+        let model = std::any::type_name::<M>()
+            .rsplit("::")
+            .next()
+            .unwrap_or("model");
+        let unit = M::unit("t").unwrap_or("s");
+        let (first, last) = (times[0], times[times.len() - 1]);
+        format!("{model}, t = {first} … {last} {unit}")
+    }
+}

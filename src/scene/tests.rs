@@ -1,0 +1,350 @@
+//! What a scene and a picture carry against what the model says, and every error. The
+//! browser test (`tests/browser`) checks that the page draws it.
+
+use std::path::PathBuf;
+
+use base64::Engine as _;
+
+use super::*;
+use crate::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Vector3};
+use crate::models::KnifeEdge;
+use crate::{DormandPrince, HamelSystem, Simulation, Trajectory, hamel_system};
+
+/// A fresh directory for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hamel-scene-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A wheel on an axle that carries a pendulum: a rolling disk (yaw ψ, lean φ, spin θ about
+/// the axle y, z up) with a rod hanging from its centre, swinging with the lean. Its second
+/// body's inertia is `rod` (a thin rod along its z axis by default).
+#[hamel_system]
+#[derive(Clone, Debug, PartialEq)]
+pub struct Penny {
+    pub m: f64,
+    pub r: f64,
+    pub g: f64,
+    pub rod_mass: f64,
+    pub rod_length: f64,
+    pub rod_ixx: f64,
+    pub rod_izz: f64,
+}
+
+impl Default for Penny {
+    fn default() -> Self {
+        Penny {
+            m: 0.1,
+            r: 0.05,
+            g: 9.81,
+            rod_mass: 0.02,
+            rod_length: 0.04,
+            rod_ixx: 0.02 * 0.04 * 0.04 / 12.0,
+            rod_izz: 0.0,
+        }
+    }
+}
+
+#[hamel_system(
+    coordinates(x, y, psi, phi, theta),
+    speeds(yaw_rate, lean_rate, spin_rate),
+    constraints(slip_x, slip_y)
+)]
+impl Penny {
+    #[bodies]
+    fn bodies(&self, q: &[f64; 5]) -> [Body; 2] {
+        let heading = Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+        let centre = Vector3::new(q[0], q[1], 0.0) + heading * Vector3::new(0.0, 0.0, self.r);
+        let (diameter, axle) = (
+            self.m * self.r * self.r / 4.0,
+            self.m * self.r * self.r / 2.0,
+        );
+        [
+            Body::new(
+                self.m,
+                Inertia::principal(diameter, axle, diameter),
+                centre,
+                heading * Rotation3::about_y(q[4]),
+            ),
+            Body::new(
+                self.rod_mass,
+                Inertia::principal(self.rod_ixx, self.rod_ixx, self.rod_izz),
+                centre + heading * Vector3::new(0.0, 0.0, -0.5 * self.rod_length),
+                heading,
+            ),
+        ]
+    }
+
+    #[gravity]
+    fn gravity(&self) -> Vector3 {
+        Vector3::new(0.0, 0.0, -self.g)
+    }
+
+    #[contacts]
+    fn contacts(&self, q: &[f64; 5]) -> [Contact; 1] {
+        let [disk, _] = self.bodies(q);
+        [Contact::ground(disk, Vector3::new(q[0], q[1], 0.0))]
+    }
+
+    #[quasi_velocities]
+    fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+        [qd[2], qd[3], qd[4]]
+    }
+}
+
+impl Mechanism for Penny {
+    const BODIES: &'static [&'static str] = &["disk", "rod"];
+
+    fn bodies_at(&self, _t: f64, q: &[f64; 5]) -> Vec<Body> {
+        self.bodies(q).to_vec()
+    }
+
+    fn contacts_at(&self, _t: f64, q: &[f64; 5]) -> Vec<Contact> {
+        self.contacts(q).to_vec()
+    }
+
+    fn gravity_vector(&self) -> Option<Vector3> {
+        Some(self.gravity())
+    }
+}
+
+/// The penny rolling and leaning for `seconds`, sampled at 60 per second.
+fn penny_run(penny: &Penny, seconds: f64) -> Trajectory {
+    let x0 = penny
+        .state_builder()
+        .set("phi", 0.2)
+        .set("spin_rate", -15.0)
+        .set("yaw_rate", 2.0)
+        .build()
+        .unwrap();
+    Simulation::new(penny, x0)
+        .end_time(seconds)
+        .sample_interval(1.0 / 60.0)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [])
+        .unwrap()
+}
+
+/// The page's data object, as text.
+fn data_of(html: &str) -> &str {
+    let start = html.find(r#"id="hamel-data">"#).unwrap() + r#"id="hamel-data">"#.len();
+    &html[start..start + html[start..].find("</script>").unwrap()]
+}
+
+/// The base64 string that follows `"key":"` in the data.
+fn field<'a>(data: &'a str, key: &str) -> &'a str {
+    let marker = format!("\"{key}\":\"");
+    let start = data.find(&marker).unwrap() + marker.len();
+    &data[start..start + data[start..].find('"').unwrap()]
+}
+
+fn floats32(base64: &str) -> Vec<f64> {
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(base64)
+        .unwrap();
+    bytes
+        .chunks_exact(4)
+        .map(|c| f64::from(f32::from_le_bytes(c.try_into().unwrap())))
+        .collect()
+}
+
+fn floats64(base64: &str) -> Vec<f64> {
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(base64)
+        .unwrap();
+    bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+#[test]
+fn the_page_carries_every_sample_as_computed() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.5);
+    let html = Scene::new(&penny, &run)
+        .unwrap()
+        .show(["phi", "spin_rate"])
+        .to_html()
+        .unwrap();
+    let data = data_of(&html);
+    let times = floats64(field(data, "times"));
+    assert_eq!(times, run.times());
+    let poses = floats32(field(data, "poses"));
+    let points = floats32(field(data, "points"));
+    let values = floats64(field(data, "values"));
+    assert_eq!(poses.len(), run.len() * 2 * 7);
+    assert_eq!(points.len(), run.len() * 3);
+    let names = Penny::COORDINATES;
+    for i in 0..run.len() {
+        let q: [f64; 5] = core::array::from_fn(|k| run.column(names[k]).unwrap()[i]);
+        let bodies = penny.bodies_at(times[i], &q);
+        for (b, body) in bodies.iter().enumerate() {
+            let pose = &poses[(i * 2 + b) * 7..(i * 2 + b + 1) * 7];
+            for k in 0..3 {
+                assert!(
+                    (pose[k] - body.centre[k]).abs() < 1e-6,
+                    "sample {i}, body {b}"
+                );
+            }
+            // The quaternion turns x as the orientation does.
+            let [qx, qy, qz, qw] = [pose[3], pose[4], pose[5], pose[6]];
+            let turned_x = Vector3::new(
+                1.0 - 2.0 * (qy * qy + qz * qz),
+                2.0 * (qx * qy + qz * qw),
+                2.0 * (qx * qz - qy * qw),
+            );
+            assert!((turned_x - body.orientation * Vector3::x()).norm() < 1e-6);
+        }
+        assert!((points[3 * i] - q[0]).abs() < 1e-6 && (points[3 * i + 1] - q[1]).abs() < 1e-6);
+        assert_eq!(values[2 * i], run.column("phi").unwrap()[i]);
+        assert_eq!(values[2 * i + 1], run.column("spin_rate").unwrap()[i]);
+    }
+    // The disk is the wheel its contact runs round; the rod is drawn from its inertia.
+    assert!(
+        data.contains(r#""solid":{"kind":"disk","radius":0.05"#),
+        "{data:.300}"
+    );
+    assert!(data.contains(r#""kind":"ellipsoid""#));
+    assert!(data.contains(r#""columns":[{"name":"phi","unit":null},{"name":"spin_rate""#));
+    assert!(data.contains(r#""gravity":[0.0,0.0,-9.81]"#));
+    assert!(data.contains(r#""up":[-0.0,-0.0,1.0]"#) || data.contains(r#""up":[0.0,0.0,1.0]"#));
+}
+
+#[test]
+fn a_wheel_is_its_contact_disk_and_a_rod_its_inertia() {
+    let penny = Penny::default();
+    let q = [0.1, -0.2, 0.3, 0.25, 1.0];
+    let looks = look::looks(&penny, 0.0, &q, &[]).unwrap();
+    let look::Solid::Disk { radius, axis } = looks[0].solid else {
+        panic!("the disk is {:?}", looks[0].solid)
+    };
+    assert!((radius - 0.05).abs() < 1e-15);
+    // The disk's axle is its y axis.
+    assert!((axis.y.abs() - 1.0).abs() < 1e-12, "{axis}");
+    // The rod: I = m l² / 12 about x and y, none about z: the ellipsoid of the same inertia
+    // has semi-axis √(5 · 2 I / (2m)) = l √(5/12) along z (its first principal axis, of the
+    // least moment) and none across (drawn a fiftieth as thick).
+    let look::Solid::Ellipsoid { semi_axes, axes } = looks[1].solid else {
+        panic!("the rod is {:?}", looks[1].solid)
+    };
+    let length = penny.rod_length * (5.0f64 / 12.0).sqrt();
+    assert!((semi_axes[0] - length).abs() < 1e-12, "{semi_axes:?}");
+    assert!((semi_axes[1] - 0.02 * length).abs() < 1e-12);
+    assert!((axes[2][0].abs() - 1.0).abs() < 1e-12);
+    assert!(looks.iter().all(|l| l.warning.is_none()));
+}
+
+#[test]
+fn an_impossible_inertia_is_a_warning_and_a_red_marker() {
+    let penny = Penny {
+        rod_izz: 10.0 * Penny::default().rod_ixx,
+        ..Penny::default()
+    };
+    let q = [0.0; 5];
+    let scene_warnings = Picture::new(&penny, 0.0, &q).unwrap().warnings().unwrap();
+    assert_eq!(scene_warnings.len(), 1);
+    assert!(scene_warnings[0].contains("body `rod`") && scene_warnings[0].contains("triangle"));
+    let svg = Picture::new(&penny, 0.0, &q).unwrap().to_svg().unwrap();
+    assert!(svg.contains("rod (cannot be drawn from its inertia)"));
+    assert!(!svg.contains("NaN"));
+}
+
+#[test]
+fn bad_input_is_an_error_naming_it_and_writes_nothing() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.1);
+    let dir = scratch("errors");
+    // A run of another model: its coordinates are not the penny's.
+    let skate = KnifeEdge::default();
+    let x0 = skate
+        .state_from_speeds(0.0, &[0.0; 3], &[1.0, 0.5])
+        .unwrap();
+    let other = Simulation::new(&skate, x0)
+        .end_time(0.1)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [])
+        .unwrap();
+    let err = Scene::new(&penny, &other).err().unwrap();
+    assert!(matches!(err.kind(), ErrorKind::MissingCoordinate { name, .. } if name == "psi"));
+    assert!(err.to_string().contains("no column `psi`"), "{err}");
+
+    let path = dir.join("scene.html");
+    let unknown = Scene::new(&penny, &run).unwrap().show(["phi", "lean"]);
+    let err = unknown.write_html(&path).unwrap_err();
+    assert!(matches!(err.kind(), ErrorKind::UnknownColumn { name, .. } if name == "lean"));
+    assert_eq!(err.path(), Some(path.display().to_string().as_str()));
+    let body = Scene::new(&penny, &run)
+        .unwrap()
+        .shape("wheel", Shape::sphere(0.1));
+    let err = body.write_html(&path).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("no body `wheel`; its bodies are disk, rod")
+    );
+    let shape = Scene::new(&penny, &run)
+        .unwrap()
+        .shape("rod", Shape::box_(0.1, -1.0, 0.1));
+    let err = shape.write_html(&path).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("the shape given for body `rod` has the size -1")
+    );
+    assert!(!path.exists(), "a refused scene wrote its file");
+
+    // A path in a directory that does not exist, and a path that is a directory: the error
+    // names the path, and nothing is left behind.
+    let scene = Scene::new(&penny, &run).unwrap();
+    let missing = dir.join("no such directory").join("scene.html");
+    let err = scene.write_html(&missing).unwrap_err();
+    assert!(matches!(err.kind(), ErrorKind::Io { .. }));
+    assert!(
+        err.to_string()
+            .starts_with(&format!("cannot write {}", missing.display()))
+    );
+    let err = scene.write_html(&dir).unwrap_err();
+    assert!(err.to_string().contains("cannot replace the file"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+
+    // A written scene replaces an older file whole.
+    std::fs::write(&path, "old").unwrap();
+    scene.write_html(&path).unwrap();
+    let html = std::fs::read_to_string(&path).unwrap();
+    assert!(html.starts_with("<!doctype html>") && html.trim_end().ends_with("</html>"));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+
+    // Pictures: a configuration that is not finite, and an unknown extension.
+    let err = Picture::new(&penny, 0.0, &[0.0, f64::NAN, 0.0, 0.0, 0.0])
+        .err()
+        .unwrap();
+    assert_eq!(
+        err.to_string(),
+        "cannot make the scene: coordinate `y` is not finite at t = 0"
+    );
+    let picture = Picture::new(&penny, 0.0, &[0.0; 5]).unwrap();
+    let err = picture.save(dir.join("penny.jpg")).unwrap_err();
+    assert!(matches!(err.kind(), ErrorKind::UnknownFormat));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn pictures_are_written_in_both_formats() {
+    let penny = Penny::default();
+    let dir = scratch("pictures");
+    let picture = Picture::new(&penny, 0.0, &[0.0, 0.0, 0.0, 0.3, 0.0]).unwrap();
+    picture.save(dir.join("penny.svg")).unwrap();
+    picture.save(dir.join("penny.PNG")).unwrap();
+    let svg = std::fs::read_to_string(dir.join("penny.svg")).unwrap();
+    for text in [
+        "front, looking along −x",
+        "side, looking along y",
+        "top, looking along −z",
+    ] {
+        assert!(svg.contains(text), "no `{text}`");
+    }
+    assert!(svg.contains("disk") && svg.contains("contacts") && svg.contains("ground"));
+    let png = std::fs::read(dir.join("penny.PNG")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let _ = std::fs::remove_dir_all(&dir);
+}
