@@ -10,7 +10,12 @@
 //! * [`MobileRobotPaper`] — the paper's form: L̃(q, ω) of its eq. (12) with A and B given.
 //!
 //! Both have the same parameters and give the same motion (the test suite checks it).
+//!
+//! [`MobileRobot`] also states its three bodies by hand ([`Mechanism`]), so that
+//! `hamel::scene` can draw it: the chassis and the two wheels, placed as its kinetic energy
+//! says (a test checks the bodies' kinetic energy against the model's at random states).
 
+use crate::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Vector3};
 use crate::hamel_system;
 
 /// Parameters of the mobile robot. Defaults: a 10 kg body on 1 kg wheels of 0.1 m radius.
@@ -122,6 +127,57 @@ impl MobileRobot {
     #[forces]
     pub fn torques(&self, _t: f64, _q: &[f64; 5], _qd: &[f64; 5], u: &[f64; 2]) -> [f64; 5] {
         [0.0, 0.0, 0.0, u[0], u[1]]
+    }
+}
+
+/// The robot's bodies, written by hand from the kinetic energy above (the model states its
+/// energy, not its bodies): the chassis turned by the yaw ϑ = r(φ₁ − φ₂)/b and pitched by α
+/// about the axle, its centre of gravity l along its z axis from the axle's centre r above
+/// (x, y); the wheels, disks of radius r (inertia ¼ m_w r² about a diameter, ½ m_w r² about
+/// the axle), b/2 to either side of it along the axle, turned by α + φᵢ about it (wheel 1 on
+/// the right). Each rolls on the ground below its centre.
+impl Mechanism for MobileRobot {
+    const BODIES: &'static [&'static str] = &["chassis", "right_wheel", "left_wheel"];
+
+    fn bodies_at(&self, _t: f64, q: &[f64; 5]) -> Vec<Body> {
+        let [x, y, alpha, phi1, phi2] = *q;
+        let heading = Rotation3::about_z(self.r * (phi1 - phi2) / self.b);
+        let axle = Vector3::new(x, y, self.r);
+        let pitched = heading * Rotation3::about_y(alpha);
+        let (diameter, spin) = (
+            0.25 * self.mw * self.r * self.r,
+            0.5 * self.mw * self.r * self.r,
+        );
+        // The y axis of the heading points left: wheel 1 is at −b/2 along it.
+        let wheel = |side: f64, angle: f64| {
+            Body::new(
+                self.mw,
+                Inertia::principal(diameter, spin, diameter),
+                axle + heading * Vector3::new(0.0, 0.5 * side * self.b, 0.0),
+                heading * Rotation3::about_y(alpha + angle),
+            )
+        };
+        vec![
+            Body::new(
+                self.m0,
+                Inertia::principal(self.jx, self.jy, self.jz),
+                axle + pitched * Vector3::new(0.0, 0.0, self.l),
+                pitched,
+            ),
+            wheel(-1.0, phi1),
+            wheel(1.0, phi2),
+        ]
+    }
+
+    fn contacts_at(&self, t: f64, q: &[f64; 5]) -> Vec<Contact> {
+        self.bodies_at(t, q)[1..]
+            .iter()
+            .map(|&wheel| Contact::ground(wheel, wheel.centre - Vector3::new(0.0, 0.0, self.r)))
+            .collect()
+    }
+
+    fn gravity_vector(&self) -> Option<Vector3> {
+        Some(Vector3::new(0.0, 0.0, -self.g))
     }
 }
 
@@ -241,5 +297,113 @@ impl MobileRobotPaper {
     #[forces]
     pub fn torques(&self, _t: f64, _q: &[f64; 5], _qd: &[f64; 5], u: &[f64; 2]) -> [f64; 5] {
         [0.0, 0.0, 0.0, u[0], u[1]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::HamelSystem;
+
+    /// The bodies' kinetic energy Σ ½ m |ċ|² + ½ Ωᵀ I Ω, the velocities by central
+    /// differences of the bodies' poses along q̇.
+    fn bodies_kinetic_energy(robot: &MobileRobot, q: &[f64; 5], qd: &[f64; 5]) -> f64 {
+        let h = 1e-5;
+        let at = |s: f64| robot.bodies_at(0.0, &core::array::from_fn(|k| q[k] + s * qd[k]));
+        let (ahead, behind, now) = (at(h), at(-h), at(0.0));
+        let mut energy = 0.0;
+        for ((a, b), body) in ahead.iter().zip(&behind).zip(&now) {
+            let velocity = (a.centre - b.centre) / (2.0 * h);
+            // Ω in the body's axes: the skew part of Rᵀ Ṙ.
+            let (ra, rb, r) = (
+                a.orientation.matrix(),
+                b.orientation.matrix(),
+                body.orientation.matrix(),
+            );
+            let w = |i: usize, j: usize| {
+                (0..3)
+                    .map(|k| r[k][i] * (ra[k][j] - rb[k][j]) / (2.0 * h))
+                    .sum::<f64>()
+            };
+            let omega = [
+                0.5 * (w(2, 1) - w(1, 2)),
+                0.5 * (w(0, 2) - w(2, 0)),
+                0.5 * (w(1, 0) - w(0, 1)),
+            ];
+            let inertia = body.inertia.matrix();
+            let rotation: f64 = (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| omega[i] * inertia[i][j] * omega[j])
+                .sum();
+            energy += 0.5 * body.mass * velocity.norm_squared() + 0.5 * rotation;
+        }
+        energy
+    }
+
+    #[test]
+    fn the_bodies_have_the_models_kinetic_energy() {
+        let robot = MobileRobot::default();
+        // A fixed sequence of pseudo-random numbers in [−1, 1] (a linear congruential one).
+        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..20 {
+            let q: [f64; 5] =
+                core::array::from_fn(|k| 3.0 * next() * if k < 2 { 1.0 } else { 2.0 });
+            let x: [f64; 8] = core::array::from_fn(|k| if k < 5 { q[k] } else { 2.0 * next() });
+            let qd = robot.generalized_velocities(0.0, &x).unwrap();
+            let model = robot.energy(0.0, &x).unwrap() - robot.potential_energy(&q);
+            let bodies = bodies_kinetic_energy(&robot, &q, &qd);
+            assert!(
+                (bodies - model).abs() <= 1e-7 * model.abs().max(1e-3),
+                "at q = {q:?}, q̇ = {qd:?}: bodies {bodies}, model {model}"
+            );
+        }
+        // Gravity's potential of the bodies is the model's: m₀ g times the chassis' height
+        // above the axle, plus a constant.
+        let q = [0.3, -0.2, 0.7, 1.0, -2.0];
+        let chassis = robot.bodies_at(0.0, &q)[0];
+        let height = chassis.centre.z - robot.r;
+        assert!((robot.m0 * robot.g * height - robot.potential_energy(&q)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_wheels_roll_without_slipping_on_the_ground_below_their_centres() {
+        let robot = MobileRobot::default();
+        let q = [0.3, -0.2, 0.7, 1.0, -2.0];
+        let x = [q[0], q[1], q[2], q[3], q[4], 0.4, -0.7, 1.3];
+        let qd = robot.generalized_velocities(0.0, &x).unwrap();
+        let h = 1e-5;
+        let at = |s: f64| robot.bodies_at(0.0, &core::array::from_fn(|k| q[k] + s * qd[k]));
+        let (ahead, behind) = (at(h), at(-h));
+        for (j, contact) in robot.contacts_at(0.0, &q).iter().enumerate() {
+            assert_eq!(contact.point.z, 0.0);
+            assert!((contact.body.centre - contact.point).norm() - robot.r < 1e-15);
+            // The wheel's material point at the contact is at rest: ċ + ω × (P − c) = 0, ω in
+            // the ground's axes the skew part of Ṙ Rᵀ.
+            let (a, b, wheel) = (ahead[j + 1], behind[j + 1], contact.body);
+            let (ra, rb, r) = (
+                a.orientation.matrix(),
+                b.orientation.matrix(),
+                wheel.orientation.matrix(),
+            );
+            let w = |i: usize, k: usize| {
+                (0..3)
+                    .map(|m| (ra[i][m] - rb[i][m]) / (2.0 * h) * r[k][m])
+                    .sum::<f64>()
+            };
+            let omega = Vector3::new(
+                0.5 * (w(2, 1) - w(1, 2)),
+                0.5 * (w(0, 2) - w(2, 0)),
+                0.5 * (w(1, 0) - w(0, 1)),
+            );
+            let slip =
+                (a.centre - b.centre) / (2.0 * h) + omega.cross(&(contact.point - wheel.centre));
+            assert!(slip.norm() < 1e-8, "wheel {j} slips at {slip}");
+        }
     }
 }
