@@ -48,7 +48,19 @@ impl Default for BallOnTurntable {
 #[hamel_system(
     coordinates(x, y, phi, theta, psi),
     speeds(omega_x, omega_y, omega_z),
-    constraints(contact_x, contact_y)
+    constraints(contact_x, contact_y),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        phi = "rad",
+        theta = "rad",
+        psi = "rad",
+        omega_x = "rad/s",
+        omega_y = "rad/s",
+        omega_z = "rad/s",
+        energy = "J"
+    )
 )]
 impl BallOnTurntable {
     /// The ball's angular velocity in the inertial frame from the ZXZ Euler angles' rates.

@@ -47,7 +47,20 @@ impl Default for ChaplyginBall {
 #[hamel_system(
     coordinates(x, y, alpha, beta, gamma),
     speeds(alpha_rate, beta_rate, gamma_rate),
-    constraints(slip_x, slip_y)
+    constraints(slip_x, slip_y),
+    bodies(ball),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        alpha = "rad",
+        beta = "rad",
+        gamma = "rad",
+        alpha_rate = "rad/s",
+        beta_rate = "rad/s",
+        gamma_rate = "rad/s",
+        energy = "J"
+    )
 )]
 impl ChaplyginBall {
     #[bodies]

@@ -31,7 +31,20 @@ impl Default for ChaplyginSleigh {
     }
 }
 
-#[hamel_system(coordinates(x, y, theta), speeds(v, omega), constraints(blade))]
+#[hamel_system(
+    coordinates(x, y, theta),
+    speeds(v, omega),
+    constraints(blade),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        theta = "rad",
+        v = "m/s",
+        omega = "rad/s",
+        energy = "J"
+    )
+)]
 impl ChaplyginSleigh {
     #[kinetic_energy]
     pub fn kinetic_energy(&self, _q: &[f64; 3], qd: &[f64; 3]) -> f64 {

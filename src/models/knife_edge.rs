@@ -33,7 +33,20 @@ impl Default for KnifeEdge {
     }
 }
 
-#[hamel_system(coordinates(x, y, phi), speeds(v, omega), constraints(blade))]
+#[hamel_system(
+    coordinates(x, y, phi),
+    speeds(v, omega),
+    constraints(blade),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        phi = "rad",
+        v = "m/s",
+        omega = "rad/s",
+        energy = "J"
+    )
+)]
 impl KnifeEdge {
     #[lagrangian]
     pub fn lagrangian(&self, q: &[f64; 3], qd: &[f64; 3]) -> f64 {

@@ -62,7 +62,21 @@ impl Default for MobileRobot {
     coordinates(x, y, alpha, phi1, phi2),
     speeds(w3, w4, w5),
     inputs(tau1, tau2),
-    constraints(no_side_slip, no_slip)
+    constraints(no_side_slip, no_slip),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        alpha = "rad",
+        phi1 = "rad",
+        phi2 = "rad",
+        w3 = "rad/s",
+        w4 = "m/s",
+        w5 = "rad/s",
+        tau1 = "N m",
+        tau2 = "N m",
+        energy = "J"
+    )
 )]
 impl MobileRobot {
     /// T of the body and the wheels. The body's centre of gravity sits l·(sin α e_f + cos α e_z)
@@ -231,7 +245,21 @@ impl Default for MobileRobotPaper {
     coordinates(x, y, alpha, phi1, phi2),
     speeds(w3, w4, w5),
     inputs(tau1, tau2),
-    constraints(no_side_slip, no_slip)
+    constraints(no_side_slip, no_slip),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        alpha = "rad",
+        phi1 = "rad",
+        phi2 = "rad",
+        w3 = "rad/s",
+        w4 = "m/s",
+        w5 = "rad/s",
+        tau1 = "N m",
+        tau2 = "N m",
+        energy = "J"
+    )
 )]
 impl MobileRobotPaper {
     /// The paper's eq. (12), ω indexed from 0 here (`w[0]` is ω¹), with its terms in ω²

@@ -148,7 +148,11 @@ macro_rules! n_trailer {
             coordinates(x, y, theta[$axles]),
             speeds(v, omega),
             inputs(drive, steer),
-            constraints(axle[$axles])
+            constraints(axle[$axles]),
+            units(
+                t = "s", x = "m", y = "m", theta = "rad", v = "m/s", omega = "rad/s",
+                drive = "N", steer = "N m", energy = "J"
+            )
         )]
         impl $name {
             /// The velocities of the axle centres: Ṗ₀ = (ẋ, ẏ), and differentiating

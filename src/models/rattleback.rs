@@ -61,7 +61,21 @@ impl Default for Rattleback {
 #[hamel_system(
     coordinates(x, y, z, psi, phi, theta),
     speeds(yaw_rate, roll_rate, pitch_rate),
-    constraints(slip_x, slip_y, height)
+    constraints(slip_x, slip_y, height),
+    bodies(rattleback),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        z = "m",
+        psi = "rad",
+        phi = "rad",
+        theta = "rad",
+        yaw_rate = "rad/s",
+        roll_rate = "rad/s",
+        pitch_rate = "rad/s",
+        energy = "J"
+    )
 )]
 impl Rattleback {
     #[bodies]

@@ -44,7 +44,20 @@ impl Default for RollingDisk {
 #[hamel_system(
     coordinates(x, y, psi, phi, theta),
     speeds(yaw_rate, lean_rate, spin_rate),
-    constraints(slip_x, slip_y)
+    constraints(slip_x, slip_y),
+    bodies(disk),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        psi = "rad",
+        phi = "rad",
+        theta = "rad",
+        yaw_rate = "rad/s",
+        lean_rate = "rad/s",
+        spin_rate = "rad/s",
+        energy = "J"
+    )
 )]
 impl RollingDisk {
     /// The disk: its axle is its y axis.

@@ -41,7 +41,17 @@ impl Default for VerticalDisk {
 #[hamel_system(
     coordinates(x, y, theta, phi),
     speeds(roll, turn),
-    constraints(rolling_x, rolling_y)
+    constraints(rolling_x, rolling_y),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        theta = "rad",
+        phi = "rad",
+        roll = "rad/s",
+        turn = "rad/s",
+        energy = "J"
+    )
 )]
 impl VerticalDisk {
     #[kinetic_energy]

@@ -128,7 +128,25 @@ impl Default for WhippleBicycle {
     coordinates(x, y, psi, phi, theta, delta, theta_r, theta_f),
     speeds(roll_rate, steer_rate, rear_wheel_rate),
     inputs(roll_torque, steer_torque),
-    constraints(rear_x, rear_y, front_x, front_y, front_z)
+    constraints(rear_x, rear_y, front_x, front_y, front_z),
+    bodies(rear_wheel, rear_frame, front_frame, front_wheel),
+    units(
+        t = "s",
+        x = "m",
+        y = "m",
+        psi = "rad",
+        phi = "rad",
+        theta = "rad",
+        delta = "rad",
+        theta_r = "rad",
+        theta_f = "rad",
+        roll_rate = "rad/s",
+        steer_rate = "rad/s",
+        rear_wheel_rate = "rad/s",
+        roll_torque = "N m",
+        steer_torque = "N m",
+        energy = "J"
+    )
 )]
 impl WhippleBicycle {
     /// The rear wheel, the rear frame with the rider, the front frame and the front wheel.

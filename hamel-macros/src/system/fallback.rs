@@ -32,6 +32,9 @@ pub struct Sketch {
     holonomic: Option<(String, usize)>,
     /// The block is a piece of a model ([`Roles::is_fragment`]): no stand-ins.
     fragment: bool,
+    /// The bodies' names, for a model with `#[bodies]`: as given, or as many defaults as
+    /// the function's result has bodies.
+    bodies: Option<Vec<String>>,
 }
 
 impl Sketch {
@@ -71,7 +74,15 @@ impl Sketch {
             let k = written_length(&h.f.sig.output)?;
             Some((h.f.sig.ident.unraw().to_string(), k))
         });
+        let bodies = roles.get(Role::Bodies).map(|b| {
+            match (&names.bodies, written_length(&b.f.sig.output)) {
+                (Some((_, given)), _) => plain(given),
+                (None, Some(count)) => (0..count).map(|i| format!("body{i}")).collect(),
+                (None, None) => Vec::new(),
+            }
+        });
         Sketch {
+            bodies,
             index_consts,
             dims,
             coordinates: plain(&coordinates),
@@ -160,7 +171,11 @@ pub fn fallback(
     }
     let inherent = inherent_items(imp, sketch, &mut taken);
     let system = sketch.dims.map(|dims| trait_impl(imp, sketch, dims));
-    quote!(#stripped #inherent #system #error)
+    let mechanism = sketch
+        .dims
+        .zip(sketch.bodies.as_ref())
+        .map(|((n, _, _), names)| super::mechanism::mechanism_impl(imp, n, names, None));
+    quote!(#stripped #inherent #system #mechanism #error)
 }
 
 fn lit(i: usize) -> Literal {
@@ -242,6 +257,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         conservative: false,
         reversible: false,
         constant_determinant: false,
+        units: Vec::new(),
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -342,12 +342,14 @@ pub fn generate(
         conservative: eq.conservative,
         reversible: eq.reversible,
         constant_determinant: constant_determinant(eq, graph),
+        units: spec.units.clone(),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
     let bounds = parameter_bounds(read.arrays);
     let system = interface::trait_impl(&header, &bodies);
+    let mechanism = mechanism(spec, imp);
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
     Ok(quote! {
@@ -360,7 +362,28 @@ pub fn generate(
         }
 
         #system
+        #mechanism
     })
+}
+
+/// `impl Mechanism` for a model stated from its bodies.
+fn mechanism(spec: &Spec<'_>, imp: &syn::ItemImpl) -> Option<TokenStream> {
+    let (bodies, _) = spec.geometry.bodies?;
+    let call = |f| super::mechanism::Call {
+        f,
+        timed: spec.takes_time(f),
+    };
+    let roles = super::mechanism::Roles {
+        bodies: call(bodies),
+        contacts: spec.geometry.contacts.as_ref().map(|c| call(c.f)),
+        gravity: spec.geometry.gravity.map(call),
+    };
+    Some(super::mechanism::mechanism_impl(
+        imp,
+        spec.dims.n,
+        &spec.body_names,
+        Some(&roles),
+    ))
 }
 
 /// The right-hand side's values that depend on the parameters alone: every such node that

@@ -28,6 +28,8 @@ pub struct Header<'a> {
     pub reversible: bool,
     /// det A(q, t) depends on the parameters alone (`TRANSFORMATION_DETERMINANT_CONSTANT`).
     pub constant_determinant: bool,
+    /// `units(..)`: a quantity's name and its unit (`UNITS`, emitted when there are any).
+    pub units: Vec<(String, String)>,
 }
 
 /// The body of each method (a block's contents).
@@ -199,6 +201,10 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
     let (conservative, reversible) = (h.conservative, h.reversible);
     let constant_determinant = h.constant_determinant;
     let prepared_len = lit(prepared_len);
+    let units = (!h.units.is_empty()).then(|| {
+        let pairs = h.units.iter().map(|(name, unit)| quote!((#name, #unit)));
+        quote!(const UNITS: &'static [(&'static str, &'static str)] = &[#(#pairs),*];)
+    });
     quote! {
         const N: usize = #n;
         const P: usize = #p;
@@ -214,6 +220,7 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
         const REVERSIBLE: bool = #reversible;
         const PREPARED_LEN: usize = #prepared_len;
         const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
+        #units
     }
 }
 

@@ -14,6 +14,7 @@ mod generic;
 mod interface;
 mod ldlt;
 mod linearity;
+mod mechanism;
 mod model;
 mod parameters;
 mod rank;

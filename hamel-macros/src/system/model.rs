@@ -142,17 +142,23 @@ pub struct Names {
     pub garbled: bool,
     /// `helpers(Wheels, shapes::Frames)`: the sets of shared helpers the roles call.
     pub helpers: Vec<syn::Path>,
+    /// `bodies(rear_wheel, frame)`: the names of the bodies `#[bodies]` returns, in order.
+    pub bodies: Option<(Span, Vec<syn::Ident>)>,
+    /// `units(x = "m", theta = "rad")`: named quantities with their units.
+    pub units: Vec<(syn::Ident, syn::LitStr)>,
 }
 
-pub const NAME_KEYS: &str =
-    "`coordinates(..)`, `speeds(..)`, `inputs(..)`, `constraints(..)` and `helpers(..)`";
+pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)`, `inputs(..)`, `constraints(..)`, \
+                             `bodies(..)`, `units(..)` and `helpers(..)`";
 
-const KEYS: [&str; 6] = [
+const KEYS: [&str; 8] = [
     "coordinates",
     "speeds",
     "quasi_velocities",
     "inputs",
     "constraints",
+    "bodies",
+    "units",
     "helpers",
 ];
 
@@ -168,6 +174,20 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
                 names.helpers.push(inner.path.clone());
                 Ok(())
             })?;
+            return Ok(());
+        }
+        if meta.path.is_ident("units") {
+            // A mistake inside the list leaves the other keys to be read (the list's
+            // parentheses are consumed before its contents are).
+            if let Err(e) = meta.parse_nested_meta(|inner| {
+                match parse_unit(&inner)? {
+                    Ok(unit) => names.units.push(unit),
+                    Err(e) => errors.push(e),
+                }
+                Ok(())
+            }) {
+                errors.push(e);
+            }
             return Ok(());
         }
         let span = meta.path.span();
@@ -190,6 +210,7 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
                 names.groups[3] = groups;
                 &mut names.constraints
             }
+            "bodies" => &mut names.bodies,
             _ => {
                 names.groups[2] = groups;
                 names.inputs = list;
@@ -207,6 +228,30 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
         errors.push(e);
     }
     names
+}
+
+/// One entry of `units(x = "m", theta = "rad")`: the outer error where the list cannot be
+/// read on, the inner one where only this entry is wrong (a unit that is not a string).
+fn parse_unit(
+    inner: &syn::meta::ParseNestedMeta<'_>,
+) -> syn::Result<syn::Result<(syn::Ident, syn::LitStr)>> {
+    const HOW: &str = "write each unit as a name and a string: `units(x = \"m\", theta = \"rad\")`";
+    let ident = inner
+        .path
+        .get_ident()
+        .cloned()
+        .ok_or_else(|| inner.error(HOW))?;
+    if !inner.input.peek(syn::Token![=]) {
+        return Err(inner.error(format!("`{ident}` needs its unit: {HOW}")));
+    }
+    let value: syn::Expr = inner.value()?.parse()?;
+    Ok(match value {
+        syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Str(unit),
+            ..
+        }) => Ok((ident, unit)),
+        other => Err(syn::Error::new_spanned(other, HOW)),
+    })
 }
 
 /// The names of one key, `coordinates(x, y, theta)`, and the key with its list as written.
@@ -592,6 +637,38 @@ mod tests {
         let names = parse_names(quote!(coordinates = 3), &mut errors);
         assert_eq!(errors.len(), 1);
         assert!(names.garbled);
+    }
+
+    #[test]
+    fn units_and_body_names_are_read_with_one_error_per_mistake() {
+        let mut errors = Vec::new();
+        let names = parse_names(
+            quote!(
+                coordinates(x, psi),
+                units(x = "m", psi = rad, t = "s"),
+                bodies(a, b)
+            ),
+            &mut errors,
+        );
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(
+            errors[0]
+                .to_string()
+                .contains("write each unit as a name and a string")
+        );
+        let units: Vec<(String, String)> = names
+            .units
+            .iter()
+            .map(|(n, u)| (n.to_string(), u.value()))
+            .collect();
+        assert_eq!(units, [("x".into(), "m".into()), ("t".into(), "s".into())]);
+        assert_eq!(names.coordinates.map(|(_, l)| l.len()), Some(2));
+        assert_eq!(names.bodies.map(|(_, l)| l.len()), Some(2));
+
+        let mut errors = Vec::new();
+        parse_names(quote!(units(x), coordinates(x)), &mut errors);
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(errors[0].to_string().contains("`x` needs its unit"));
     }
 
     #[test]

@@ -26,6 +26,7 @@ pub trait Mechanism: HamelSystem {
     /// none.
     fn contacts_at(&self, t: f64, q: &Self::Coordinates) -> Vec<Contact>;
 
-    /// The gravitational acceleration the model's `#[gravity]` gives, if it has one.
-    fn gravity_vector(&self) -> Option<Vector3>;
+    /// The gravitational acceleration at time `t` that the model's `#[gravity]` gives, if it
+    /// has one.
+    fn gravity_vector(&self, t: f64) -> Option<Vector3>;
 }

@@ -5,9 +5,11 @@
 //! `names` (the names of coordinates, speeds, inputs and constraints, and the reserved
 //! ones), `energy` (the roles that give the energy, and the required ones), `rows` (how
 //! many constraint rows the constraints, the rolling contacts and the holonomic constraints
-//! give, and the coordinates those determine).
+//! give, and the coordinates those determine), `labels` (the bodies' names and the units,
+//! for display).
 
 mod energy;
+mod labels;
 mod names;
 mod rows;
 mod signatures;
@@ -103,6 +105,10 @@ pub struct Spec<'a> {
     pub forces: Option<&'a syn::ImplItemFn>,
     pub holonomic: Option<Holonomic<'a>>,
     pub geometry: Geometry<'a>,
+    /// The bodies' names, one per body of `#[bodies]` (none without it).
+    pub body_names: Vec<String>,
+    /// The units `units(..)` gives: a quantity's name and its unit.
+    pub units: Vec<(String, String)>,
     /// The role functions that take the time as a leading argument (by name).
     timed: HashSet<String>,
 }
@@ -215,6 +221,8 @@ pub fn check<'a>(
         lowerer,
         &mut ok,
     );
+    let body_names = labels::body_names(&names, shape.bodies, lowerer);
+    let units = labels::units(&names, [&coordinates, &speeds, &names.inputs], lowerer);
     if !ok {
         return None;
     }
@@ -248,6 +256,8 @@ pub fn check<'a>(
             gravity: roles.get(Role::Gravity).map(|g| g.f),
             contacts,
         },
+        body_names,
+        units,
         timed,
     })
 }
