@@ -190,7 +190,7 @@ impl Mechanism for MobileRobot {
             .collect()
     }
 
-    fn gravity_vector(&self) -> Option<Vector3> {
+    fn gravity_vector(&self, _t: f64) -> Option<Vector3> {
         Some(Vector3::new(0.0, 0.0, -self.g))
     }
 }

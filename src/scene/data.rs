@@ -10,7 +10,7 @@ use crate::geometry::Vector3;
 /// A column shown beside the scene: its name, unit and values.
 pub(crate) struct Shown<'t> {
     pub name: &'t str,
-    pub unit: Option<&'static str>,
+    pub unit: Option<&'t str>,
     pub values: &'t [f64],
 }
 

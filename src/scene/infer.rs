@@ -111,7 +111,8 @@ fn classify(local: &[Vector3]) -> Option<Rolling> {
         return None;
     }
     let radius = local.iter().map(Vector3::norm).sum::<f64>() / local.len() as f64;
-    if !(radius > 0.0)
+    if radius.is_nan()
+        || radius <= 0.0
         || local
             .iter()
             .any(|p| (p.norm() - radius).abs() > DISTANCE_TOLERANCE * radius)

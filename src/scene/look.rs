@@ -4,9 +4,10 @@
 
 use super::equivalent::{Equivalent, box_edges, ellipsoid_semi_axes, short};
 use super::error::{ErrorKind, SceneError};
-use super::infer::{Rolling, rolling_shapes};
+use super::infer::Rolling;
 use super::shape::{Form, Shape};
-use crate::geometry::{Body, Mechanism, Vector3};
+use super::snapshot::Snapshot;
+use crate::geometry::{Body, Vector3};
 
 /// The bodies' colours, in order (Tableau 10 without its red and green, which the axes use).
 pub(crate) const PALETTE: [u32; 8] = [
@@ -78,19 +79,13 @@ pub(crate) struct Look {
     pub triad: f64,
 }
 
-/// Every body's look at (t, q), with the shapes `given` by name. An unknown name or a shape
-/// that cannot be drawn is an error; so are bodies whose number, mass or inertia the model
-/// gives wrong.
-pub(crate) fn looks<M: Mechanism>(
-    model: &M,
-    t: f64,
-    q: &M::Coordinates,
+/// Every body's look in `snapshot`, with the shapes `given` by name. An unknown name or a
+/// shape that cannot be drawn is an error.
+pub(crate) fn looks(
+    snapshot: &Snapshot,
     given: &[(String, Shape)],
 ) -> Result<Vec<Look>, SceneError> {
-    let names = M::BODIES;
-    if names.is_empty() {
-        return Err(ErrorKind::NoBodies.into());
-    }
+    let names = snapshot.names;
     for (name, shape) in given {
         if !names.contains(&name.as_str()) {
             return Err(ErrorKind::UnknownBody {
@@ -107,51 +102,19 @@ pub(crate) fn looks<M: Mechanism>(
             .into());
         }
     }
-    let bodies = checked_bodies(model, t, q)?;
-    let rolling = rolling_shapes(model, t, q, bodies.len());
     let mut looks: Vec<Look> = names
         .iter()
-        .zip(&bodies)
-        .zip(rolling)
+        .zip(&snapshot.bodies)
+        .zip(&snapshot.rolling)
         .enumerate()
         .map(|(i, ((name, body), rolling))| {
             // The last shape given for a body wins.
             let shape = given.iter().rev().find(|(n, _)| n == name).map(|(_, s)| s);
-            look(name, body, rolling, shape, PALETTE[i % PALETTE.len()])
+            look(name, body, *rolling, shape, PALETTE[i % PALETTE.len()])
         })
         .collect();
     size_markers_and_triads(&mut looks);
     Ok(looks)
-}
-
-/// The model's bodies at (t, q), as many as it names, with a finite mass and inertia.
-pub(crate) fn checked_bodies<M: Mechanism>(
-    model: &M,
-    t: f64,
-    q: &M::Coordinates,
-) -> Result<Vec<Body>, SceneError> {
-    let bodies = model.bodies_at(t, q);
-    if bodies.len() != M::BODIES.len() {
-        return Err(ErrorKind::Count {
-            what: "bodies",
-            expected: M::BODIES.len(),
-            got: bodies.len(),
-            t,
-        }
-        .into());
-    }
-    for (name, body) in M::BODIES.iter().zip(&bodies) {
-        let i = body.inertia;
-        let values = [body.mass, i.xx, i.yy, i.zz, i.xy, i.yz, i.zx];
-        if !values.iter().all(|v| v.is_finite()) {
-            return Err(ErrorKind::NonFinite {
-                what: format!("the mass or inertia of body `{name}`"),
-                t,
-            }
-            .into());
-        }
-    }
-    Ok(bodies)
 }
 
 /// One body's look, before markers and triads are sized.

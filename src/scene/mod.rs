@@ -74,6 +74,7 @@ mod picture;
 #[allow(clippy::module_inception)]
 mod scene;
 mod shape;
+mod snapshot;
 mod view;
 mod write;
 

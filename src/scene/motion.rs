@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, UnitQuaternion};
 
 use super::error::{ErrorKind, SceneError};
-use super::look::checked_bodies;
+use super::snapshot::checked_bodies;
 use crate::geometry::{Mechanism, Vector3};
 use crate::{Trajectory, Vector};
 
@@ -29,9 +29,9 @@ pub(crate) const POSE: usize = 7;
 
 /// The trajectory's columns for the model's coordinates, in order; an error names the first
 /// one missing. An empty trajectory is an error too.
-pub(crate) fn coordinate_columns<'t, M: Mechanism>(
-    trajectory: &'t Trajectory,
-) -> Result<Vec<&'t [f64]>, SceneError> {
+pub(crate) fn coordinate_columns<M: Mechanism>(
+    trajectory: &Trajectory,
+) -> Result<Vec<&[f64]>, SceneError> {
     let columns = M::COORDINATES
         .iter()
         .map(|name| {
@@ -75,17 +75,12 @@ pub(crate) fn sample<M: Mechanism>(
     };
     for (i, &t) in times.iter().enumerate() {
         let q: M::Coordinates = configuration(columns, i);
-        for (name, body) in M::BODIES.iter().zip(checked_bodies(model, t, &q)?) {
-            let centre = finite(body.centre, || format!("the centre of body `{name}`"), t)?;
-            let rotation = quaternion(&body.orientation.matrix()).ok_or_else(|| {
-                SceneError::from(ErrorKind::NonFinite {
-                    what: format!("the orientation of body `{name}`"),
-                    t,
-                })
-            })?;
-            motion.poses.extend(centre.to_array());
+        // Finite poses (checked_bodies), so every quaternion exists.
+        for body in checked_bodies(model, t, &q)? {
+            let rotation = quaternion(&body.orientation.matrix()).unwrap_or([0.0, 0.0, 0.0, 1.0]);
+            motion.poses.extend(body.centre.to_array());
             motion.poses.extend(rotation);
-            motion.extend_bounds(centre);
+            motion.extend_bounds(body.centre);
         }
         let contacts = model.contacts_at(t, &q);
         if i == 0 {

@@ -6,6 +6,7 @@ use super::error::{ErrorKind, SceneError};
 use super::look::{Look, looks};
 use super::outline::{Line, outline};
 use super::shape::Shape;
+use super::snapshot::Snapshot;
 use super::view::{Directions, View, direction_name};
 use super::write::write_whole;
 use crate::geometry::{Body, Mechanism, Vector3};
@@ -30,10 +31,8 @@ use crate::plot::{Figure, Legend, Panel, Rgb, Series};
 /// assert!(svg.contains("side, looking along y"));
 /// # Ok::<(), hamel::Error>(())
 /// ```
-pub struct Picture<'a, M: Mechanism> {
-    model: &'a M,
-    t: f64,
-    q: M::Coordinates,
+pub struct Picture {
+    model: Snapshot,
     shapes: Vec<(String, Shape)>,
     size: (u32, u32),
 }
@@ -41,10 +40,10 @@ pub struct Picture<'a, M: Mechanism> {
 /// The default size of a picture, in pixels: three views side by side.
 pub const PICTURE_SIZE: (u32, u32) = (1500, 520);
 
-impl<'a, M: Mechanism> Picture<'a, M> {
+impl Picture {
     /// `model` at time `t` and configuration `q`: every value must be finite, and so must
-    /// the bodies' poses, masses and inertias there.
-    pub fn new(model: &'a M, t: f64, q: &M::Coordinates) -> Result<Self, SceneError> {
+    /// the bodies' poses, masses and inertias and the contact points there.
+    pub fn new<M: Mechanism>(model: &M, t: f64, q: &M::Coordinates) -> Result<Self, SceneError> {
         let values = std::iter::once(&t).chain(q.as_ref());
         if let Some((i, _)) = values.enumerate().find(|(_, v)| !v.is_finite()) {
             let what = match i {
@@ -53,15 +52,11 @@ impl<'a, M: Mechanism> Picture<'a, M> {
             };
             return Err(ErrorKind::NonFinite { what, t }.into());
         }
-        let picture = Picture {
-            model,
-            t,
-            q: *q,
+        Ok(Picture {
+            model: Snapshot::of(model, t, q)?,
             shapes: Vec::new(),
             size: PICTURE_SIZE,
-        };
-        picture.bodies()?;
-        Ok(picture)
+        })
     }
 
     /// Draws the body called `body` as `shape` (see [`Scene::shape`](super::Scene::shape)).
@@ -78,26 +73,21 @@ impl<'a, M: Mechanism> Picture<'a, M> {
 
     /// What cannot be drawn as the model states it (see [`Scene::warnings`](super::Scene::warnings)).
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
-        let looks = looks(self.model, self.t, &self.q, &self.shapes)?;
+        let looks = looks(&self.model, &self.shapes)?;
         Ok(looks.into_iter().filter_map(|l| l.warning).collect())
     }
 
     /// The three views as a [`Figure`] of three panels, to save or to combine.
     pub fn figure(&self) -> Result<Figure, SceneError> {
-        let looks = looks(self.model, self.t, &self.q, &self.shapes)?;
-        let bodies = self.bodies()?;
-        let contacts: Vec<Vector3> = self
-            .model
-            .contacts_at(self.t, &self.q)
-            .iter()
-            .map(|c| c.point)
-            .collect();
-        let directions = Directions::new(self.model.gravity_vector());
-        let unit = M::unit("x").map_or(String::new(), |u| format!(" ({u})"));
+        let looks = looks(&self.model, &self.shapes)?;
+        let contacts: Vec<Vector3> = self.model.contacts.iter().map(|(p, _)| *p).collect();
+        let directions = Directions::new(self.model.gravity);
+        let unit = (self.model.unit)("x").map_or(String::new(), |u| format!(" ({u})"));
         let mut figure = Figure::new().columns(3).size(self.size.0, self.size.1);
         for view in View::all(&directions) {
             let ground = (directions.up.z.abs() == 1.0) && view.name != "top";
-            let panel = panel(&view, &looks, &bodies, &contacts, ground, &unit);
+            let bodies = &self.model.bodies;
+            let panel = panel(&view, &looks, bodies, &contacts, ground, &unit);
             let legend = if view.name == "side" {
                 Legend::Auto
             } else {
@@ -144,27 +134,6 @@ impl<'a, M: Mechanism> Picture<'a, M> {
             Some("png") => self.write_png(path),
             _ => Err(SceneError::from(ErrorKind::UnknownFormat).at(path)),
         }
-    }
-
-    fn bodies(&self) -> Result<Vec<Body>, SceneError> {
-        let bodies = super::look::checked_bodies(self.model, self.t, &self.q)?;
-        for (name, body) in M::BODIES.iter().zip(&bodies) {
-            let finite = body.centre.to_array().iter().all(|v| v.is_finite())
-                && body
-                    .orientation
-                    .matrix()
-                    .iter()
-                    .flatten()
-                    .all(|v| v.is_finite());
-            if !finite {
-                return Err(ErrorKind::NonFinite {
-                    what: format!("the pose of body `{name}`"),
-                    t: self.t,
-                }
-                .into());
-            }
-        }
-        Ok(bodies)
     }
 }
 

@@ -3,12 +3,13 @@
 use std::path::Path;
 
 use super::data::{Contents, Shown, json};
+use super::equivalent::short;
 use super::error::{ErrorKind, SceneError};
 use super::html::page;
-use super::infer::owner;
-use super::look::{Look, looks};
+use super::look::looks;
 use super::motion::{Motion, configuration, coordinate_columns, sample};
 use super::shape::Shape;
+use super::snapshot::Snapshot;
 use super::view::Directions;
 use super::write::write_whole;
 use crate::Trajectory;
@@ -51,23 +52,31 @@ use crate::geometry::Mechanism;
 ///
 /// A model without bodies has no scene: `Scene::new` does not compile for it (it needs
 /// [`Mechanism`], which `#[hamel_system]` implements for models with `#[bodies]`).
-pub struct Scene<'a, M: Mechanism> {
-    model: &'a M,
+pub struct Scene<'a> {
     trajectory: &'a Trajectory,
+    /// The model at the first sample.
+    first: Snapshot,
+    motion: Motion,
     shown: Option<Vec<String>>,
+    units: Vec<(String, String)>,
     shapes: Vec<(String, Shape)>,
     title: Option<String>,
 }
 
-impl<'a, M: Mechanism> Scene<'a, M> {
+impl<'a> Scene<'a> {
     /// The scene of `trajectory`, a run of `model`. The trajectory must have a column for
-    /// each of the model's coordinates and at least one sample.
-    pub fn new(model: &'a M, trajectory: &'a Trajectory) -> Result<Self, SceneError> {
-        coordinate_columns::<M>(trajectory)?;
+    /// each of the model's coordinates and at least one sample; every body's pose is read
+    /// here, at every sample, and must be finite.
+    pub fn new<M: Mechanism>(model: &M, trajectory: &'a Trajectory) -> Result<Self, SceneError> {
+        let columns = coordinate_columns::<M>(trajectory)?;
+        let times = trajectory.times();
+        let q: M::Coordinates = configuration(&columns, 0);
         Ok(Scene {
-            model,
             trajectory,
+            first: Snapshot::of(model, times[0], &q)?,
+            motion: sample(model, times, &columns)?,
             shown: None,
+            units: Vec::new(),
             shapes: Vec::new(),
             title: None,
         })
@@ -81,6 +90,13 @@ impl<'a, M: Mechanism> Scene<'a, M> {
         S: Into<String>,
     {
         self.shown = Some(columns.into_iter().map(Into::into).collect());
+        self
+    }
+
+    /// Shows the column `column` with the unit `unit` (for an output column of the
+    /// simulation, or in place of the model's own unit).
+    pub fn unit(mut self, column: &str, unit: &str) -> Self {
+        self.units.push((column.to_string(), unit.to_string()));
         self
     }
 
@@ -102,40 +118,31 @@ impl<'a, M: Mechanism> Scene<'a, M> {
     /// body has (inertia not positive definite, principal moments that violate the triangle
     /// inequality) is drawn as a red marker, and the page lists the reason.
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
-        let (t, q) = self.first()?;
-        let looks = looks(self.model, t, &q, &self.shapes)?;
+        let looks = looks(&self.first, &self.shapes)?;
         Ok(looks.into_iter().filter_map(|l| l.warning).collect())
     }
 
     /// The page, as one HTML document.
     pub fn to_html(&self) -> Result<String, SceneError> {
-        let columns = coordinate_columns::<M>(self.trajectory)?;
-        let times = self.trajectory.times();
         let shown = self.shown_columns()?;
-        let (t, q) = self.first()?;
-        let looks: Vec<Look> = looks(self.model, t, &q, &self.shapes)?;
-        let motion: Motion = sample(self.model, times, &columns)?;
-        let placed = self.model.bodies_at(t, &q);
-        let contact_bodies: Vec<Option<usize>> = self
-            .model
-            .contacts_at(t, &q)
-            .iter()
-            .map(|c| owner(&c.body, &placed))
-            .collect();
-        let gravity = self.model.gravity_vector();
+        let looks = looks(&self.first, &self.shapes)?;
+        let contact_bodies: Vec<Option<usize>> =
+            self.first.contacts.iter().map(|(_, b)| *b).collect();
+        // Up is fixed for the whole scene: against gravity at the first sample.
+        let gravity = self.first.gravity;
         let data = json(&Contents {
             looks: &looks,
-            motion: &motion,
+            motion: &self.motion,
             directions: Directions::new(gravity),
             gravity,
             contact_bodies: &contact_bodies,
             shown: &shown,
-            time_unit: M::unit("t").unwrap_or("s"),
+            time_unit: (self.first.unit)("t").unwrap_or("s"),
         });
-        Ok(page(&self.page_title(times), &data))
+        Ok(page(&self.page_title(), &data))
     }
 
-    /// Writes the page to `path`, whole or not at all: nothing is written if the scene
+    /// Writes the page to `path`, whole or not at all: nothing is written if the page
     /// cannot be made, and a failure to write leaves no partial file.
     pub fn write_html(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
         let path = path.as_ref();
@@ -143,16 +150,10 @@ impl<'a, M: Mechanism> Scene<'a, M> {
         write_whole(path, html.as_bytes())
     }
 
-    /// The first sample's time and configuration.
-    fn first(&self) -> Result<(f64, M::Coordinates), SceneError> {
-        let columns = coordinate_columns::<M>(self.trajectory)?;
-        Ok((self.trajectory.times()[0], configuration(&columns, 0)))
-    }
-
-    fn shown_columns(&self) -> Result<Vec<Shown<'a>>, SceneError> {
+    fn shown_columns(&self) -> Result<Vec<Shown<'_>>, SceneError> {
         let names: Vec<&str> = match &self.shown {
             Some(names) => names.iter().map(String::as_str).collect(),
-            None => M::COORDINATES.to_vec(),
+            None => self.first.coordinates.to_vec(),
         };
         names
             .into_iter()
@@ -164,25 +165,27 @@ impl<'a, M: Mechanism> Scene<'a, M> {
                         name: name.to_string(),
                         known: self.trajectory.names().join(", "),
                     })?;
-                Ok(Shown {
-                    name,
-                    unit: M::unit(name),
-                    values,
-                })
+                let given = self.units.iter().rev().find(|(c, _)| c == name);
+                let unit = given
+                    .map(|(_, u)| u.as_str())
+                    .or_else(|| (self.first.unit)(name));
+                Ok(Shown { name, unit, values })
             })
             .collect()
     }
 
-    fn page_title(&self, times: &[f64]) -> String {
+    fn page_title(&self) -> String {
         if let Some(title) = &self.title {
             return title.clone();
         }
-        let model = std::any::type_name::<M>()
-            .rsplit("::")
-            .next()
-            .unwrap_or("model");
-        let unit = M::unit("t").unwrap_or("s");
+        let times = &self.motion.times;
+        let unit = (self.first.unit)("t").unwrap_or("s");
         let (first, last) = (times[0], times[times.len() - 1]);
-        format!("{model}, t = {first} … {last} {unit}")
+        format!(
+            "{}, t = {} … {} {unit}",
+            self.first.model,
+            short(first),
+            short(last)
+        )
     }
 }

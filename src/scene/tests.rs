@@ -50,7 +50,9 @@ impl Default for Penny {
 #[hamel_system(
     coordinates(x, y, psi, phi, theta),
     speeds(yaw_rate, lean_rate, spin_rate),
-    constraints(slip_x, slip_y)
+    constraints(slip_x, slip_y),
+    bodies(disk, rod),
+    units(t = "s", phi = "rad", spin_rate = "rad/s")
 )]
 impl Penny {
     #[bodies]
@@ -91,22 +93,6 @@ impl Penny {
     #[quasi_velocities]
     fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
         [qd[2], qd[3], qd[4]]
-    }
-}
-
-impl Mechanism for Penny {
-    const BODIES: &'static [&'static str] = &["disk", "rod"];
-
-    fn bodies_at(&self, _t: f64, q: &[f64; 5]) -> Vec<Body> {
-        self.bodies(q).to_vec()
-    }
-
-    fn contacts_at(&self, _t: f64, q: &[f64; 5]) -> Vec<Contact> {
-        self.contacts(q).to_vec()
-    }
-
-    fn gravity_vector(&self) -> Option<Vector3> {
-        Some(self.gravity())
     }
 }
 
@@ -182,9 +168,9 @@ fn the_page_carries_every_sample_as_computed() {
         let bodies = penny.bodies_at(times[i], &q);
         for (b, body) in bodies.iter().enumerate() {
             let pose = &poses[(i * 2 + b) * 7..(i * 2 + b + 1) * 7];
-            for k in 0..3 {
+            for (k, coordinate) in pose[..3].iter().enumerate() {
                 assert!(
-                    (pose[k] - body.centre[k]).abs() < 1e-6,
+                    (coordinate - body.centre[k]).abs() < 1e-6,
                     "sample {i}, body {b}"
                 );
             }
@@ -207,7 +193,9 @@ fn the_page_carries_every_sample_as_computed() {
         "{data:.300}"
     );
     assert!(data.contains(r#""kind":"ellipsoid""#));
-    assert!(data.contains(r#""columns":[{"name":"phi","unit":null},{"name":"spin_rate""#));
+    assert!(data.contains(
+        r#""columns":[{"name":"phi","unit":"rad"},{"name":"spin_rate","unit":"rad/s"}]"#
+    ));
     assert!(data.contains(r#""gravity":[0.0,0.0,-9.81]"#));
     assert!(data.contains(r#""up":[-0.0,-0.0,1.0]"#) || data.contains(r#""up":[0.0,0.0,1.0]"#));
 }
@@ -216,7 +204,7 @@ fn the_page_carries_every_sample_as_computed() {
 fn a_wheel_is_its_contact_disk_and_a_rod_its_inertia() {
     let penny = Penny::default();
     let q = [0.1, -0.2, 0.3, 0.25, 1.0];
-    let looks = look::looks(&penny, 0.0, &q, &[]).unwrap();
+    let looks = look::looks(&snapshot::Snapshot::of(&penny, 0.0, &q).unwrap(), &[]).unwrap();
     let look::Solid::Disk { radius, axis } = looks[0].solid else {
         panic!("the disk is {:?}", looks[0].solid)
     };
@@ -347,4 +335,182 @@ fn pictures_are_written_in_both_formats() {
     let png = std::fs::read(dir.join("penny.PNG")).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Runs `model` from `x0` for `seconds`, sampled at 60 per second.
+fn sixty_per_second<M: HamelSystem>(model: &M, x0: M::State, seconds: f64) -> Trajectory {
+    Simulation::new(model, x0)
+        .end_time(seconds)
+        .sample_interval(1.0 / 60.0)
+        .project_holonomic(true)
+        .run_constant(
+            &DormandPrince::new(1e-7, 1e-9),
+            <M::Inputs as crate::Vector>::zeros(),
+        )
+        .unwrap()
+}
+
+/// Every catalogue model with bodies, in a run of `seconds` at 60 samples a second: its
+/// name and its scene page.
+fn catalogue_pages(seconds: f64) -> Vec<(&'static str, String)> {
+    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    let page = |html: Result<String, SceneError>| html.unwrap();
+    let bike = WhippleBicycle::default();
+    let ride = bike.state_builder().set("rear_wheel_rate", -4.6 / bike.r_r);
+    let bike_run = sixty_per_second(&bike, ride.set("roll_rate", 0.5).build().unwrap(), seconds);
+    let disk = RollingDisk::default();
+    let x0 = disk
+        .state_builder()
+        .set("phi", 0.2)
+        .set("spin_rate", -10.0)
+        .set("yaw_rate", 3.0);
+    let disk_run = sixty_per_second(&disk, x0.build().unwrap(), seconds);
+    let ball = ChaplyginBall::default();
+    let x0 = ball
+        .state_builder()
+        .set("beta", 1.0)
+        .set("alpha_rate", 3.0)
+        .set("gamma_rate", 1.0);
+    let ball_run = sixty_per_second(&ball, x0.build().unwrap(), seconds);
+    let celt = Rattleback::default();
+    let x0 = celt
+        .state_builder()
+        .set("yaw_rate", -3.0)
+        .set("roll_rate", 0.1);
+    let celt_run = sixty_per_second(&celt, x0.build().unwrap(), seconds);
+    let robot = MobileRobot::default();
+    let x0 = robot
+        .state_builder()
+        .set("w4", 0.5)
+        .set("w5", 0.4)
+        .build()
+        .unwrap();
+    let robot_run = sixty_per_second(&robot, x0, seconds);
+    vec![
+        (
+            "whipple_bicycle",
+            page(Scene::new(&bike, &bike_run).and_then(|s| s.to_html())),
+        ),
+        (
+            "rolling_disk",
+            page(Scene::new(&disk, &disk_run).and_then(|s| s.to_html())),
+        ),
+        (
+            "chaplygin_ball",
+            page(Scene::new(&ball, &ball_run).and_then(|s| s.to_html())),
+        ),
+        (
+            "rattleback",
+            page(Scene::new(&celt, &celt_run).and_then(|s| s.to_html())),
+        ),
+        (
+            "mobile_robot",
+            page(Scene::new(&robot, &robot_run).and_then(|s| s.to_html())),
+        ),
+    ]
+}
+
+#[test]
+fn every_catalogue_scene_of_ten_seconds_at_sixty_frames_is_under_two_megabytes() {
+    for (name, html) in catalogue_pages(10.0) {
+        let samples = floats64(field(data_of(&html), "times")).len();
+        assert_eq!(samples, 601, "{name}");
+        // The sizes, with `-- --nocapture`.
+        println!("{name}: {} bytes for {samples} samples", html.len());
+        assert!(html.len() <= 2_000_000, "{name}: {} bytes", html.len());
+    }
+}
+
+#[test]
+fn catalogue_bodies_are_drawn_as_what_they_are() {
+    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    fn solids<M: Mechanism>(model: &M) -> Vec<look::Solid> {
+        let q = model
+            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .unwrap();
+        let snapshot = snapshot::Snapshot::of(model, 0.0, &q).unwrap();
+        look::looks(&snapshot, &[])
+            .unwrap()
+            .into_iter()
+            .map(|l| l.solid)
+            .collect()
+    }
+    let disk = |solid: &look::Solid, r: f64| {
+        let look::Solid::Disk { radius, axis } = solid else {
+            return false;
+        };
+        (radius - r).abs() < 1e-12 && (axis.y.abs() - 1.0).abs() < 1e-12
+    };
+    let bike = solids(&WhippleBicycle::default());
+    assert!(disk(&bike[0], 0.3) && disk(&bike[3], 0.35), "{bike:?}");
+    assert!(
+        matches!(bike[1], look::Solid::Ellipsoid { .. })
+            && matches!(bike[2], look::Solid::Ellipsoid { .. })
+    );
+    assert!(disk(&solids(&RollingDisk::default())[0], 0.05));
+    let ball = solids(&ChaplyginBall::default());
+    assert!(
+        matches!(ball[0], look::Solid::Sphere { radius } if (radius - 0.1).abs() < 1e-12),
+        "{ball:?}"
+    );
+    // The rattleback's base is a paraboloid: its contact point's distance from the centre
+    // varies, so it is drawn from its inertia.
+    let celt = solids(&Rattleback::default());
+    assert!(matches!(celt[0], look::Solid::Ellipsoid { .. }), "{celt:?}");
+    let robot = solids(&MobileRobot::default());
+    assert!(disk(&robot[1], 0.1) && disk(&robot[2], 0.1), "{robot:?}");
+}
+
+/// The catalogue's models with bodies, each in its reference configuration (q = 0, the
+/// dependent coordinates assembled): its name in the guide and its picture, as drawn now.
+fn catalogue_pictures() -> Vec<(&'static str, String)> {
+    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    fn svg<M: Mechanism>(model: &M) -> String {
+        let q = model
+            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .unwrap();
+        Picture::new(model, 0.0, &q)
+            .unwrap()
+            .size(1200, 420)
+            .to_svg()
+            .unwrap()
+    }
+    vec![
+        ("WhippleBicycle", svg(&WhippleBicycle::default())),
+        ("RollingDisk", svg(&RollingDisk::default())),
+        ("ChaplyginBall", svg(&ChaplyginBall::default())),
+        ("Rattleback", svg(&Rattleback::default())),
+        ("MobileRobot", svg(&MobileRobot::default())),
+    ]
+}
+
+/// The guide's pictures are what `Picture` draws now; `UPDATE_PICTURES=1` writes them into
+/// the guide instead of comparing (then read the diff).
+#[test]
+fn the_guide_shows_each_catalogue_model_as_it_is_drawn_now() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/docs/geometry.md");
+    let mut guide = std::fs::read_to_string(path).unwrap();
+    let update = std::env::var_os("UPDATE_PICTURES").is_some();
+    for (name, svg) in catalogue_pictures() {
+        let start = format!("<!-- picture of {name} -->\n");
+        let end = "<!-- end of picture -->";
+        let Some(from) = guide.find(&start).map(|i| i + start.len()) else {
+            panic!("the guide has no `{}`", start.trim_end());
+        };
+        let to = from + guide[from..].find(end).unwrap();
+        let committed = &guide[from..to];
+        let drawn = format!("{}\n", svg.trim_end());
+        if update {
+            guide.replace_range(from..to, &drawn);
+        } else {
+            assert!(
+                committed == drawn,
+                "the guide's picture of {name} is not what Picture draws now: rerun with \
+                 UPDATE_PICTURES=1 and read the diff"
+            );
+        }
+    }
+    if update {
+        std::fs::write(path, guide).unwrap();
+    }
 }

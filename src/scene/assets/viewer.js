@@ -168,7 +168,9 @@
     const left = vector(data.left);
 
     const view = document.getElementById('view');
-    const renderer = new THREE.WebGLRenderer({ antialias: true });
+    // No multisampling: in software rendering (SwiftShader, a machine without a GPU) it
+    // costs a frame of 16.7 ms or more, for smoother edges only (tests/browser/README.md).
+    const renderer = new THREE.WebGLRenderer({ antialias: false });
     renderer.setPixelRatio(window.devicePixelRatio || 1);
     view.appendChild(renderer.domElement);
     const scene = new THREE.Scene();
