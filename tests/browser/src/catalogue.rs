@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use hamel::Vector;
 use hamel::geometry::Mechanism;
-use hamel::models::MobileRobot;
+use hamel::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
 use hamel::prelude::*;
 use hamel::scene::Scene;
 
@@ -69,48 +69,117 @@ fn case<M: Mechanism>(
 }
 
 /// A run of `seconds` at 60 samples a second.
-fn run<M: HamelSystem>(
-    model: &M,
-    x0: M::State,
-    seconds: f64,
-    holonomic: bool,
-) -> Result<Trajectory, Error> {
+fn run<M: HamelSystem>(model: &M, x0: M::State, seconds: f64) -> Result<Trajectory, Error> {
     Simulation::new(model, x0)
         .end_time(seconds)
         .sample_interval(1.0 / 60.0)
-        .project_holonomic(holonomic)
+        .project_holonomic(true)
         .run_constant(
             &DormandPrince::new(1e-8, 1e-10),
             <M::Inputs as Vector>::zeros(),
         )
 }
 
-/// Every catalogue model with bodies, written into `dir`.
+/// Every catalogue model with bodies in a short run, written into `dir`, each with the body
+/// looked for and two times to look at (where it has moved but is still in the first
+/// sample's view: the test opens the pages with the camera fixed there).
 pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
+    let bike = WhippleBicycle::default();
+    let ride = bike
+        .state_builder()
+        .set("rear_wheel_rate", -4.6 / bike.r_r)
+        .set("roll_rate", 0.5)
+        .build()?;
+    let disk = RollingDisk::default();
+    let rolling = disk
+        .state_builder()
+        .set("phi", 0.3)
+        .set("spin_rate", -6.0)
+        .set("yaw_rate", 1.0)
+        .build()?;
+    let ball = ChaplyginBall::default();
+    let rolled = ball
+        .state_builder()
+        .set("beta", 1.0)
+        .set("alpha_rate", 3.0)
+        .set("gamma_rate", 1.0)
+        .build()?;
+    let celt = Rattleback::default();
+    let spun = celt
+        .state_builder()
+        .set("yaw_rate", 3.0)
+        .set("roll_rate", 0.5)
+        .build()?;
     let robot = MobileRobot::default();
-    let x0 = robot
+    let driven = robot
         .state_builder()
         .set("w4", 0.5)
         .set("w5", 0.6)
         .build()?;
-    let robot_run = run(&robot, x0, 1.5, false)?;
-    Ok(vec![case(
-        dir,
-        "mobile_robot",
-        &robot,
-        &robot_run,
-        "right_wheel",
-        true,
-        [0.2, 1.2],
-    )?])
+    // A disk seen edge-on shows no hub: the disk turns slowly enough to face the camera at
+    // both times.
+    Ok(vec![
+        // The rear frame's ellipsoid hides the rear wheel's hub from the camera: the front
+        // wheel is looked for.
+        case(
+            dir,
+            "whipple_bicycle",
+            &bike,
+            &run(&bike, ride, 1.0)?,
+            "front_wheel",
+            true,
+            [0.1, 0.5],
+        )?,
+        case(
+            dir,
+            "rolling_disk",
+            &disk,
+            &run(&disk, rolling, 1.0)?,
+            "disk",
+            true,
+            [0.1, 0.5],
+        )?,
+        case(
+            dir,
+            "chaplygin_ball",
+            &ball,
+            &run(&ball, rolled, 1.0)?,
+            "ball",
+            false,
+            [0.1, 0.5],
+        )?,
+        case(
+            dir,
+            "rattleback",
+            &celt,
+            &run(&celt, spun, 1.0)?,
+            "rattleback",
+            false,
+            [0.1, 0.6],
+        )?,
+        case(
+            dir,
+            "mobile_robot",
+            &robot,
+            &run(&robot, driven, 1.5)?,
+            "right_wheel",
+            true,
+            [0.2, 1.2],
+        )?,
+    ])
 }
 
-/// The bicycle capsizing (the bicycle example's `--animate` run), written to
+#[path = "../../../examples/support/capsize.rs"]
+mod capsize;
+
+/// The bicycle capsizing, as `cargo run --example bicycle -- --animate` writes it, to
 /// `dir/bicycle_capsize.html`.
 pub fn bicycle_capsize_page(dir: &Path) -> Result<PathBuf, Error> {
-    let robot = MobileRobot::default();
-    let x0 = robot.state_builder().set("w4", 0.5).build()?;
+    let bike = WhippleBicycle::default();
     let path = dir.join("bicycle_capsize.html");
-    Scene::new(&robot, &run(&robot, x0, 10.0, false)?)?.write_html(&path)?;
+    Scene::new(&bike, &capsize::ride(&bike)?)?
+        .show(capsize::SHOWN)
+        .unit("speed", "m/s")
+        .write_html(&path)?;
     Ok(path)
 }
