@@ -221,20 +221,8 @@ fn animate(path: &std::path::Path) -> Result<(), Error> {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let result = match animate::requested(&args) {
-        Ok(Some(path)) => animate(&path),
-        Ok(None) => run(),
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(2);
-        }
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    animate::main(|path| match path {
+        Some(path) => animate(&path),
+        None => run(),
+    })
 }

@@ -2,6 +2,7 @@
 //! in a browser.
 
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use hamel::Trajectory;
 use hamel::geometry::Mechanism;
@@ -17,6 +18,26 @@ pub fn requested(args: &[String]) -> Result<Option<PathBuf>, String> {
         [other, ..] => Err(format!(
             "unexpected argument `{other}`: the only option is `--animate scene.html`"
         )),
+    }
+}
+
+/// The examples' `main`: reads `--animate PATH` (or nothing) from the command line and runs
+/// `example` with it; a wrong command line exits with 2, a failure with 1.
+pub fn main(example: impl FnOnce(Option<PathBuf>) -> Result<(), hamel::Error>) -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match requested(&args) {
+        Ok(path) => example(path),
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
     }
 }
 
