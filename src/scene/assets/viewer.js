@@ -10,6 +10,11 @@
 'use strict';
 
 (function () {
+  // The colour of a wheel's hub (the browser test looks for it at the wheel's centre).
+  const HUB = 0x1a1a1a;
+  // The triads' colours, as in the pictures: x red, y green, z blue.
+  const TRIAD = [0xd62728, 0x2ca02c, 0x1f77b4];
+
   let resolveReady;
   let rejectReady;
   const ready = new Promise((resolve, reject) => {
@@ -55,6 +60,22 @@
     return new Type(bytes.buffer);
   }
 
+  // The samples: times, and per sample the bodies' poses (centre, quaternion), the contact
+  // points and the shown columns' values.
+  function samplesOf(data) {
+    const times = decode(data.times, Float64Array);
+    return {
+      times,
+      n: times.length,
+      poses: decode(data.poses, Float32Array),
+      points: decode(data.points, Float32Array),
+      values: decode(data.values, Float64Array),
+      bodies: data.bodies.length,
+      contacts: data.contacts.length,
+      columns: data.columns.length,
+    };
+  }
+
   function fragment() {
     const options = { t: null, pause: false, speed: null, follow: null, hide: [] };
     for (const part of window.location.hash.replace(/^#/, '').split('&')) {
@@ -76,193 +97,154 @@
     if (magnitude < -3 || magnitude > 4) return x.toExponential(3);
     return x.toFixed(Math.max(0, 3 - magnitude));
   }
+
   // The same without trailing zeros, for prose.
-  const brief = (x) => (short(x).includes('.') && !short(x).includes('e') ? short(x).replace(/\.?0+$/, '') : short(x));
+  function brief(x) {
+    const text = short(x);
+    return text.includes('.') && !text.includes('e') ? text.replace(/\.?0+$/, '') : text;
+  }
 
   const css = (color) => '#' + color.toString(16).padStart(6, '0');
 
-  // The meshes of one body's solid, in the body's axes.
-  function solidOf(THREE, body) {
-    const solid = body.solid;
+  // A wheel: sectors of two colours round a dark hub, so that the spin shows, and a tyre.
+  function disk(THREE, body) {
+    const r = body.solid.radius;
+    const hub = 0.15 * r;
     const group = new THREE.Group();
-    const lit = new THREE.MeshLambertMaterial({ color: body.color });
-    const axisTo = (object, from, to) =>
-      object.quaternion.setFromUnitVectors(from, new THREE.Vector3(...to).normalize());
-    if (solid.kind === 'disk') {
-      // Sectors of two colours round a dark hub, so that the spin shows; a tyre at the rim.
-      const r = solid.radius;
-      const hub = 0.15 * r;
-      const disk = new THREE.Group();
-      const colors = [body.color, new THREE.Color(body.color).multiplyScalar(0.55)];
-      const materials = colors.map((color) => new THREE.MeshBasicMaterial({ color, side: THREE.DoubleSide }));
-      const sectors = 8;
-      for (let k = 0; k < sectors; k++) {
-        const sector = new THREE.RingGeometry(hub, r, 6, 1, (2 * Math.PI * k) / sectors, (2 * Math.PI) / sectors);
-        disk.add(new THREE.Mesh(sector, materials[k % 2]));
-      }
-      const hubMaterial = new THREE.MeshBasicMaterial({ color: HUB, side: THREE.DoubleSide });
-      disk.add(new THREE.Mesh(new THREE.CircleGeometry(hub, 24), hubMaterial));
-      const tyre = new THREE.Mesh(new THREE.TorusGeometry(r, 0.035 * r, 8, 64), new THREE.MeshLambertMaterial({ color: 0x444444 }));
-      disk.add(tyre);
-      // Circles and tori lie in the xy plane: turn their normal, z, onto the axle.
-      axisTo(disk, new THREE.Vector3(0, 0, 1), solid.axis);
-      group.add(disk);
-    } else if (solid.kind === 'sphere' || solid.kind === 'marker') {
-      const r = solid.radius;
-      if (solid.kind === 'marker') {
-        group.add(new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), lit));
-      } else {
-        // Lunes of two colours, so that the rotation shows.
-        const dark = new THREE.MeshLambertMaterial({ color: new THREE.Color(body.color).multiplyScalar(0.55) });
-        const lunes = 8;
-        for (let k = 0; k < lunes; k++) {
-          const lune = new THREE.SphereGeometry(r, 6, 24, (2 * Math.PI * k) / lunes, (2 * Math.PI) / lunes);
-          group.add(new THREE.Mesh(lune, k % 2 ? dark : lit));
-        }
-      }
-    } else if (solid.kind === 'ellipsoid' || solid.kind === 'box') {
-      const inner = new THREE.Group();
-      if (solid.kind === 'ellipsoid') {
-        const mesh = new THREE.Mesh(new THREE.SphereGeometry(1, 32, 20), lit);
-        mesh.scale.set(...solid.semi_axes);
-        inner.add(mesh);
-      } else {
-        const geometry = new THREE.BoxGeometry(...solid.edges);
-        inner.add(new THREE.Mesh(geometry, lit));
-        inner.add(new THREE.LineSegments(new THREE.EdgesGeometry(geometry), new THREE.LineBasicMaterial({ color: 0x333333 })));
-      }
-      inner.quaternion.set(...solid.rotation);
-      group.add(inner);
-    } else if (solid.kind === 'cylinder') {
-      const mesh = new THREE.Mesh(new THREE.CylinderGeometry(solid.radius, solid.radius, solid.length, 32), lit);
-      // Cylinders lie along y.
-      axisTo(mesh, new THREE.Vector3(0, 1, 0), solid.axis);
-      group.add(mesh);
-    } else {
-      throw new Error('unknown solid ' + solid.kind);
+    const colors = [body.color, new THREE.Color(body.color).multiplyScalar(0.55)];
+    const materials = colors.map((color) => new THREE.MeshBasicMaterial({ color, side: THREE.DoubleSide }));
+    const sectors = 8;
+    for (let k = 0; k < sectors; k++) {
+      const sector = new THREE.RingGeometry(hub, r, 6, 1, (2 * Math.PI * k) / sectors, (2 * Math.PI) / sectors);
+      group.add(new THREE.Mesh(sector, materials[k % 2]));
     }
-    group.position.set(...body.offset);
+    const hubMaterial = new THREE.MeshBasicMaterial({ color: HUB, side: THREE.DoubleSide });
+    group.add(new THREE.Mesh(new THREE.CircleGeometry(hub, 24), hubMaterial));
+    const tyre = new THREE.MeshLambertMaterial({ color: 0x444444 });
+    group.add(new THREE.Mesh(new THREE.TorusGeometry(r, 0.035 * r, 8, 64), tyre));
+    // Circles and tori lie in the xy plane: turn their normal, z, onto the axle.
+    group.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), new THREE.Vector3(...body.solid.axis).normalize());
     return group;
   }
 
-  // The colour of a wheel's hub (the browser test looks for it at the wheel's centre).
-  const HUB = 0x1a1a1a;
-  // The triads' colours, as in the pictures: x red, y green, z blue.
-  const TRIAD = [0xd62728, 0x2ca02c, 0x1f77b4];
+  // A ball: lunes of two colours, so that the rotation shows.
+  function ball(THREE, body, lit) {
+    const group = new THREE.Group();
+    const dark = new THREE.MeshLambertMaterial({ color: new THREE.Color(body.color).multiplyScalar(0.55) });
+    const lunes = 8;
+    for (let k = 0; k < lunes; k++) {
+      const lune = new THREE.SphereGeometry(body.solid.radius, 6, 24, (2 * Math.PI * k) / lunes, (2 * Math.PI) / lunes);
+      group.add(new THREE.Mesh(lune, k % 2 ? dark : lit));
+    }
+    return group;
+  }
 
-  async function start() {
-    const data = JSON.parse(document.getElementById('hamel-data').textContent);
-    const { THREE, OrbitControls } = await loadThree();
-    document.getElementById('three-version').textContent = 'r' + THREE.REVISION;
-    const times = decode(data.times, Float64Array);
-    const poses = decode(data.poses, Float32Array);
-    const points = decode(data.points, Float32Array);
-    const values = decode(data.values, Float64Array);
-    const n = times.length;
-    const bodies = data.bodies.length;
-    const contacts = data.contacts.length;
-    const columns = data.columns.length;
-    const vector = (a) => new THREE.Vector3(a[0], a[1], a[2]);
-    const up = vector(data.up);
-    const forward = vector(data.forward);
-    const left = vector(data.left);
+  // A body's solid, in its own axes.
+  function solidOf(THREE, body) {
+    const solid = body.solid;
+    const lit = new THREE.MeshLambertMaterial({ color: body.color });
+    let object;
+    if (solid.kind === 'disk') {
+      object = disk(THREE, body);
+    } else if (solid.kind === 'sphere') {
+      object = ball(THREE, body, lit);
+    } else if (solid.kind === 'marker') {
+      object = new THREE.Mesh(new THREE.SphereGeometry(solid.radius, 16, 12), lit);
+    } else if (solid.kind === 'ellipsoid') {
+      const mesh = new THREE.Mesh(new THREE.SphereGeometry(1, 32, 20), lit);
+      mesh.scale.set(...solid.semi_axes);
+      object = new THREE.Group().add(mesh);
+      object.quaternion.set(...solid.rotation);
+    } else if (solid.kind === 'box') {
+      const geometry = new THREE.BoxGeometry(...solid.edges);
+      const edges = new THREE.LineSegments(new THREE.EdgesGeometry(geometry), new THREE.LineBasicMaterial({ color: 0x333333 }));
+      object = new THREE.Group().add(new THREE.Mesh(geometry, lit), edges);
+      object.quaternion.set(...solid.rotation);
+    } else if (solid.kind === 'cylinder') {
+      object = new THREE.Mesh(new THREE.CylinderGeometry(solid.radius, solid.radius, solid.length, 32), lit);
+      // Cylinders lie along y.
+      object.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), new THREE.Vector3(...solid.axis).normalize());
+    } else {
+      throw new Error('unknown solid ' + solid.kind);
+    }
+    const placed = new THREE.Group().add(object);
+    placed.position.set(...body.offset);
+    return placed;
+  }
 
-    const view = document.getElementById('view');
+  // The renderer, the scene with its lights and the ground grid, and the camera.
+  function world(THREE, data, directions) {
     // No multisampling: in software rendering (SwiftShader, a machine without a GPU) it
     // costs a frame of 16.7 ms or more, for smoother edges only (tests/browser/README.md).
     const renderer = new THREE.WebGLRenderer({ antialias: false });
     renderer.setPixelRatio(window.devicePixelRatio || 1);
-    view.appendChild(renderer.domElement);
+    document.getElementById('view').appendChild(renderer.domElement);
     const scene = new THREE.Scene();
     scene.background = new THREE.Color(0xf4f4f4);
     const reach = data.radius;
     const camera = new THREE.PerspectiveCamera(35, 1, reach / 100, reach * 1000 + data.grid.size * 4);
-    camera.up.copy(up);
-
+    camera.up.copy(directions.up);
     const sky = new THREE.HemisphereLight(0xffffff, 0x999999, 2.2);
-    sky.position.copy(up);
-    scene.add(sky);
+    sky.position.copy(directions.up);
     const sun = new THREE.DirectionalLight(0xffffff, 1.4);
-    sun.position.copy(up.clone().multiplyScalar(3).sub(left).add(forward));
-    scene.add(sun);
-
+    sun.position.copy(directions.up.clone().multiplyScalar(3).sub(directions.left).add(directions.forward));
     // The ground, z = 0: three.js draws its grid in the xz plane.
     const divisions = Math.round(data.grid.size / data.grid.step);
     const grid = new THREE.GridHelper(data.grid.size, divisions, 0xaaaaaa, 0xd4d4d4);
     grid.rotation.x = Math.PI / 2;
     grid.position.set(data.grid.centre[0], data.grid.centre[1], 0);
-    scene.add(grid);
+    scene.add(sky, sun, grid);
+    return { renderer, scene, camera };
+  }
 
-    // The bodies, each with its axes as a triad of arrows: x red, y green, z blue.
-    const placed = data.bodies.map((body) => {
-      const group = new THREE.Group();
-      group.add(solidOf(THREE, body));
-      const units = [new THREE.Vector3(1, 0, 0), new THREE.Vector3(0, 1, 0), new THREE.Vector3(0, 0, 1)];
+  // The bodies, each with its axes as a triad of arrows, and each contact's trace on the
+  // ground (drawn up to the shown sample) with a dot where it is.
+  function things(THREE, data, samples, scene) {
+    const units = [new THREE.Vector3(1, 0, 0), new THREE.Vector3(0, 1, 0), new THREE.Vector3(0, 0, 1)];
+    const bodies = data.bodies.map((body) => {
+      const group = new THREE.Group().add(solidOf(THREE, body));
       units.forEach((unit, k) => {
         group.add(new THREE.ArrowHelper(unit, new THREE.Vector3(), body.triad, TRIAD[k], 0.12 * body.triad, 0.05 * body.triad));
       });
       scene.add(group);
       return group;
     });
-
-    // Each contact's trace on the ground, drawn up to the shown sample, and a dot where it is.
+    const { n, contacts, points } = samples;
     const traces = data.contacts.map((contact, j) => {
       const line = new Float32Array(3 * n);
-      for (let i = 0; i < n; i++) line.set(points.subarray(3 * (i * contacts + j), 3 * (i * contacts + j) + 3), 3 * i);
+      for (let i = 0; i < n; i++) {
+        const at = 3 * (i * contacts + j);
+        line.set(points.subarray(at, at + 3), 3 * i);
+      }
       const geometry = new THREE.BufferGeometry();
       geometry.setAttribute('position', new THREE.BufferAttribute(line, 3));
       const color = contact.body === null ? 0x333333 : new THREE.Color(data.bodies[contact.body].color).multiplyScalar(0.6);
       const trace = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color }));
-      scene.add(trace);
-      const dot = new THREE.Mesh(new THREE.SphereGeometry(0.02 * reach, 12, 8), new THREE.MeshBasicMaterial({ color: 0x000000 }));
-      scene.add(dot);
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(0.02 * data.radius, 12, 8), new THREE.MeshBasicMaterial({ color: 0x000000 }));
+      scene.add(trace, dot);
       return { trace, dot };
     });
-
-    // Gravity's direction, beside the mechanism.
     let arrow = null;
     if (data.gravity) {
-      arrow = new THREE.ArrowHelper(vector(data.gravity).normalize(), new THREE.Vector3(), 0.6 * reach, 0x555555, 0.15 * reach, 0.08 * reach);
+      const r = data.radius;
+      arrow = new THREE.ArrowHelper(new THREE.Vector3(...data.gravity).normalize(), new THREE.Vector3(), 0.6 * r, 0x555555, 0.15 * r, 0.08 * r);
       scene.add(arrow);
     }
+    return { bodies, traces, arrow };
+  }
 
-    const centroid = (i) => {
-      const c = new THREE.Vector3();
-      for (let b = 0; b < bodies; b++) {
-        const at = 7 * (i * bodies + b);
-        c.x += poses[at];
-        c.y += poses[at + 1];
-        c.z += poses[at + 2];
-      }
-      return c.multiplyScalar(1 / bodies);
-    };
-
-    // The camera looks at the mechanism's first sample from its right, ahead and above.
-    const start = centroid(0);
-    const azimuth = (35 * Math.PI) / 180;
-    const elevation = (22 * Math.PI) / 180;
-    const direction = left.clone().multiplyScalar(-Math.cos(azimuth)).addScaledVector(forward, Math.sin(azimuth)).multiplyScalar(Math.cos(elevation)).addScaledVector(up, Math.sin(elevation));
-    camera.position.copy(start).addScaledVector(direction, 6 * reach);
-    const controls = new OrbitControls(camera, renderer.domElement);
-    controls.target.copy(start);
-    controls.update();
-
-    // The panel.
-    const panel = {
-      time: document.getElementById('time'),
-      sample: document.getElementById('sample'),
-      values: [],
-      output: document.getElementById('camera'),
-    };
+  // The panel beside the scene: a row per shown column, the bodies and what they are drawn
+  // as, gravity, and the warnings. Returns what changes with the sample.
+  function panel(data) {
     const table = document.getElementById('values');
-    for (const column of data.columns) {
+    const cells = data.columns.map((column) => {
       const row = table.insertRow();
       row.insertCell().textContent = column.name;
       const value = row.insertCell();
       value.className = 'value';
       row.insertCell().textContent = column.unit || '';
-      panel.values.push(value);
-    }
+      return value;
+    });
     const list = document.getElementById('bodies');
     for (const body of data.bodies) {
       const item = document.createElement('li');
@@ -284,39 +266,98 @@
       item.textContent = warning;
       warnings.append(item);
     }
-    if (data.warnings.length) console.warn(data.warnings.join('\n'));
+    return {
+      time: document.getElementById('time'),
+      sample: document.getElementById('sample'),
+      cells,
+      camera: document.getElementById('camera'),
+    };
+  }
 
-    // Playback. `clock` is the playback time; the sample shown is the last one at or before
-    // it, so the frames are the samples as computed.
-    const options = fragment();
-    const controlsBar = {
+  // The controls under the scene, set from the fragment.
+  function controlsFrom(options, n) {
+    const controls = {
       play: document.getElementById('play'),
       speed: document.getElementById('speed'),
       slider: document.getElementById('slider'),
       loop: document.getElementById('loop'),
       follow: document.getElementById('follow'),
     };
-    controlsBar.slider.max = String(n - 1);
+    controls.slider.max = String(n - 1);
     if (options.speed !== null) {
       const option = document.createElement('option');
       option.value = String(options.speed);
       option.textContent = options.speed + '×';
-      controlsBar.speed.append(option);
-      controlsBar.speed.value = String(options.speed);
+      controls.speed.append(option);
+      controls.speed.value = String(options.speed);
     }
-    if (options.follow !== null) controlsBar.follow.checked = options.follow;
-    for (const b of options.hide) if (placed[b]) placed[b].visible = false;
-    const first = times[0];
-    const last = times[n - 1];
-    let clock = options.t === null ? first : Math.min(Math.max(options.t, first), last);
-    let playing = !options.pause && n > 1;
-    let shown = -1;
-    let dirty = true;
-    let previous = null;
+    if (options.follow !== null) controls.follow.checked = options.follow;
+    return controls;
+  }
 
-    const sampleAt = (t) => {
+  // The camera looks at the mechanism's first sample from its right, ahead and above, and
+  // orbits about it.
+  function aim(THREE, OrbitControls, view, directions, origin, reach) {
+    const azimuth = (35 * Math.PI) / 180;
+    const elevation = (22 * Math.PI) / 180;
+    const direction = directions.left.clone().multiplyScalar(-Math.cos(azimuth))
+      .addScaledVector(directions.forward, Math.sin(azimuth))
+      .multiplyScalar(Math.cos(elevation))
+      .addScaledVector(directions.up, Math.sin(elevation));
+    view.camera.position.copy(origin).addScaledVector(direction, 6 * reach);
+    const orbit = new OrbitControls(view.camera, view.renderer.domElement);
+    orbit.target.copy(origin);
+    orbit.update();
+    return orbit;
+  }
+
+  async function start() {
+    const data = JSON.parse(document.getElementById('hamel-data').textContent);
+    const { THREE, OrbitControls } = await loadThree();
+    document.getElementById('three-version').textContent = 'r' + THREE.REVISION;
+    const samples = samplesOf(data);
+    const vector = (a) => new THREE.Vector3(a[0], a[1], a[2]);
+    const directions = { up: vector(data.up), forward: vector(data.forward), left: vector(data.left) };
+    const view = world(THREE, data, directions);
+    const drawn = things(THREE, data, samples, view.scene);
+    const options = fragment();
+    for (const b of options.hide) if (drawn.bodies[b]) drawn.bodies[b].visible = false;
+    const centroid = (i) => {
+      const c = new THREE.Vector3();
+      for (let b = 0; b < samples.bodies; b++) {
+        const at = 7 * (i * samples.bodies + b);
+        c.x += samples.poses[at];
+        c.y += samples.poses[at + 1];
+        c.z += samples.poses[at + 2];
+      }
+      return c.multiplyScalar(1 / samples.bodies);
+    };
+    const orbit = aim(THREE, OrbitControls, view, directions, centroid(0), data.radius);
+    const player = new Player(data, samples, view, drawn, panel(data), controlsFrom(options, samples.n), orbit, centroid, directions);
+    player.begin(options);
+  }
+
+  // Playback. `clock` is the playback time; the sample shown is the last one at or before
+  // it, so the frames are the samples as computed.
+  class Player {
+    constructor(data, samples, view, drawn, panel, controls, orbit, centroid, directions) {
+      Object.assign(this, { data, samples, view, drawn, panel, controls, orbit, centroid, directions });
+      const times = samples.times;
+      this.first = times[0];
+      this.last = times[samples.n - 1];
+      this.origin = centroid(0);
+      this.clock = this.first;
+      this.playing = false;
+      this.shown = -1;
+      this.dirty = true;
+      this.previous = null;
+      this.timing = null;
+    }
+
+    sampleAt(t) {
+      const times = this.samples.times;
       let lo = 0;
-      let hi = n - 1;
+      let hi = times.length - 1;
       if (t >= times[hi]) return hi;
       while (lo < hi) {
         const mid = (lo + hi + 1) >> 1;
@@ -324,161 +365,177 @@
         else hi = mid - 1;
       }
       return lo;
-    };
+    }
 
-    const follow = (i) => {
-      const target = controlsBar.follow.checked ? centroid(i) : start;
-      const shift = target.clone().sub(controls.target);
-      controls.target.add(shift);
-      camera.position.add(shift);
-      controls.update();
-    };
+    setTime(t) {
+      this.clock = Math.min(Math.max(t, this.first), this.last);
+      this.dirty = true;
+    }
 
-    const show = (i) => {
+    setPlaying(on) {
+      this.playing = on && this.samples.n > 1;
+      this.controls.play.textContent = this.playing ? 'Pause' : 'Play';
+      this.previous = null;
+    }
+
+    // Places everything at sample i and writes the panel.
+    show(i) {
+      const { poses, points, values, bodies, contacts, columns, times } = this.samples;
       for (let b = 0; b < bodies; b++) {
         const at = 7 * (i * bodies + b);
-        placed[b].position.set(poses[at], poses[at + 1], poses[at + 2]);
-        placed[b].quaternion.set(poses[at + 3], poses[at + 4], poses[at + 5], poses[at + 6]);
+        this.drawn.bodies[b].position.set(poses[at], poses[at + 1], poses[at + 2]);
+        this.drawn.bodies[b].quaternion.set(poses[at + 3], poses[at + 4], poses[at + 5], poses[at + 6]);
       }
       for (let j = 0; j < contacts; j++) {
-        traces[j].trace.geometry.setDrawRange(0, i + 1);
+        this.drawn.traces[j].trace.geometry.setDrawRange(0, i + 1);
         const at = 3 * (i * contacts + j);
-        traces[j].dot.position.set(points[at], points[at + 1], points[at + 2]);
+        this.drawn.traces[j].dot.position.set(points[at], points[at + 1], points[at + 2]);
       }
-      if (arrow) arrow.position.copy(centroid(i)).addScaledVector(up, 0.9 * reach).addScaledVector(left, 0.9 * reach);
-      follow(i);
-      panel.time.textContent = 't = ' + times[i].toFixed(3) + ' ' + data.time_unit;
-      panel.sample.textContent = '(sample ' + (i + 1) + ' of ' + n + ')';
-      for (let k = 0; k < columns; k++) panel.values[k].textContent = short(values[i * columns + k]);
-      controlsBar.slider.value = String(i);
-      shown = i;
-    };
+      const centre = this.centroid(i);
+      const reach = this.data.radius;
+      if (this.drawn.arrow) this.drawn.arrow.position.copy(centre).addScaledVector(this.directions.up, 0.9 * reach).addScaledVector(this.directions.left, 0.9 * reach);
+      // The camera follows the mechanism's centroid, or stays on the first sample's.
+      const shift = (this.controls.follow.checked ? centre : this.origin).clone().sub(this.orbit.target);
+      this.orbit.target.add(shift);
+      this.view.camera.position.add(shift);
+      this.orbit.update();
+      this.panel.time.textContent = 't = ' + times[i].toFixed(3) + ' ' + this.data.time_unit;
+      this.panel.sample.textContent = '(sample ' + (i + 1) + ' of ' + times.length + ')';
+      for (let k = 0; k < columns; k++) this.panel.cells[k].textContent = short(values[i * columns + k]);
+      this.controls.slider.value = String(i);
+      this.shown = i;
+    }
 
-    const resize = () => {
-      const width = view.clientWidth;
-      const height = view.clientHeight;
-      renderer.setSize(width, height, false);
-      camera.aspect = width / height;
-      camera.updateProjectionMatrix();
-      dirty = true;
-    };
-    window.addEventListener('resize', resize);
-    resize();
+    resize() {
+      const element = document.getElementById('view');
+      this.view.renderer.setSize(element.clientWidth, element.clientHeight, false);
+      this.view.camera.aspect = element.clientWidth / element.clientHeight;
+      this.view.camera.updateProjectionMatrix();
+      this.dirty = true;
+    }
 
-    const publish = () => {
+    // Draws, and publishes the camera that drew.
+    render() {
+      const { renderer, scene, camera } = this.view;
+      renderer.render(scene, camera);
       const rect = renderer.domElement.getBoundingClientRect();
-      const output = panel.output;
-      output.dataset.sample = String(shown);
-      output.dataset.time = String(times[shown]);
+      const output = this.panel.camera;
+      output.dataset.sample = String(this.shown);
+      output.dataset.time = String(this.samples.times[this.shown]);
       output.dataset.view = camera.matrixWorldInverse.elements.join(' ');
       output.dataset.projection = camera.projectionMatrix.elements.join(' ');
       output.dataset.viewport = [rect.left, rect.top, rect.width, rect.height].join(' ');
       output.dataset.pixelRatio = String(window.devicePixelRatio || 1);
-    };
+      this.dirty = false;
+    }
 
-    const setPlaying = (on) => {
-      playing = on && n > 1;
-      controlsBar.play.textContent = playing ? 'Pause' : 'Play';
-      previous = null;
-    };
-    controlsBar.play.addEventListener('click', () => {
-      if (!playing && clock >= last) clock = first;
-      setPlaying(!playing);
-    });
-    controlsBar.slider.addEventListener('input', () => {
-      clock = times[Number(controlsBar.slider.value)];
-      dirty = true;
-    });
-    controlsBar.follow.addEventListener('change', () => { dirty = true; });
-    controls.addEventListener('change', () => { dirty = true; });
-    window.addEventListener('keydown', (event) => {
-      if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
-      if (event.key === ' ') {
-        event.preventDefault();
-        controlsBar.play.click();
-      } else if (event.key === 'ArrowRight' || event.key === 'ArrowLeft') {
-        setPlaying(false);
-        const i = Math.min(Math.max(shown + (event.key === 'ArrowRight' ? 1 : -1), 0), n - 1);
-        clock = times[i];
-        dirty = true;
-      }
-    });
-    window.addEventListener('hashchange', () => {
-      const next = fragment();
-      if (next.t !== null) clock = Math.min(Math.max(next.t, first), last);
-      setPlaying(!next.pause);
-      dirty = true;
-    });
+    state() {
+      const camera = this.view.camera;
+      return {
+        sample: this.shown,
+        time: this.samples.times[this.shown],
+        playing: this.playing,
+        view: Array.from(camera.matrixWorldInverse.elements),
+        projection: Array.from(camera.projectionMatrix.elements),
+        viewport: this.panel.camera.dataset.viewport.split(' ').map(Number),
+        pixelRatio: window.devicePixelRatio || 1,
+      };
+    }
 
-    // Frame timing, for `measure`: the interval between frames and the time spent drawing.
-    let timing = null;
-
-    const frame = (now) => {
+    // One animation frame: advance the clock while playing, draw if anything changed, and
+    // time the frame when measuring.
+    frame(now) {
       const began = performance.now();
-      if (playing && previous !== null) {
-        clock += ((now - previous) / 1000) * Number(controlsBar.speed.value);
-        if (clock > last) {
-          if (controlsBar.loop.checked) {
-            clock = first + ((clock - first) % Math.max(last - first, 1e-9));
+      if (this.playing && this.previous !== null) {
+        this.clock += ((now - this.previous) / 1000) * Number(this.controls.speed.value);
+        if (this.clock > this.last) {
+          if (this.controls.loop.checked) {
+            this.clock = this.first + ((this.clock - this.first) % Math.max(this.last - this.first, 1e-9));
           } else {
-            clock = last;
-            setPlaying(false);
+            this.clock = this.last;
+            this.setPlaying(false);
           }
         }
       }
-      previous = playing ? now : null;
-      const i = sampleAt(clock);
-      if (i !== shown || dirty) {
-        show(i);
-        renderer.render(scene, camera);
-        publish();
-        dirty = false;
+      this.previous = this.playing ? now : null;
+      const i = this.sampleAt(this.clock);
+      if (i !== this.shown || this.dirty) {
+        this.show(i);
+        this.render();
       }
-      if (timing) {
-        if (timing.last !== null) {
-          timing.intervals.push(now - timing.last);
-          timing.drawing.push(performance.now() - began);
-        }
-        timing.last = now;
-        if (timing.intervals.length >= timing.frames) {
-          const done = timing;
-          timing = null;
-          done.resolve({ intervals: done.intervals, drawing: done.drawing });
-        }
+      this.time(now, began);
+      requestAnimationFrame((t) => this.frame(t));
+    }
+
+    // Records the interval since the last frame and the time this one took, for `measure`.
+    time(now, began) {
+      const timing = this.timing;
+      if (!timing) return;
+      if (timing.last !== null) {
+        timing.intervals.push(now - timing.last);
+        timing.drawing.push(performance.now() - began);
       }
-      requestAnimationFrame(frame);
-    };
+      timing.last = now;
+      if (timing.intervals.length >= timing.frames) {
+        this.timing = null;
+        timing.resolve({ intervals: timing.intervals, drawing: timing.drawing });
+      }
+    }
 
-    setPlaying(playing);
-    show(sampleAt(clock));
-    renderer.render(scene, camera);
-    publish();
-    dirty = false;
-    requestAnimationFrame(frame);
+    listen() {
+      const c = this.controls;
+      c.play.addEventListener('click', () => {
+        if (!this.playing && this.clock >= this.last) this.clock = this.first;
+        this.setPlaying(!this.playing);
+      });
+      c.slider.addEventListener('input', () => this.setTime(this.samples.times[Number(c.slider.value)]));
+      c.follow.addEventListener('change', () => { this.dirty = true; });
+      this.orbit.addEventListener('change', () => { this.dirty = true; });
+      window.addEventListener('resize', () => this.resize());
+      window.addEventListener('keydown', (event) => {
+        if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
+        if (event.key === ' ') {
+          event.preventDefault();
+          c.play.click();
+        } else if (event.key === 'ArrowRight' || event.key === 'ArrowLeft') {
+          this.setPlaying(false);
+          const step = event.key === 'ArrowRight' ? 1 : -1;
+          this.setTime(this.samples.times[Math.min(Math.max(this.shown + step, 0), this.samples.n - 1)]);
+        }
+      });
+      window.addEventListener('hashchange', () => {
+        const next = fragment();
+        if (next.t !== null) this.setTime(next.t);
+        this.setPlaying(!next.pause);
+      });
+    }
 
-    Object.assign(window.hamelScene, {
-      state: () => ({
-        sample: shown,
-        time: times[shown],
-        playing,
-        view: Array.from(camera.matrixWorldInverse.elements),
-        projection: Array.from(camera.projectionMatrix.elements),
-        viewport: panel.output.dataset.viewport.split(' ').map(Number),
-        pixelRatio: window.devicePixelRatio || 1,
-      }),
-      setTime: (t) => { clock = Math.min(Math.max(t, first), last); dirty = true; },
-      play: () => setPlaying(true),
-      pause: () => setPlaying(false),
-      // Plays for `frames` frames and resolves with each frame's interval and drawing time
-      // (milliseconds).
-      measure: (frames) => new Promise((resolve) => {
-        controlsBar.loop.checked = true;
-        setPlaying(true);
-        timing = { frames, intervals: [], drawing: [], last: null, resolve };
-      }),
-    });
-    // Resolved once the first picture has reached the screen (two frames later).
-    requestAnimationFrame(() => requestAnimationFrame(() => resolveReady(window.hamelScene.state())));
+    // Starts at the fragment's time, playing unless it says `pause`, and publishes the
+    // page's interface.
+    begin(options) {
+      this.listen();
+      this.resize();
+      if (options.t !== null) this.setTime(options.t);
+      this.setPlaying(!options.pause);
+      this.show(this.sampleAt(this.clock));
+      this.render();
+      requestAnimationFrame((t) => this.frame(t));
+      Object.assign(window.hamelScene, {
+        state: () => this.state(),
+        setTime: (t) => this.setTime(t),
+        play: () => this.setPlaying(true),
+        pause: () => this.setPlaying(false),
+        // Plays for `frames` frames and resolves with each frame's interval and drawing
+        // time (milliseconds).
+        measure: (frames) => new Promise((resolve) => {
+          this.controls.loop.checked = true;
+          this.setPlaying(true);
+          this.timing = { frames, intervals: [], drawing: [], last: null, resolve };
+        }),
+      });
+      // Resolved once the first picture has reached the screen (two frames later).
+      requestAnimationFrame(() => requestAnimationFrame(() => resolveReady(this.state())));
+    }
   }
 
   // The script runs at the end of the body, after the elements it uses.

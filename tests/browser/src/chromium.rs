@@ -39,10 +39,11 @@ const FLAGS: &[&str] = &[
 ];
 
 /// The Chromium to use: `$CHROMIUM`, else the first of Debian's `chromium`, `chromium-browser`
-/// and `google-chrome` on the `PATH`.
+/// and `google-chrome` on the `PATH`. `CHROMIUM=` (set but empty) means none, to run without
+/// one where one is installed.
 pub fn find() -> Option<PathBuf> {
     if let Some(path) = std::env::var_os("CHROMIUM") {
-        return Some(PathBuf::from(path));
+        return (!path.is_empty()).then(|| PathBuf::from(path));
     }
     let path = std::env::var_os("PATH")?;
     std::env::split_paths(&path)
