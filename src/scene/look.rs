@@ -254,6 +254,6 @@ fn size_markers_and_triads(looks: &mut [Look]) {
             *radius = 0.1 * largest;
         }
         let own = look.solid.half_size().unwrap_or(0.0) + look.offset.norm();
-        look.triad = (1.25 * own).max(0.25 * largest);
+        look.triad = (1.4 * own).max(0.25 * largest);
     }
 }

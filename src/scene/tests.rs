@@ -514,3 +514,49 @@ fn the_guide_shows_each_catalogue_model_as_it_is_drawn_now() {
         std::fs::write(path, guide).unwrap();
     }
 }
+
+#[test]
+fn a_body_takes_the_shape_given_by_name() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.1);
+    let offset = Vector3::new(0.0, 0.0, 0.01);
+    let html = Scene::new(&penny, &run)
+        .unwrap()
+        .shape(
+            "rod",
+            Shape::box_(0.01, 0.02, 0.04).offset(offset).color(0x123456),
+        )
+        .shape("disk", Shape::inertia_box())
+        .to_html()
+        .unwrap();
+    let data = data_of(&html);
+    assert!(
+        data.contains(
+            r#""name":"rod","color":1193046.0,"description":"box 0.01 × 0.02 × 0.04, as given""#
+        ),
+        "{data:.600}"
+    );
+    assert!(
+        data.contains(r#""offset":[0.0,0.0,0.01],"solid":{"kind":"box","edges":[0.01,0.02,0.04]"#)
+    );
+    // The disk's inertia as a box: a thin disk of radius r has the inertia of a square plate
+    // of side r √3 (m l²/12 · 2 = m r²/2 about the axle), thickened to a fiftieth.
+    let side = 0.05 * 3f64.sqrt();
+    let looks = look::looks(
+        &snapshot::Snapshot::of(&penny, 0.0, &[0.0; 5]).unwrap(),
+        &[("disk".into(), Shape::inertia_box())],
+    )
+    .unwrap();
+    let look::Solid::Box { edges, .. } = looks[0].solid else {
+        panic!("{:?}", looks[0].solid)
+    };
+    // Moments ascending: the two diameters first, the axle last.
+    let expected = [side, side, 0.02 * side];
+    assert!(
+        edges
+            .iter()
+            .zip(expected)
+            .all(|(e, x)| (e - x).abs() < 1e-12),
+        "{edges:?}"
+    );
+}

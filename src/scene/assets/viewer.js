@@ -107,36 +107,83 @@
   const css = (color) => '#' + color.toString(16).padStart(6, '0');
 
   // A wheel: sectors of two colours round a dark hub, so that the spin shows, and a tyre.
+  // The face is one mesh with a colour per vertex: in software rendering each draw call
+  // costs more than its pixels.
   function disk(THREE, body) {
     const r = body.solid.radius;
     const hub = 0.15 * r;
-    const group = new THREE.Group();
-    const colors = [body.color, new THREE.Color(body.color).multiplyScalar(0.55)];
-    const materials = colors.map((color) => new THREE.MeshBasicMaterial({ color, side: THREE.DoubleSide }));
+    const colors = [new THREE.Color(body.color), new THREE.Color(body.color).multiplyScalar(0.55), new THREE.Color(HUB)];
+    const segments = 48;
     const sectors = 8;
-    for (let k = 0; k < sectors; k++) {
-      const sector = new THREE.RingGeometry(hub, r, 6, 1, (2 * Math.PI * k) / sectors, (2 * Math.PI) / sectors);
-      group.add(new THREE.Mesh(sector, materials[k % 2]));
+    const position = [];
+    const color = [];
+    const corner = (radius, k) => {
+      const angle = (2 * Math.PI * k) / segments;
+      return [radius * Math.cos(angle), radius * Math.sin(angle), 0];
+    };
+    const triangle = (a, b, c, paint) => {
+      position.push(...a, ...b, ...c);
+      for (let v = 0; v < 3; v++) color.push(paint.r, paint.g, paint.b);
+    };
+    for (let k = 0; k < segments; k++) {
+      const paint = colors[Math.floor((k * sectors) / segments) % 2];
+      const [i0, i1, o0, o1] = [corner(hub, k), corner(hub, k + 1), corner(r, k), corner(r, k + 1)];
+      triangle([0, 0, 0], i0, i1, colors[2]);
+      triangle(i0, o0, o1, paint);
+      triangle(i0, o1, i1, paint);
     }
-    const hubMaterial = new THREE.MeshBasicMaterial({ color: HUB, side: THREE.DoubleSide });
-    group.add(new THREE.Mesh(new THREE.CircleGeometry(hub, 24), hubMaterial));
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(position, 3));
+    geometry.setAttribute('color', new THREE.Float32BufferAttribute(color, 3));
+    const face = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
     const tyre = new THREE.MeshLambertMaterial({ color: 0x444444 });
-    group.add(new THREE.Mesh(new THREE.TorusGeometry(r, 0.035 * r, 8, 64), tyre));
-    // Circles and tori lie in the xy plane: turn their normal, z, onto the axle.
+    const group = new THREE.Group().add(
+      new THREE.Mesh(geometry, face),
+      new THREE.Mesh(new THREE.TorusGeometry(r, 0.035 * r, 6, 48), tyre),
+    );
+    // The face and the tyre lie in the xy plane: turn their normal, z, onto the axle.
     group.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), new THREE.Vector3(...body.solid.axis).normalize());
     return group;
   }
 
-  // A ball: lunes of two colours, so that the rotation shows.
-  function ball(THREE, body, lit) {
-    const group = new THREE.Group();
-    const dark = new THREE.MeshLambertMaterial({ color: new THREE.Color(body.color).multiplyScalar(0.55) });
-    const lunes = 8;
-    for (let k = 0; k < lunes; k++) {
-      const lune = new THREE.SphereGeometry(body.solid.radius, 6, 24, (2 * Math.PI * k) / lunes, (2 * Math.PI) / lunes);
-      group.add(new THREE.Mesh(lune, k % 2 ? dark : lit));
+  // A ball: lunes of two colours, so that the rotation shows (one mesh, a colour per
+  // triangle).
+  function ball(THREE, body) {
+    const geometry = new THREE.SphereGeometry(body.solid.radius, 32, 16).toNonIndexed();
+    const colors = [new THREE.Color(body.color), new THREE.Color(body.color).multiplyScalar(0.55)];
+    const position = geometry.getAttribute('position');
+    const color = new Float32Array(position.count * 3);
+    for (let t = 0; t < position.count; t += 3) {
+      // The lune of the triangle's centre, by its longitude about y (the sphere's axis).
+      let x = 0;
+      let z = 0;
+      for (let v = t; v < t + 3; v++) {
+        x += position.getX(v);
+        z += position.getZ(v);
+      }
+      const longitude = Math.atan2(z, x) + Math.PI;
+      const paint = colors[Math.floor((longitude / (2 * Math.PI)) * 8) % 2];
+      for (let v = t; v < t + 3; v++) color.set([paint.r, paint.g, paint.b], 3 * v);
     }
-    return group;
+    geometry.setAttribute('color', new THREE.BufferAttribute(color, 3));
+    return new THREE.Mesh(geometry, new THREE.MeshLambertMaterial({ vertexColors: true }));
+  }
+
+  // A body's axes: three lines from its centre, x red, y green, z blue (one draw call).
+  function triad(THREE, length) {
+    const position = [];
+    const color = [];
+    TRIAD.forEach((hex, k) => {
+      const end = [0, 0, 0];
+      end[k] = length;
+      position.push(0, 0, 0, ...end);
+      const paint = new THREE.Color(hex);
+      color.push(paint.r, paint.g, paint.b, paint.r, paint.g, paint.b);
+    });
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(position, 3));
+    geometry.setAttribute('color', new THREE.Float32BufferAttribute(color, 3));
+    return new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ vertexColors: true }));
   }
 
   // A body's solid, in its own axes.
@@ -147,7 +194,7 @@
     if (solid.kind === 'disk') {
       object = disk(THREE, body);
     } else if (solid.kind === 'sphere') {
-      object = ball(THREE, body, lit);
+      object = ball(THREE, body);
     } else if (solid.kind === 'marker') {
       object = new THREE.Mesh(new THREE.SphereGeometry(solid.radius, 16, 12), lit);
     } else if (solid.kind === 'ellipsoid') {
@@ -197,15 +244,11 @@
     return { renderer, scene, camera };
   }
 
-  // The bodies, each with its axes as a triad of arrows, and each contact's trace on the
+  // The bodies, each with its axes as a triad, and each contact's trace on the
   // ground (drawn up to the shown sample) with a dot where it is.
   function things(THREE, data, samples, scene) {
-    const units = [new THREE.Vector3(1, 0, 0), new THREE.Vector3(0, 1, 0), new THREE.Vector3(0, 0, 1)];
     const bodies = data.bodies.map((body) => {
-      const group = new THREE.Group().add(solidOf(THREE, body));
-      units.forEach((unit, k) => {
-        group.add(new THREE.ArrowHelper(unit, new THREE.Vector3(), body.triad, TRIAD[k], 0.12 * body.triad, 0.05 * body.triad));
-      });
+      const group = new THREE.Group().add(solidOf(THREE, body), triad(THREE, body.triad));
       scene.add(group);
       return group;
     });
