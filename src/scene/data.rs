@@ -161,8 +161,9 @@ fn reach(looks: &[Look], motion: &Motion) -> f64 {
 }
 
 /// The ground grid under the whole motion: its centre, its side and its step, a round
-/// number near half the largest body's size (coarser if the motion would need more than
-/// 200 lines), an even number of steps so that lines pass through round coordinates.
+/// number at least the largest body's half-size (coarser if the motion would need more than
+/// 100 lines: in software rendering the grid's lines are a fifth of a frame's cost), an even
+/// number of steps so that lines pass through round coordinates.
 fn grid(motion: &Motion, size: f64) -> String {
     let size = if size > 0.0 { size } else { 1.0 };
     let margin = 3.0 * size;
@@ -170,7 +171,7 @@ fn grid(motion: &Motion, size: f64) -> String {
         .max(motion.high[1] - motion.low[1])
         .max(0.0)
         + 2.0 * margin;
-    let step = round_up(0.5 * size).max(round_up(span / 200.0));
+    let step = round_up(size).max(round_up(span / 100.0));
     let steps = (span / step).ceil() as u64;
     let steps = steps + steps % 2;
     let middle = |k: usize| ((motion.low[k] + motion.high[k]) / (2.0 * step)).round() * step;
