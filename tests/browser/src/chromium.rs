@@ -255,6 +255,51 @@ impl Browser {
         Image::decode(&bytes)
     }
 
+    /// The CPU time (user and system, milliseconds) the browser's processes have used so
+    /// far, by process type (`browser`, `renderer`, `gpu-process`, …), read from `/proc`:
+    /// the browser's process and its descendants.
+    pub fn cpu_times(&self) -> Vec<(String, f64)> {
+        // (pid, parent, type, milliseconds) of every process.
+        let processes: Vec<(u32, u32, String, f64)> = std::fs::read_dir("/proc")
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|entry| {
+                let pid: u32 = entry.file_name().to_str()?.parse().ok()?;
+                let stat = std::fs::read_to_string(entry.path().join("stat")).ok()?;
+                // After the command's closing parenthesis: state, ppid, …, utime and stime
+                // (the 12th and 13th), in clock ticks of 10 ms.
+                let fields: Vec<&str> = stat.rsplit(')').next()?.split_whitespace().collect();
+                let parent: u32 = fields.get(1)?.parse().ok()?;
+                let user: f64 = fields.get(11)?.parse().ok()?;
+                let system: f64 = fields.get(12)?.parse().ok()?;
+                let command =
+                    std::fs::read_to_string(entry.path().join("cmdline")).unwrap_or_default();
+                let kind = command
+                    .split(['\0', ' '])
+                    .find_map(|a| a.strip_prefix("--type="))
+                    .unwrap_or("browser")
+                    .to_string();
+                Some((pid, parent, kind, 10.0 * (user + system)))
+            })
+            .collect();
+        let mut family = vec![self.child.id()];
+        let mut next = 0;
+        while next < family.len() {
+            let pid = family[next];
+            family.extend(processes.iter().filter(|p| p.1 == pid).map(|p| p.0));
+            next += 1;
+        }
+        let mut totals: Vec<(String, f64)> = Vec::new();
+        for (_, _, kind, ms) in processes.iter().filter(|p| family.contains(&p.0)) {
+            match totals.iter_mut().find(|(k, _)| k == kind) {
+                Some((_, total)) => *total += ms,
+                None => totals.push((kind.clone(), *ms)),
+            }
+        }
+        totals
+    }
+
     /// The console errors and uncaught exceptions of the page since it was opened, with
     /// every event received so far.
     pub fn console_errors(&mut self) -> Vec<ConsoleError> {
