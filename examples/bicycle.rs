@@ -4,7 +4,11 @@
 //! 1. linearized about upright, straight running for v = 0 … 10 m/s: the eigenvalues of the
 //!    lateral motion (roll φ, steer δ and their rates), printed for whole speeds (the
 //!    paper's Table 2), written to `bicycle_eigenvalues.csv` and plotted against speed in
-//!    the style of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`);
+//!    the manner of the paper's Figure 3 (`bicycle_eigenvalues.svg` and `.png`): each mode
+//!    followed along the speed by the continuity of its eigenvector (`hamel::track_modes`)
+//!    and named by its behaviour — the weave (a complex pair, two real modes below 0.68
+//!    m/s), the capsize (the real mode that crosses zero at the capsize speed) and the
+//!    castor (the large negative one);
 //! 2. the weave and capsize speeds, where the largest real part crosses zero;
 //! 3. two nonlinear simulations: at 4.6 m/s, inside the self-stable range, a push in roll
 //!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave (a
@@ -20,15 +24,17 @@
 //! ```
 
 use hamel::models::WhippleBicycle;
-use hamel::plot::{Figure, Panel};
+use hamel::plot::{Figure, PALETTE, Panel, Rgb, Series};
 use hamel::prelude::*;
 use hamel::roots::brent;
-use hamel::{Linearization, Mode};
+use hamel::{Linearization, Mode, ModeBranch, track_modes};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
 #[path = "support/animate.rs"]
 mod animate;
+#[path = "support/bicycle_units.rs"]
+mod bicycle_units;
 #[path = "support/capsize.rs"]
 mod capsize;
 #[path = "support/progress.rs"]
@@ -97,29 +103,127 @@ fn table(all: &[(f64, Vec<Mode>)]) -> String {
     text
 }
 
-/// The paper's Figure 3: the real parts (dots) and the positive imaginary parts (circles of
-/// another colour) of the eigenvalues against speed, with the weave and capsize speeds.
-fn figure(all: &[(f64, Vec<Mode>)], weave: f64, capsize: f64) -> Figure {
-    let (mut v_re, mut re, mut v_im, mut im) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (v, modes) in all {
-        for mode in modes {
-            v_re.push(*v);
-            re.push(mode.value.re);
-            if mode.value.im > 0.0 {
-                v_im.push(*v);
-                im.push(mode.value.im);
-            }
-        }
+/// The bicycle's lateral modes along the sweep, each followed by the continuity of its
+/// eigenvector (`hamel::track_modes`) and named by its behaviour.
+struct NamedModes {
+    /// The two branches of the weave: a complex pair above `split`, two real modes below.
+    weave: [ModeBranch; 2],
+    /// The real mode whose eigenvalue crosses zero at the capsize speed.
+    capsize: ModeBranch,
+    /// The large negative real mode.
+    castor: ModeBranch,
+    /// The highest speed of the sweep at which the weave is two real modes.
+    split: f64,
+}
+
+/// Follows the four lateral modes along the sweep and names them: the weave is the pair of
+/// branches that are complex at 5 m/s; of the two real ones, the castor is the more
+/// negative at the highest speed and the capsize the other. The names are checked against
+/// what they claim: the weave's real part changes sign at the weave speed, the capsize's
+/// eigenvalue at the capsize speed.
+fn named_modes(all: &Sweep, weave_speed: f64, capsize_speed: f64) -> Result<NamedModes, Error> {
+    let branches = track_modes(all.iter().cloned())?;
+    let value_at = |b: &ModeBranch, v: f64| b.nearest(v).map_or(f64::NAN.into(), |(_, m)| m.value);
+    let (complex, real): (Vec<ModeBranch>, Vec<ModeBranch>) = branches
+        .into_iter()
+        .partition(|b| value_at(b, 5.0).im != 0.0);
+    let [first, second] = <[ModeBranch; 2]>::try_from(complex).map_err(|_| unnamed("weave"))?;
+    let [a, b] = <[ModeBranch; 2]>::try_from(real).map_err(|_| unnamed("capsize and castor"))?;
+    let last = |b: &ModeBranch| b.modes().last().map_or(f64::NAN, |m| m.value.re);
+    let (castor, capsize) = if last(&a) < last(&b) { (a, b) } else { (b, a) };
+    // Each name must hold: a sign change of the named branch's real part around its speed.
+    let crosses = |b: &ModeBranch, v: f64| {
+        value_at(b, v - 0.05).re.signum() != value_at(b, v + 0.05).re.signum()
+    };
+    if !crosses(&first, weave_speed) || !crosses(&capsize, capsize_speed) {
+        return Err(unnamed(
+            "weave and capsize (their eigenvalues do not cross zero at their speeds)",
+        ));
     }
+    let split = first
+        .parameters()
+        .iter()
+        .zip(first.modes())
+        .filter(|&(&v, m)| v < 5.0 && m.value.im == 0.0)
+        .map(|(&v, _)| v)
+        .fold(f64::NAN, f64::max);
+    Ok(NamedModes {
+        weave: [first, second],
+        capsize,
+        castor,
+        split,
+    })
+}
+
+/// The error for modes that do not behave as their names say.
+fn unnamed(which: &str) -> Error {
+    Error::Io {
+        path: "bicycle_eigenvalues.svg".into(),
+        message: format!("the tracked modes could not be named {which}"),
+    }
+}
+
+/// The colours of the modes: blue for the weave, orange for the capsize — the pair of the
+/// Tableau palette colour-blind readers tell apart best, for the two modes that bound the
+/// self-stable range — and grey for the castor, which is stable at every speed.
+const WEAVE: Rgb = PALETTE[0];
+const CAPSIZE: Rgb = PALETTE[1];
+const CASTOR: Rgb = PALETTE[7];
+
+/// The paper's Figure 3: the eigenvalues of the lateral motion against speed, each mode
+/// named and in its own colour, real parts solid and the weave's imaginary part dashed, the
+/// weave and capsize speeds marked where the real parts cross zero.
+fn figure(modes: &NamedModes, weave: f64, capsize: f64) -> Figure {
+    // The weave's two branches in one series, broken between them (NaN): below the split
+    // they are two real eigenvalues, above it one real part.
+    let (mut v, mut re) = (Vec::new(), Vec::new());
+    for branch in &modes.weave {
+        v.extend_from_slice(branch.parameters());
+        re.extend(branch.eigenvalues().map(|l| l.re));
+        v.push(f64::NAN);
+        re.push(f64::NAN);
+    }
+    // |Im λ| where the weave oscillates, nothing where it is real.
+    let upper = &modes.weave[0];
+    let im: Vec<f64> = upper
+        .eigenvalues()
+        .map(|l| if l.im == 0.0 { f64::NAN } else { l.im.abs() })
+        .collect();
+    let real = |b: &ModeBranch| b.eigenvalues().map(|l| l.re).collect::<Vec<f64>>();
+    let units = bicycle_units::units();
+    let speed = |v: f64| match units.unit("v") {
+        Some(unit) => format!("{v:.2} {unit}"),
+        None => format!("{v:.2}"),
+    };
     let panel = Panel::new("Whipple bicycle: eigenvalues of the lateral motion")
-        .x_label("forward speed v (m/s)")
-        .y_label("eigenvalue λ (1/s)")
+        .x_label(units.label("forward speed v", "v"))
+        .y_label(units.label("eigenvalue λ", "λ"))
         .y_range(-10.0, 10.0)
-        .points("Re λ", &v_re, &re)
-        .points("Im λ", &v_im, &im)
-        .dashed("weave speed", &[weave, weave], &[-10.0, 10.0])
-        .dashed("capsize speed", &[capsize, capsize], &[-10.0, 10.0]);
-    Figure::from(panel).size(900, 600)
+        .series(
+            Series::line(
+                format!("weave, Re λ (two real λ below {})", speed(modes.split)),
+                &v,
+                &re,
+            )
+            .color(WEAVE),
+        )
+        .series(Series::dashed("weave, |Im λ|", upper.parameters(), &im).color(WEAVE))
+        .series(
+            Series::line("capsize", modes.capsize.parameters(), &real(&modes.capsize))
+                .color(CAPSIZE),
+        )
+        .series(
+            Series::line("castor", modes.castor.parameters(), &real(&modes.castor)).color(CASTOR),
+        )
+        .series(
+            Series::points(
+                format!("self-stable from {} to {}", speed(weave), speed(capsize)),
+                &[weave, capsize],
+                &[0.0, 0.0],
+            )
+            .color(Rgb(0, 0, 0)),
+        );
+    Figure::from(panel).size(1100, 600)
 }
 
 /// A nonlinear run from upright at speed v with an initial lean and roll rate, sampled
@@ -182,10 +286,16 @@ fn run() -> Result<(), Error> {
         message: e.to_string(),
     })?;
     println!("wrote {} rows to bicycle_eigenvalues.csv", all.len());
-    let plot = figure(&all, weave, capsize);
+    let named = named_modes(&all, weave, capsize)?;
+    let plot = figure(&named, weave, capsize);
     plot.save("bicycle_eigenvalues.svg")?;
     plot.save("bicycle_eigenvalues.png")?;
-    println!("wrote bicycle_eigenvalues.svg and bicycle_eigenvalues.png (the paper's Figure 3)");
+    println!(
+        "wrote bicycle_eigenvalues.svg and bicycle_eigenvalues.png (the paper's Figure 3: \
+         the modes followed along the speed and named, the weave two real eigenvalues up to \
+         {:.2} m/s and a complex pair above, the capsize and the castor)",
+        named.split
+    );
 
     let stable = ride(&bike, 4.6, (0.0, 0.5), 5.0, 0.5)?;
     println!("\nv = 4.6 m/s (self-stable), from upright with a roll rate of 0.5 rad/s: the");

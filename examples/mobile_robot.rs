@@ -273,13 +273,15 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
     );
     #[cfg(feature = "plot")]
     {
-        use hamel::plot::{Figure, Panel};
+        use hamel::plot::{Figure, Panel, Units};
         let path = figure_path(&s.out);
+        // The axes carry the units the model states: y (m), alpha (rad), t (s), energy (J).
+        let units = Units::of::<MobileRobot>();
         Figure::new()
             .columns(3)
-            .panel(Panel::xy(&trajectory, "x", "y")?)
-            .panel(Panel::time_series(&trajectory, &["alpha"])?)
-            .panel(Panel::energy_drift(&trajectory)?)
+            .panel(Panel::xy(&trajectory, "x", "y")?.units(&units))
+            .panel(Panel::time_series(&trajectory, &["alpha"])?.units(&units))
+            .panel(Panel::energy_drift(&trajectory)?.units(&units))
             .save(&path)?;
         println!(
             "wrote {} (the path, the pitch alpha and the energy drift)",

@@ -5,10 +5,11 @@ pub use crate::{
     Simulation, Trajectory, hamel_system,
 };
 // What the guides' runs use beside them: events, streaming, progress, why a run stopped,
-// its summary, linearizations and their modes, the generated code's singularities, studies.
+// its summary, linearizations and their modes (followed along a parameter), the generated
+// code's singularities, studies.
 pub use crate::{
-    CsvSink, Ensemble, Event, Linearization, Mode, Outputs, Progress, Singularity, Sink, Stopped,
-    Summary, Table,
+    CsvSink, Ensemble, Event, Linearization, Mode, ModeBranch, Outputs, Progress, Singularity,
+    Sink, Stopped, Summary, Table, track_modes,
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{

@@ -24,7 +24,7 @@ pub use table::{ParameterTable, Table};
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -111,7 +111,9 @@ impl<'a> Ensemble<'a> {
     /// Runs `case(i)` for every case i, in parallel, and returns the results in case order.
     /// A case that returns an error, or panics ([`Error::CasePanicked`], with the panic's
     /// message), gives its error in its place; the others run on. The outer `Err` is for the
-    /// study's own settings (a thread count of 0, or a pool the system cannot start).
+    /// study's own settings (a thread count of 0, or a pool the system cannot start) and for
+    /// a progress callback that panics ([`Error::ProgressPanicked`]): the study stops at
+    /// once (no case starts after it), instead of the panic tearing through the pool.
     pub fn run<T: Send>(
         &self,
         case: impl Fn(usize) -> Result<T, Error> + Sync,
@@ -121,6 +123,11 @@ impl<'a> Ensemble<'a> {
             (0..self.cases)
                 .into_par_iter()
                 .map(|i| {
+                    if tracker.stopped() {
+                        return Err(Error::ProgressPanicked {
+                            message: String::new(),
+                        });
+                    }
                     let result = guarded(i, &case);
                     tracker.finished(result.is_err());
                     result
@@ -146,7 +153,10 @@ impl<'a> Ensemble<'a> {
                 .install(work),
         };
         tracker.report();
-        Ok(results)
+        match tracker.panicked() {
+            Some(message) => Err(Error::ProgressPanicked { message }),
+            None => Ok(results),
+        }
     }
 
     /// Runs the study into a [`Table`] with the columns `names`: `case(i)` gives row i's
@@ -201,15 +211,20 @@ impl<'a> Ensemble<'a> {
 fn guarded<T>(i: usize, case: &(impl Fn(usize) -> Result<T, Error> + Sync)) -> Result<T, Error> {
     match catch_unwind(AssertUnwindSafe(|| case(i))) {
         Ok(result) => result,
-        Err(payload) => {
-            let message = payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "(no message)".to_string());
-            Err(Error::CasePanicked { case: i, message })
-        }
+        Err(payload) => Err(Error::CasePanicked {
+            case: i,
+            message: panic_message(payload.as_ref()),
+        }),
     }
+}
+
+/// The message a panic was raised with.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(no message)".to_string())
 }
 
 /// Counts finished cases across threads and calls the progress callback now and then.
@@ -221,6 +236,11 @@ struct Tracker<'p, 'a> {
     /// When the callback was last called; locked only to call it, by one thread at a time.
     last: Mutex<Instant>,
     progress: Option<&'p (dyn Fn(&StudyProgress) + Send + Sync + 'a)>,
+    /// Set when the callback panicked: no case starts after it, and the callback is not
+    /// called again.
+    stop: AtomicBool,
+    /// The callback's panic message.
+    panic: Mutex<Option<String>>,
 }
 
 impl<'p, 'a> Tracker<'p, 'a> {
@@ -236,7 +256,19 @@ impl<'p, 'a> Tracker<'p, 'a> {
             started: now,
             last: Mutex::new(now),
             progress,
+            stop: AtomicBool::new(false),
+            panic: Mutex::new(None),
         }
+    }
+
+    /// Whether the callback has panicked (the study is stopping).
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    /// The callback's panic message, if it panicked.
+    fn panicked(&self) -> Option<String> {
+        self.panic.lock().ok().and_then(|m| m.clone())
     }
 
     /// One more case finished; the callback is called if it is due and no other thread is
@@ -257,14 +289,47 @@ impl<'p, 'a> Tracker<'p, 'a> {
         }
     }
 
+    /// Calls the callback, its panic caught: recorded, and the study stopped.
     fn report(&self) {
-        if let Some(progress) = self.progress {
-            progress(&StudyProgress {
-                done: self.done.load(Ordering::Relaxed),
-                failed: self.failed.load(Ordering::Relaxed),
-                total: self.total,
-                elapsed: self.started.elapsed(),
-            });
+        let Some(progress) = self.progress.filter(|_| !self.stopped()) else {
+            return;
+        };
+        let now = StudyProgress {
+            done: self.done.load(Ordering::Relaxed),
+            failed: self.failed.load(Ordering::Relaxed),
+            total: self.total,
+            elapsed: self.started.elapsed(),
+        };
+        if let Err(payload) = catch_unwind(AssertUnwindSafe(|| progress(&now))) {
+            self.stop.store(true, Ordering::Relaxed);
+            if let Ok(mut slot) = self.panic.lock() {
+                slot.get_or_insert_with(|| panic_message(payload.as_ref()));
+            }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A progress callback that panics used to unwind out of `run` (the cases' panics were
+    /// caught, the callback's not); now the study stops and `run` returns an error naming it.
+    #[test]
+    fn a_panicking_progress_callback_is_an_error_not_an_unwind() {
+        let study = Ensemble::new(8)
+            .threads(2)
+            .on_progress(|_| panic!("the progress bar broke"));
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| study.run(|i| Ok(i as f64))));
+        match result {
+            Ok(Err(Error::ProgressPanicked { message })) => {
+                assert_eq!(message, "the progress bar broke");
+            }
+            Ok(other) => panic!("expected ProgressPanicked, got {other:?}"),
+            Err(_) => panic!("the callback's panic escaped Ensemble::run"),
+        }
+        // A study whose callback is well is unchanged.
+        let fine = Ensemble::new(4).threads(2).on_progress(|_| {});
+        assert_eq!(fine.run(Ok).unwrap().len(), 4);
     }
 }

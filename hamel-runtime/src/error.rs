@@ -230,6 +230,27 @@ pub enum Error {
         state: NamedValues,
     },
 
+    /// The reduced mass matrix became singular during a run because the inertia of the motion
+    /// along `speed` grew without bound: its diagonal entry is `value`, `growth` times what it
+    /// was at the start, while the other speeds' pivots stayed what they were and became zero
+    /// to rounding beside it. The model's geometry degenerates here (a slope or lever arm
+    /// that becomes infinite).
+    #[error(
+        "the inertia of the motion along `{speed}` grows without bound at t = {}: its entry in \
+         the reduced mass matrix is {}, {} times its value at the start, and the other speeds' \
+         pivots are zero to rounding beside it; the model's geometry degenerates here (a slope \
+         or a lever arm that becomes infinite): end the run before, or change the coordinates \
+         or the model there; state: {state}",
+        Num(*t), Num(*value), Num(*growth)
+    )]
+    UnboundedInertia {
+        t: f64,
+        speed: String,
+        value: f64,
+        growth: f64,
+        state: NamedValues,
+    },
+
     #[error(
         "singular velocity transformation at t = {}: the constraints and quasi-velocities do not \
          determine the velocity of `{coordinate}` at this configuration (the LU pivot of A(q) for it \
@@ -252,23 +273,31 @@ pub enum Error {
         configuration: NamedValues,
     },
 
+    /// An adaptive step fell below the smallest the integration may take at t (a few ulps
+    /// of t, and the method's `min_step`): whether or not steps were taken before it.
     #[error(
-        "step size underflow at t = {}: the step shrank to {}; state: {state}",
+        "step size underflow at t = {}: a step of {} is below the smallest step the \
+         integration may take there; the solution may have a singularity near t, or the \
+         tolerance ask for more than `f64` can give; state: {state}",
         Num(*t), Num(*h)
     )]
     StepSizeUnderflow { t: f64, h: f64, state: NamedValues },
 
     /// The simplified Newton iteration that solves an implicit method's stage equations did
     /// not converge within a step from (t, `state`), even with the Jacobian evaluated afresh
-    /// at the step's start: the step is too large for how fast the right-hand side changes
-    /// (or the right-hand side is not smooth there). `increment` is the last scaled increment
-    /// of the stage values, `rate` its observed contraction factor (≥ 1: diverging).
+    /// at the step's start — and for an adaptive method, not after the step was reduced
+    /// again and again: the step is too large for how fast the right-hand side changes, the
+    /// right-hand side is not smooth there, or the Jacobian is not the right-hand side's.
+    /// `iterations` is the number of iterations of the last attempt, `increment` its last
+    /// scaled increment of the stage values, `rate` its observed contraction factor (≥ 1:
+    /// diverging).
     #[error(
         "the implicit stage equations did not converge at t = {} with a step of {}: after \
          {iterations} Newton iterations the stages still change by {} (relative to their \
          size), each increment {} times the one before (diverging when above 1); use a smaller \
-         step (or a tolerance for an adaptive method), or check that the right-hand side is \
-         smooth here; state: {state}",
+         step (or a tolerance for an adaptive method), check that the right-hand side is \
+         smooth here, and that a hand-written Jacobian (`Ode::jacobian`) is the right-hand \
+         side's; state: {state}",
         Num(*t), Num(*h), Num(*increment), Num(*rate)
     )]
     NewtonNotConverged {
@@ -280,20 +309,25 @@ pub enum Error {
         state: NamedValues,
     },
 
-    /// The iteration matrix I − h·(A ⊗ J) of an implicit method's stage equations is
-    /// singular at (t, `state`) for the step h: `pivot` is its smallest LU pivot relative to
-    /// the largest entry of its row. An eigenvalue of ∂f/∂x meets 1/(h·μ) for an eigenvalue μ
-    /// of the method's matrix A: an unstable (growing) motion with a time scale near the step.
+    /// The iteration matrix I − h·(A ⊗ J) of an implicit method's stage equations (or
+    /// Radau5's error estimate's) is singular at (t, `state`) for the step h: ∂f/∂x has the
+    /// eigenvalue λ = `growth` ± `frequency`·i with h·μ·λ = 1 for an eigenvalue μ of the
+    /// method's matrix A. That needs Re λ > 0: a motion that grows as e^(λt), on about the
+    /// time scale of the step. A stable stiff system never makes the matrix singular, however
+    /// large the step.
     #[error(
         "the implicit method's iteration matrix I − h·A⊗∂f/∂x is singular at t = {} with a step \
-         of {} (relative pivot {}): the system has a growing motion on about the time scale of \
-         the step; use a smaller step; state: {state}",
-        Num(*t), Num(*h), Num(*pivot)
+         of {}: ∂f/∂x has the eigenvalue {} ± {}i, a motion that grows by a factor e every {} \
+         s, and the step meets it; use a step well below that time scale (a smaller `step`, \
+         or `with_max_step` for an adaptive method), or check the model for the instability; \
+         state: {state}",
+        Num(*t), Num(*h), Num(*growth), Num(frequency.abs()), Num(1.0 / *growth)
     )]
     SingularIterationMatrix {
         t: f64,
         h: f64,
-        pivot: f64,
+        growth: f64,
+        frequency: f64,
         state: NamedValues,
     },
 
@@ -370,6 +404,13 @@ pub enum Error {
     /// A case of a study panicked; the study went on without it.
     #[error("case {case} panicked: {message}")]
     CasePanicked { case: usize, message: String },
+
+    /// A study's progress callback panicked: the study stopped, no case starting after it.
+    #[error(
+        "the study's progress callback panicked: {message}; the study was stopped (fix the \
+         callback given to `on_progress`, or run without it)"
+    )]
+    ProgressPanicked { message: String },
 
     /// An output column's name cannot be a column name (`Simulation::output`).
     #[error("the output name {name:?} cannot name a column: {reason}")]

@@ -22,6 +22,7 @@ mod simulation;
 mod sink;
 mod system;
 mod system_ode;
+pub mod tracking;
 mod trajectory;
 mod vector;
 
@@ -45,5 +46,6 @@ pub use scalar::Scalar;
 pub use simulation::{MAX_SAMPLES, PROGRESS_INTERVAL, Progress, Simulation};
 pub use sink::{CsvSink, Sink};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};
+pub use tracking::{ModeBranch, ModeTracker, TRACKING_TIE_TOLERANCE, track_modes};
 pub use trajectory::{ENERGY_WARNING, EnergyScale, Stopped, Summary, Trajectory};
 pub use vector::Vector;

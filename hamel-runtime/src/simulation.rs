@@ -17,7 +17,9 @@ use crate::integrate::{Grid, Integrator, SampleTimes};
 use crate::recorder::{Columns, Output, Recorder, check_inputs};
 use crate::sink::Sink;
 use crate::system::HamelSystem;
-use crate::system_ode::{BalanceOde, PlainOde, extend, prepared, project_coordinates, split};
+use crate::system_ode::{
+    BalanceOde, PlainOde, extend, inertia_diagonal, prepared, project_coordinates, split,
+};
 use crate::trajectory::{Summary, Trajectory};
 
 /// Where a run is, for a progress callback.
@@ -334,6 +336,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                 prepared: prepared(system),
                 inputs: &inputs,
                 project,
+                start_inertia: inertia_diagonal(system, self.t0, &x0),
             };
             let mut states = States {
                 driver: &mut driver,
@@ -346,6 +349,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
                 prepared: prepared(system),
                 inputs: &inputs,
                 project,
+                start_inertia: inertia_diagonal(system, self.t0, &x0),
             };
             let v0 = extend::<S>(&x0)?;
             let mut states = States {
@@ -354,7 +358,9 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             };
             integrator.integrate_observed(&mut ode, self.t0, &v0, grid, &mut states)?
         };
-        driver.finish(stats)
+        let mut summary = driver.finish(stats)?;
+        summary.symmetric_not_reversible = integrator.symmetric() && !S::REVERSIBLE;
+        Ok(summary)
     }
 
     /// The checked initial state, its dependent coordinates re-solved when projecting.

@@ -5,7 +5,7 @@
 use std::cell::RefCell;
 
 use crate::assembly;
-use crate::error::Error;
+use crate::error::{Error, Singularity};
 use crate::integrate::Ode;
 use crate::named::NamedValues;
 use crate::recorder::check_inputs;
@@ -32,6 +32,8 @@ pub(crate) struct PlainOde<'s, 'i, S, F> {
     pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
+    /// The reduced mass matrix's diagonal at the run's start ([`inertia_diagonal`]).
+    pub start_inertia: Option<Vec<f64>>,
 }
 
 impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_, '_, S, F> {
@@ -42,7 +44,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
         check_inputs::<S>(&u, t, x)?;
         self.system
             .rhs_prepared(&self.prepared, t, x, &u, dx)
-            .map_err(|s| S::singular(s, t, x))
+            .map_err(|s| singular_in_run(self.system, s, t, x, self.start_inertia.as_deref()))
     }
 
     fn jacobian(&mut self, t: f64, x: &S::State, jacobian: &mut [f64]) -> Result<bool, Error> {
@@ -74,6 +76,8 @@ pub(crate) struct BalanceOde<'s, 'i, S, F> {
     pub inputs: &'i RefCell<F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
+    /// The reduced mass matrix's diagonal at the run's start ([`inertia_diagonal`]).
+    pub start_inertia: Option<Vec<f64>>,
 }
 
 impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'_, '_, S, F> {
@@ -92,7 +96,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         let power = self
             .system
             .rhs_power_prepared(&self.prepared, t, x, &u, dx)
-            .map_err(|s| S::singular(s, t, x))?;
+            .map_err(|s| singular_in_run(self.system, s, t, x, self.start_inertia.as_deref()))?;
         dv.as_mut()[S::State::LEN] = power;
         Ok(())
     }
@@ -249,4 +253,71 @@ pub(crate) fn project_coordinates<S: HamelSystem>(
     }
     state[..n].copy_from_slice(solved.as_ref());
     Ok(true)
+}
+
+/// The reduced mass matrix's diagonal at (t, x): M_kk = E(s = e_k) + E(s = −e_k) − 2 E(s = 0)
+/// for each speed k (the energy's part even in the speeds, ½ sᵀM s, at a unit speed), or
+/// `None` where the energy is not defined.
+pub(crate) fn inertia_diagonal<S: HamelSystem>(
+    system: &S,
+    t: f64,
+    x: &S::State,
+) -> Option<Vec<f64>> {
+    let n = S::Coordinates::LEN;
+    let at = |k: Option<(usize, f64)>| {
+        let mut state = *x;
+        state.as_mut()[n..].fill(0.0);
+        if let Some((k, s)) = k {
+            state.as_mut()[n + k] = s;
+        }
+        system.energy(t, &state).ok()
+    };
+    let rest = at(None)?;
+    (0..S::Speeds::LEN)
+        .map(|k| Some(at(Some((k, 1.0)))? + at(Some((k, -1.0)))? - 2.0 * rest))
+        .collect()
+}
+
+/// A singularity met during a run as an error. A singular mass matrix is a pivot zero beside
+/// the matrix's trace; that is a speed whose inertia vanished, or another speed's inertia
+/// that grew without bound (a slope that becomes infinite) and left the pivot zero beside
+/// it. One matrix cannot tell the two apart (diag(1, 10⁻¹⁴) is diag(10¹⁴, 1) scaled); the
+/// run's start can: the speed whose diagonal entry changed most since, in either direction,
+/// is the one to name.
+fn singular_in_run<S: HamelSystem>(
+    system: &S,
+    s: Singularity,
+    t: f64,
+    x: &S::State,
+    start: Option<&[f64]>,
+) -> Error {
+    let Singularity::MassMatrix { speed, .. } = s else {
+        return S::singular(s, t, x);
+    };
+    let (Some(start), Some(now)) = (start, inertia_diagonal(system, t, x)) else {
+        return S::singular(s, t, x);
+    };
+    let growth: Vec<f64> = now.iter().zip(start).map(|(n, s)| n / s).collect();
+    if growth.iter().any(|g| !(g.is_finite() && *g > 0.0)) {
+        return S::singular(s, t, x);
+    }
+    let (grown, largest) = growth
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((speed, 1.0));
+    // The failing speed's own shrinking against the largest growth, on a log scale.
+    if grown != speed && largest.ln() > -growth[speed].ln() {
+        return Error::UnboundedInertia {
+            t,
+            speed: S::SPEEDS
+                .get(grown)
+                .map_or_else(|| format!("#{grown}"), |n| (*n).to_string()),
+            value: now[grown],
+            growth: largest,
+            state: S::named_state(x),
+        };
+    }
+    S::singular(s, t, x)
 }

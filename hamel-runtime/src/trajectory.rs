@@ -58,6 +58,11 @@ pub struct Summary {
     /// The configurations where A(q, t) is singular that the run crossed: after the first,
     /// the results are unreliable although the run returned `Ok`.
     pub singular_crossings: Vec<SingularCrossing>,
+    /// Whether a symmetric method (Gauss–Legendre, the implicit midpoint rule) ran a model
+    /// that is not [`crate::HamelSystem::REVERSIBLE`]: its energy error is then not bounded
+    /// over long runs, which is what such a method is chosen for. The summary's `Display`
+    /// says so.
+    pub symmetric_not_reversible: bool,
 }
 
 /// The energy a run's relative energy figures are relative to ([`Summary::energy_scale`]),
@@ -165,6 +170,7 @@ impl Summary {
             relative_energy_balance: 0.0,
             stopped: None,
             singular_crossings: Vec::new(),
+            symmetric_not_reversible: false,
         }
     }
 }
@@ -249,6 +255,15 @@ impl fmt::Display for Summary {
         }
         for crossing in &self.singular_crossings {
             write!(f, "\nwarning: {crossing}")?;
+        }
+        if self.symmetric_not_reversible {
+            write!(
+                f,
+                "\nnote: a symmetric method ran a model that is not REVERSIBLE (forces, moving or \
+                 affine constraints, or terms odd in the speeds): its energy error is not bounded \
+                 over long runs, and as it is A-stable but not L-stable it does not damp a stiff, \
+                 damped motion (use Radau5 for one)"
+            )?;
         }
         Ok(())
     }
@@ -451,6 +466,7 @@ mod tests {
             relative_energy_balance: 1.2e-12,
             stopped: None,
             singular_crossings: Vec::new(),
+            symmetric_not_reversible: false,
         }
     }
 

@@ -39,7 +39,7 @@ pub enum ErrorKind {
     UnknownFormat,
     /// The figure has no panel.
     NoPanels,
-    /// A panel has no series.
+    /// A panel has no series (and no field).
     NoSeries {
         /// The panel's title.
         panel: String,
@@ -89,6 +89,16 @@ pub enum ErrorKind {
         width: u32,
         /// The figure's height in pixels.
         height: u32,
+    },
+    /// A panel's [`super::Field`] cannot be drawn: fewer than two grid values along an
+    /// axis, a grid that is not finite and increasing, another number of values than grid
+    /// points, no finite value, a colour range that is not finite and increasing or does
+    /// not hold the centre, or cells at or below 0 on a logarithmic axis.
+    InvalidField {
+        /// The panel's title.
+        panel: String,
+        /// What is wrong, and where.
+        reason: String,
     },
     /// A trajectory has no column of this name.
     UnknownColumn {
@@ -185,6 +195,9 @@ impl fmt::Display for ErrorKind {
                 super::render::MIN_PANEL.1,
                 super::render::MAX_SIDE
             ),
+            ErrorKind::InvalidField { panel, reason } => {
+                write!(f, "the field of panel `{panel}` cannot be drawn: {reason}")
+            }
             ErrorKind::UnknownColumn { name, known } => {
                 write!(
                     f,

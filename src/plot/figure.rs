@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use super::error::{ErrorKind, PlotError};
+use super::field::Field;
 use super::render;
+use super::units::Units;
 
 /// The default size of one panel, in pixels: a figure without [`Figure::size`] is this
 /// times its grid.
@@ -52,10 +54,14 @@ pub const PALETTE: [Rgb; 10] = [
     Rgb(23, 190, 207),
 ];
 
-/// Where a panel's legend goes. A panel shows one only when it has more than one series.
+/// Where a panel's legend goes. A panel shows one when it has more than one series, or a
+/// series drawn on a [`Field`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Legend {
-    /// In the corner of the plotting area that covers the fewest data points.
+    /// In the first corner of the plotting area — upper right, upper left, lower right,
+    /// lower left — where it hides no line and no dot; outside the plotting area, to its
+    /// right, where every corner would hide some, and always beside a [`Field`] (which
+    /// fills the plotting area).
     #[default]
     Auto,
     /// In the upper left corner.
@@ -66,11 +72,15 @@ pub enum Legend {
     LowerLeft,
     /// In the lower right corner.
     LowerRight,
+    /// Outside the plotting area, to its right (and to the right of a colour bar), its top
+    /// level with the plot's.
+    Outside,
     /// No legend.
     Hidden,
 }
 
-/// Named data, drawn in one style and colour: the points (x\[i\], y\[i\]).
+/// Named data, drawn in one style and colour: the points (x\[i\], y\[i\]). A series named
+/// `""` is drawn without a legend entry (see [`Panel::key`]).
 ///
 /// ```
 /// use hamel::plot::{Rgb, Series, Style};
@@ -185,6 +195,14 @@ pub struct Panel {
     pub(crate) equal_aspect: bool,
     pub(crate) legend: Legend,
     pub(crate) series: Vec<Series>,
+    pub(crate) field: Option<Field>,
+    /// Legend entries without data: (name, style, colour).
+    pub(crate) keys: Vec<(String, Style, Rgb)>,
+    /// The quantities each axis shows (for a trajectory's panels: column names), whose
+    /// units [`Panel::units`] adds to the labels.
+    pub(crate) quantities: [Vec<String>; 2],
+    /// The labels with units, once [`Panel::units`] has found some.
+    pub(crate) with_units: [Option<String>; 2],
 }
 
 impl Panel {
@@ -196,15 +214,69 @@ impl Panel {
         }
     }
 
-    /// The label under the x axis.
+    /// The label under the x axis, as given (with its unit, if it has one: see
+    /// [`Units::label`]).
     pub fn x_label(mut self, label: impl Into<String>) -> Self {
         self.x_label = label.into();
+        self.quantities[0].clear();
+        self.with_units[0] = None;
         self
     }
 
-    /// The label beside the y axis.
+    /// The label beside the y axis, as given (with its unit, if it has one: see
+    /// [`Units::label`]).
     pub fn y_label(mut self, label: impl Into<String>) -> Self {
         self.y_label = label.into();
+        self.quantities[1].clear();
+        self.with_units[1] = None;
+        self
+    }
+
+    /// The axes that show named quantities — those of a trajectory's panels
+    /// ([`Panel::time_series`], [`Panel::xy`], [`Panel::energy_drift`], the time axis of
+    /// [`Panel::constraint_residual`]) — labelled with their units: `y (m)`, `t (s)`,
+    /// `energy error (J)`, or `v (m/s), omega (rad/s)` for quantities of different units.
+    /// A quantity without a unit keeps its bare name; an axis labelled with
+    /// [`Panel::x_label`] or [`Panel::y_label`] keeps its label.
+    ///
+    /// ```
+    /// use hamel::models::KnifeEdge;
+    /// use hamel::plot::{Panel, Units};
+    /// use hamel::{DormandPrince, HamelSystem, Simulation};
+    ///
+    /// let skate = KnifeEdge::default();
+    /// let x0 = skate.state_from_speeds(0.0, &[0.0, 0.0, 0.0], &[1.0, 0.5])?;
+    /// let run = Simulation::new(&skate, x0)
+    ///     .end_time(1.0)
+    ///     .run_constant(&DormandPrince::new(1e-8, 1e-10), [])?;
+    /// let units = Units::of::<KnifeEdge>().with("x", "m").with("y", "m").with("t", "s");
+    /// let panel = Panel::xy(&run, "x", "y")?.units(&units);
+    /// assert_eq!(panel.labels(), ("x (m)".to_string(), "y (m)".to_string()));
+    /// # Ok::<(), hamel::Error>(())
+    /// ```
+    pub fn units(mut self, units: &Units) -> Self {
+        let labels = [&self.x_label, &self.y_label];
+        self.with_units = [0, 1].map(|axis| {
+            let names = &self.quantities[axis];
+            (!names.is_empty()).then(|| units.axis_label(labels[axis], names))
+        });
+        self
+    }
+
+    /// The labels of the x and y axes as drawn, with their units.
+    pub fn labels(&self) -> (String, String) {
+        let shown = |axis: usize, label: &String| {
+            self.with_units[axis]
+                .clone()
+                .unwrap_or_else(|| label.clone())
+        };
+        (shown(0, &self.x_label), shown(1, &self.y_label))
+    }
+
+    /// The quantities the axes show, whose units [`Panel::units`] looks up.
+    pub(crate) fn quantities(mut self, x: &[&str], y: &[&str]) -> Self {
+        let owned = |names: &[&str]| names.iter().map(|n| n.to_string()).collect();
+        self.quantities = [owned(x), owned(y)];
         self
     }
 
@@ -246,9 +318,46 @@ impl Panel {
         self
     }
 
+    /// Draws `field` as a heatmap under the series, with its colour bar beside the plot
+    /// (see [`Field`]); a panel has one field at most, the last given. The axes span the
+    /// field's cells unless [`Panel::x_range`] or [`Panel::y_range`] fix them, and the
+    /// legend, if any, goes outside the plotting area.
+    pub fn field(mut self, field: Field) -> Self {
+        self.field = Some(field);
+        self
+    }
+
     /// Adds a series.
     pub fn series(mut self, series: Series) -> Self {
         self.series.push(series);
+        self
+    }
+
+    /// Adds a legend entry without data: a sample in `style` and `color`, then `name`. For
+    /// what several series share — a line style standing for one quantity, a colour for
+    /// one parameter value — so that the legend explains it once rather than per series
+    /// (a series named `""` has no entry of its own). Entries follow the series'.
+    ///
+    /// ```
+    /// use hamel::plot::{Figure, PALETTE, Panel, Rgb, Series, Style};
+    ///
+    /// let x = [0.0, 1.0, 2.0];
+    /// let mut panel = Panel::new("bounds");
+    /// for (k, m) in [1.0, 2.0].into_iter().enumerate() {
+    ///     let (low, high): (Vec<f64>, Vec<f64>) = x.iter().map(|x| (m * x, m * x + 1.0)).unzip();
+    ///     panel = panel
+    ///         .series(Series::line(format!("m = {m}"), &x, &low).color(PALETTE[k]))
+    ///         .series(Series::dashed("", &x, &high).color(PALETTE[k]));
+    /// }
+    /// let panel = panel
+    ///     .key("lower bound", Style::Line, Rgb(0, 0, 0))
+    ///     .key("upper bound", Style::Dashed, Rgb(0, 0, 0));
+    /// let svg = Figure::from(panel).to_svg()?;
+    /// assert!(svg.contains("m = 2") && svg.contains("upper bound"));
+    /// # Ok::<(), hamel::plot::PlotError>(())
+    /// ```
+    pub fn key(mut self, name: impl Into<String>, style: Style, color: Rgb) -> Self {
+        self.keys.push((name.into(), style, color));
         self
     }
 

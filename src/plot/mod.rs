@@ -2,12 +2,17 @@
 //! default).
 //!
 //! A [`Figure`] is a grid of [`Panel`]s; a panel has a title, axis labels, a linear or
-//! logarithmic y axis and any number of named [`Series`] (solid or dashed lines, or dots),
-//! with a legend when there is more than one. [`Figure::save`] picks the format from the
-//! path's extension. For a [`crate::Trajectory`], [`time_series`], [`xy`], [`energy_drift`]
-//! and [`constraint_residual`] write the usual figures in one call, and
-//! [`Panel::time_series`], [`Panel::xy`], [`Panel::energy_drift`] and
-//! [`Panel::constraint_residual`] give the same panels to combine into one figure.
+//! logarithmic y axis, any number of named [`Series`] (solid or dashed lines, or dots) and
+//! at most one [`Field`], a scalar over a grid drawn as a heatmap with a colour bar (a
+//! stability map: the largest real part of the eigenvalues over two parameters, its zero
+//! level between blue and red). The legend goes in a corner where it hides no line and no
+//! dot, or outside the plotting area where none is free ([`Legend`]); [`Panel::key`] adds
+//! entries that explain a style once. [`Figure::save`] picks the format from the path's
+//! extension. For a [`crate::Trajectory`], [`time_series`], [`xy`], [`energy_drift`] and
+//! [`constraint_residual`] write the usual figures in one call, and [`Panel::time_series`],
+//! [`Panel::xy`], [`Panel::energy_drift`] and [`Panel::constraint_residual`] give the same
+//! panels to combine into one figure; [`Panel::units`] adds the units a model states to
+//! their axes ([`Units`]: `y (m)`, `t (s)`).
 //!
 //! Eigenvalues of a linearization against a parameter, real parts solid and imaginary
 //! parts dashed in the same colour, in the manner of Meijaard et al. (2007), Figure 3:
@@ -37,17 +42,20 @@
 //! # Ok::<(), hamel::plot::PlotError>(())
 //! ```
 //!
-//! A mobile robot's run in one figure: its path, its pitch and its energy drift.
+//! A mobile robot's run in one figure: its path, its pitch and its energy drift, the axes
+//! labelled with the units the model states.
 //!
 //! ```no_run
-//! use hamel::plot::{Figure, Panel};
+//! use hamel::models::MobileRobot;
+//! use hamel::plot::{Figure, Panel, Units};
 //!
 //! # fn demo(run: &hamel::Trajectory) -> Result<(), hamel::Error> {
+//! let units = Units::of::<MobileRobot>();
 //! Figure::new()
 //!     .columns(3)
-//!     .panel(Panel::xy(run, "x", "y")?)
-//!     .panel(Panel::time_series(run, &["alpha"])?)
-//!     .panel(Panel::energy_drift(run)?)
+//!     .panel(Panel::xy(run, "x", "y")?.units(&units))
+//!     .panel(Panel::time_series(run, &["alpha"])?.units(&units))
+//!     .panel(Panel::energy_drift(run)?.units(&units))
 //!     .save("mobile_robot.png")?;
 //! # Ok(())
 //! # }
@@ -67,17 +75,28 @@
 //!
 //! SVG text is left to the viewer's sans-serif font. PNG text is drawn with DejaVu Sans,
 //! bundled in the library (`src/plot/font/`, with its licence): no font of the system is
-//! read, and nothing but the file written touches the disk.
+//! read, and nothing but the file written touches the disk. The glyphs of a line are set on
+//! one baseline at their exact pen positions (plotters' own bitmap text rounds each glyph's
+//! offset on its own, which raised a decimal point by a pixel: "0·04").
 
+mod axis;
+mod colorbar;
 mod error;
+mod field;
 mod figure;
+mod heatmap;
+mod legend;
 mod prepare;
 mod render;
+mod text;
 mod trajectory;
+mod units;
 
 pub use error::{ErrorKind, PlotError};
+pub use field::{ColorScale, Field, NO_VALUE};
 pub use figure::{Figure, Format, Legend, PALETTE, PANEL_SIZE, Panel, Rgb, Scale, Series, Style};
 pub use trajectory::{constraint_residual, energy_drift, time_series, xy};
+pub use units::Units;
 
 #[cfg(test)]
 mod tests;

@@ -7,9 +7,13 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
+use super::axis::Axis;
+use super::colorbar;
 use super::error::ErrorKind;
 use super::figure::{Figure, Legend, Panel, Style};
-use super::prepare::{Axis, Drawn, Prepared, prepare};
+use super::legend;
+use super::prepare::{Drawn, Prepared, prepare};
+use super::text::Typeset;
 
 /// The smallest panel drawn, in pixels: below this the axes' labels leave no room to plot.
 pub(crate) const MIN_PANEL: (u32, u32) = (160, 120);
@@ -23,7 +27,7 @@ static FONT: &[u8] = include_bytes!("font/DejaVuSans.ttf");
 
 /// Registers the bundled font with plotters, once per process. Plotters looks fonts up by
 /// family name in a global table, even to lay out SVG text.
-fn register_font() -> Result<(), ErrorKind> {
+pub(crate) fn register_font() -> Result<(), ErrorKind> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
@@ -33,7 +37,7 @@ fn register_font() -> Result<(), ErrorKind> {
 }
 
 /// A plotters failure as an error: it should not happen, since the data is checked first.
-fn drawing(e: impl std::fmt::Display) -> ErrorKind {
+pub(crate) fn drawing(e: impl std::fmt::Display) -> ErrorKind {
     ErrorKind::Drawing {
         message: e.to_string(),
     }
@@ -54,16 +58,27 @@ pub(crate) fn svg(figure: &Figure) -> Result<String, ErrorKind> {
 
 /// The figure as the bytes of a PNG file.
 pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
+    let (width, height, rgb) = pixels(figure)?;
+    encode_png(&rgb, width, height)
+}
+
+/// The figure drawn as a PNG file's pixels: width, height and 8-bit RGB, row by row.
+pub(crate) fn pixels(figure: &Figure) -> Result<(u32, u32, Vec<u8>), ErrorKind> {
     let (width, height) = checked_size(figure)?;
     register_font()?;
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
-        let backend = BitMapBackend::with_buffer(&mut rgb, (width, height));
-        let root = backend.into_drawing_area();
+        let root = bitmap(&mut rgb, (width, height)).into_drawing_area();
         draw_figure(&root, figure, true)?;
         root.present().map_err(drawing)?;
     }
-    encode_png(&rgb, width, height)
+    Ok((width, height, rgb))
+}
+
+/// The backend PNG figures are drawn on: 8-bit RGB pixels in `rgb`, row by row, with text
+/// in the bundled font set on one baseline ([`Typeset`]).
+pub(crate) fn bitmap(rgb: &mut [u8], size: (u32, u32)) -> Typeset<BitMapBackend<'_>> {
+    Typeset::new(BitMapBackend::with_buffer(rgb, size), FAMILY, FONT)
 }
 
 /// 8-bit RGB pixels, row by row, as a PNG file.
@@ -112,14 +127,13 @@ fn draw_figure<DB: DrawingBackend>(
 
 /// Sizes of text, lines and dots for a panel: fixed at the default panel size, scaled with
 /// larger or smaller panels so that a big PNG is not all thin lines and small print.
-struct Sizes {
-    scale: f64,
-    title: f64,
-    text: f64,
-    ticks: f64,
-    line: u32,
-    dot: i32,
-    gap: i32,
+pub(crate) struct Sizes {
+    pub title: f64,
+    pub text: f64,
+    pub ticks: f64,
+    pub line: u32,
+    pub dot: i32,
+    pub gap: i32,
 }
 
 impl Sizes {
@@ -128,7 +142,6 @@ impl Sizes {
             .min(f64::from(height) / f64::from(super::figure::PANEL_SIZE.1))
             .clamp(0.6, 4.0);
         Sizes {
-            scale,
             title: 20.0 * scale,
             text: 16.0 * scale,
             ticks: 14.0 * scale,
@@ -139,7 +152,7 @@ impl Sizes {
     }
 }
 
-fn font(size: f64) -> TextStyle<'static> {
+pub(crate) fn font(size: f64) -> TextStyle<'static> {
     TextStyle::from((FAMILY, size).into_font()).color(&BLACK)
 }
 
@@ -156,36 +169,26 @@ fn draw_panel<DB: DrawingBackend>(
         area.titled(&panel.title, font(sizes.title))
             .map_err(drawing)?
     };
-    let (width, height) = area.dim_in_pixel();
-    let x_labels = x_label_area(&area, panel, &sizes)?;
-    // The y labels' width depends on the ticks, which depend on the plotting area's size:
-    // lay out with a guess, measure, and lay out again if the guess was off.
-    let mut y_labels = 4 * sizes.gap + sizes.text as i32;
-    let mut prepared = prepare(
-        panel,
-        plot_size(width, height, x_labels, y_labels, &sizes),
-        sizes.scale,
-    )?;
-    let measured = y_label_area(&area, panel, &prepared.y, &sizes)?;
-    if measured != y_labels {
-        y_labels = measured;
-        prepared = prepare(
-            panel,
-            plot_size(width, height, x_labels, y_labels, &sizes),
-            sizes.scale,
-        )?;
-    }
+    let layout = lay_out(&area, panel, &sizes)?;
+    let prepared = &layout.prepared;
     let mut chart = ChartBuilder::on(&area)
         .margin(sizes.gap)
-        .margin_right(3 * sizes.gap)
-        .x_label_area_size(x_labels)
-        .y_label_area_size(y_labels)
+        .margin_right(layout.right)
+        .x_label_area_size(layout.x_labels)
+        .y_label_area_size(layout.y_labels)
         .build_cartesian_2d(coord(&prepared.x), coord(&prepared.y))
         .map_err(drawing)?;
-    draw_mesh(&mut chart, panel, &prepared, &sizes)?;
+    draw_mesh(&mut chart, panel, prepared, &sizes)?;
+    let cells = prepared.cells.iter().map(|c| {
+        let color = RGBColor(c.color.0, c.color.1, c.color.2);
+        Rectangle::new([(c.x.0, c.y.0), (c.x.1, c.y.1)], color.filled())
+    });
+    chart.draw_series(cells).map_err(drawing)?;
+    let (x, y) = (&prepared.x, &prepared.y);
+    let frame = Rectangle::new([(x.lo, y.lo), (x.hi, y.hi)], BLACK.mix(0.7));
+    chart.plotting_area().draw(&frame).map_err(drawing)?;
     let stroke = if bitmap {
         let (w, h) = chart.plotting_area().dim_in_pixel();
-        let (x, y) = (&prepared.x, &prepared.y);
         Stroke::Brush(
             (x.hi - x.lo) / f64::from(w.max(1)),
             (y.hi - y.lo) / f64::from(h.max(1)),
@@ -193,16 +196,113 @@ fn draw_panel<DB: DrawingBackend>(
     } else {
         Stroke::Native
     };
-    draw_series(&mut chart, &prepared, &sizes, stroke)?;
+    draw_series(&mut chart, prepared, &sizes, stroke)?;
+    // The plotting area in the panel's pixels: the colour bar and the legend go beside it.
+    let (columns, rows) = chart.plotting_area().get_pixel_range();
+    let (base_x, base_y) = area.get_base_pixel();
+    let plot = (
+        columns.start - base_x,
+        rows.start - base_y,
+        columns.end - 1 - base_x,
+        rows.end - 1 - base_y,
+    );
+    if let Some(bar) = &prepared.colorbar {
+        colorbar::draw(&area, plot, bar, &sizes)?;
+    }
     if let Some(corner) = prepared.legend {
-        draw_legend(&mut chart, corner, &sizes)?;
+        let (w, h) = legend::measure(&area, &prepared.entries, &sizes)?;
+        let (left, top, right, bottom) = plot;
+        let inset = sizes.gap;
+        let at = match corner {
+            Legend::UpperLeft => (left + inset, top + inset),
+            Legend::LowerLeft => (left + inset, bottom - inset - h),
+            Legend::LowerRight => (right - inset - w, bottom - inset - h),
+            Legend::Outside => (right + layout.beside + sizes.gap, top),
+            _ => (right - inset - w, top + inset),
+        };
+        legend::draw(&area, at, &prepared.entries, &sizes)?;
     }
     Ok(())
 }
 
-/// The size of the plotting area, in pixels, left by the margins and label areas.
-fn plot_size(width: u32, height: u32, x_labels: i32, y_labels: i32, sizes: &Sizes) -> (f64, f64) {
-    let w = i64::from(width) - i64::from(y_labels) - i64::from(4 * sizes.gap);
+/// A panel laid out: the heights and widths of the label areas and of the right margin
+/// (room for the last tick label, the colour bar and an outside legend), the width of the
+/// colour bar beside the plot, and the prepared data.
+struct Layout {
+    x_labels: i32,
+    y_labels: i32,
+    right: i32,
+    beside: i32,
+    prepared: Prepared,
+}
+
+/// Lays the panel out. The label areas, the colour bar and the legend take room that the
+/// plotting area's size, and so its ticks and the legend's place, depend on: start from a
+/// guess, measure, and lay out again until nothing changes (or, at worst, four times; a
+/// legend once put outside stays there, so that it cannot flip back and forth).
+fn lay_out<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    sizes: &Sizes,
+) -> Result<Layout, ErrorKind> {
+    let (width, height) = area.dim_in_pixel();
+    let x_labels = x_label_area(area, panel, sizes)?;
+    let mut y_labels = 4 * sizes.gap + sizes.text as i32;
+    let (mut beside, mut legend_width, mut outside) = (0, 0, panel.legend == Legend::Outside);
+    let clearance = f64::from(sizes.dot.max(sizes.line as i32) + 2);
+    let mut pass = 1;
+    loop {
+        let right = 3 * sizes.gap + beside + if outside { legend_width + sizes.gap } else { 0 };
+        let plot = plot_size(width, height, (x_labels, y_labels, right), sizes);
+        let mut prepared = prepare(panel, plot)?;
+        let size = if legend::wanted(&prepared, panel.legend) {
+            legend::measure(area, &prepared.entries, sizes)?
+        } else {
+            (0, 0)
+        };
+        let choice = if outside {
+            Legend::Outside
+        } else {
+            panel.legend
+        };
+        let (w, h) = (f64::from(size.0), f64::from(size.1));
+        prepared.legend = legend::place(
+            choice,
+            &prepared,
+            plot,
+            (w, h),
+            f64::from(sizes.gap),
+            clearance,
+        );
+        outside = prepared.legend == Some(Legend::Outside);
+        let measured = (
+            y_label_area(area, panel, &prepared.y, sizes)?,
+            colorbar::width(area, prepared.colorbar.as_ref(), sizes)?,
+            if outside { size.0 } else { 0 },
+        );
+        if measured == (y_labels, beside, legend_width) || pass == 4 {
+            return Ok(Layout {
+                x_labels,
+                y_labels,
+                right,
+                beside,
+                prepared,
+            });
+        }
+        (y_labels, beside, legend_width) = measured;
+        pass += 1;
+    }
+}
+
+/// The size of the plotting area, in pixels, left by the margins (`gap` left, top and bottom,
+/// `right` on the right) and the label areas.
+fn plot_size(
+    width: u32,
+    height: u32,
+    (x_labels, y_labels, right): (i32, i32, i32),
+    sizes: &Sizes,
+) -> (f64, f64) {
+    let w = i64::from(width) - i64::from(y_labels) - i64::from(sizes.gap) - i64::from(right);
     let h = i64::from(height) - i64::from(x_labels) - i64::from(2 * sizes.gap);
     (w.max(1) as f64, h.max(1) as f64)
 }
@@ -220,10 +320,11 @@ fn x_label_area<DB: DrawingBackend>(
         Ok(h as i32)
     };
     let ticks = text_height("0123456789", sizes.ticks)?;
-    let label = if panel.x_label.is_empty() {
+    let (x_label, _) = panel.labels();
+    let label = if x_label.is_empty() {
         0
     } else {
-        text_height(&panel.x_label, sizes.text)? + sizes.gap
+        text_height(&x_label, sizes.text)? + sizes.gap
     };
     Ok(ticks + label + 2 * sizes.gap)
 }
@@ -242,11 +343,12 @@ fn y_label_area<DB: DrawingBackend>(
             .map_err(drawing)?;
         widest = widest.max(w as i32);
     }
-    let label = if panel.y_label.is_empty() {
+    let (_, y_label) = panel.labels();
+    let label = if y_label.is_empty() {
         0
     } else {
         let (_, h) = area
-            .estimate_text_size(&panel.y_label, &font(sizes.text))
+            .estimate_text_size(&y_label, &font(sizes.text))
             .map_err(drawing)?;
         h as i32 + sizes.gap
     };
@@ -304,7 +406,7 @@ impl Ranged for Ticked {
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Ticked, Ticked>>;
 
-/// Grid, ticks, tick labels, axis labels and a frame around the plotting area.
+/// Grid, ticks, tick labels and axis labels.
 fn draw_mesh<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     panel: &Panel,
@@ -321,16 +423,14 @@ fn draw_mesh<DB: DrawingBackend>(
         .bold_line_style(BLACK.mix(0.12))
         .light_line_style(BLACK.mix(0.05))
         .axis_style(BLACK.mix(0.7));
-    if !panel.x_label.is_empty() {
-        mesh.x_desc(panel.x_label.as_str());
+    let (x_label, y_label) = panel.labels();
+    if !x_label.is_empty() {
+        mesh.x_desc(x_label);
     }
-    if !panel.y_label.is_empty() {
-        mesh.y_desc(panel.y_label.as_str());
+    if !y_label.is_empty() {
+        mesh.y_desc(y_label);
     }
-    mesh.draw().map_err(drawing)?;
-    let (x, y) = (&prepared.x, &prepared.y);
-    let frame = Rectangle::new([(x.lo, y.lo), (x.hi, y.hi)], BLACK.mix(0.7));
-    chart.plotting_area().draw(&frame).map_err(drawing)
+    mesh.draw().map_err(drawing)
 }
 
 /// How lines are stroked. SVG viewers join thick polylines properly; plotters' bitmap
@@ -344,7 +444,7 @@ enum Stroke {
     Brush(f64, f64),
 }
 
-/// Each series' lines or dots, with its legend entry.
+/// Each series' lines or dots (the legend is drawn apart: [`legend::draw`]).
 fn draw_series<'a, DB: DrawingBackend + 'a>(
     chart: &mut Chart<'a, DB>,
     prepared: &Prepared,
@@ -366,10 +466,10 @@ fn draw_series<'a, DB: DrawingBackend + 'a>(
     };
     for series in &prepared.series {
         let Drawn {
-            label,
             color,
             style,
             parts,
+            ..
         } = series;
         let color = RGBColor(color.0, color.1, color.2);
         let line = color.stroke_width(line_width);
@@ -378,58 +478,17 @@ fn draw_series<'a, DB: DrawingBackend + 'a>(
                 .iter()
                 .map(move |p| p.iter().map(|&(x, y)| (x + dx, y + dy)).collect::<Vec<_>>())
         });
-        // The legend's samples are filled rectangles `width` pixels tall, the same in both
-        // formats, across the legend's sample area less a gap; `bar(from, to)` in 24ths.
-        let (top, sample) = (-(width as i32) / 2, 2 * sizes.gap);
-        let bar = move |from: i32, to: i32| {
-            let (x0, x1) = (from * sample / 24, to * sample / 24);
-            Rectangle::new([(x0, top), (x1, top + width as i32 - 1)], color.filled())
-        };
-        let annotation = match style {
-            Style::Line => chart
-                .draw_series(shifted.map(|p| PathElement::new(p, line)))
-                .map_err(drawing)?
-                .legend(move |at| EmptyElement::at(at) + bar(0, 24)),
-            Style::Dashed => chart
-                .draw_series(shifted.map(|p| DashedPathElement::new(p, dash, space, line)))
-                .map_err(drawing)?
-                .legend(move |at| EmptyElement::at(at) + bar(0, 6) + bar(9, 15) + bar(18, 24)),
-            Style::Points => {
-                let dot = sizes.dot;
-                let dots = parts
-                    .iter()
-                    .flatten()
-                    .map(|&p| Circle::new(p, dot, color.filled()));
-                chart
-                    .draw_series(dots)
-                    .map_err(drawing)?
-                    .legend(move |(x, y)| Circle::new((x + sample / 2, y), dot, color.filled()))
+        match style {
+            Style::Line => chart.draw_series(shifted.map(|p| PathElement::new(p, line))),
+            Style::Dashed => {
+                chart.draw_series(shifted.map(|p| DashedPathElement::new(p, dash, space, line)))
             }
-        };
-        annotation.label(label.as_str());
+            Style::Points => {
+                let dots = parts.iter().flatten();
+                chart.draw_series(dots.map(|&p| Circle::new(p, sizes.dot, color.filled())))
+            }
+        }
+        .map_err(drawing)?;
     }
     Ok(())
-}
-
-fn draw_legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-    corner: Legend,
-    sizes: &Sizes,
-) -> Result<(), ErrorKind> {
-    let position = match corner {
-        Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-        Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-        Legend::LowerRight => SeriesLabelPosition::LowerRight,
-        _ => SeriesLabelPosition::UpperRight,
-    };
-    chart
-        .configure_series_labels()
-        .position(position)
-        .margin(sizes.gap)
-        .legend_area_size(3 * sizes.gap)
-        .label_font(font(sizes.ticks))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .draw()
-        .map_err(drawing)
 }

@@ -3,7 +3,9 @@
 
 use std::path::PathBuf;
 
-use super::prepare::{Axis, Prepared, prepare};
+use super::axis::Axis;
+use super::legend;
+use super::prepare::{Prepared, prepare};
 use super::render::MIN_PANEL as MIN_PANEL_SIZE;
 use super::*;
 use crate::models::{KnifeEdge, MobileRobot};
@@ -17,9 +19,19 @@ fn scratch(test: &str) -> PathBuf {
     dir
 }
 
-/// The panel laid out for a 600 × 400 plotting area at the default text size.
+/// The panel laid out for a 600 × 400 plotting area, its legend placed as a box of 150 ×
+/// 60 pixels 10 pixels inside the frame, kept 5 pixels from the data.
 fn lay_out(panel: &Panel) -> Result<Prepared, ErrorKind> {
-    prepare(panel, (600.0, 400.0), 1.0)
+    let mut prepared = prepare(panel, (600.0, 400.0))?;
+    prepared.legend = legend::place(
+        panel.legend,
+        &prepared,
+        (600.0, 400.0),
+        (150.0, 60.0),
+        10.0,
+        5.0,
+    );
+    Ok(prepared)
 }
 
 fn ramp(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -237,7 +249,7 @@ fn equal_aspect_matches_the_scales() {
     let panel = Panel::new("")
         .equal_aspect()
         .line("path", &[0.0, 10.0], &[0.0, 1.0]);
-    let p = prepare(&panel, (600.0, 300.0), 1.0).unwrap();
+    let p = prepare(&panel, (600.0, 300.0)).unwrap();
     let per_pixel_x = (p.x.hi - p.x.lo) / 600.0;
     let per_pixel_y = (p.y.hi - p.y.lo) / 300.0;
     assert!((per_pixel_x / per_pixel_y - 1.0).abs() < 1e-12);
@@ -478,3 +490,8 @@ fn long_runs_are_thinned_to_the_resolution() {
     let svg = Figure::from(panel).to_svg().unwrap();
     assert!(svg.len() < 200_000, "{} bytes", svg.len());
 }
+
+mod fields;
+mod legends;
+mod text;
+mod units;

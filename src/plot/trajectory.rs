@@ -50,7 +50,8 @@ impl Panel {
         }
         let mut panel = Panel::new(format!("{joined} against {t}"))
             .x_label(t)
-            .y_label(joined);
+            .y_label(joined)
+            .quantities(&[t], names);
         for name in names {
             panel = panel.line(*name, trajectory.times(), column(trajectory, name)?);
         }
@@ -64,6 +65,7 @@ impl Panel {
         Ok(Panel::new(format!("{y} against {x}"))
             .x_label(x)
             .y_label(y)
+            .quantities(&[x], &[y])
             .equal_aspect()
             .line(format!("({x}, {y})"), xs, ys))
     }
@@ -77,9 +79,11 @@ impl Panel {
         let e0 = energy.first().copied().unwrap_or(f64::NAN);
         let drift: Vec<f64> = energy.iter().map(|e| (e - e0).abs()).collect();
         let t = trajectory.times();
+        let time = time_name(trajectory);
         let mut panel = Panel::new("energy drift")
-            .x_label(time_name(trajectory))
+            .x_label(time)
             .y_label("energy error")
+            .quantities(&[time], &["energy"])
             .log_y()
             .line("|E − E₀|", t, &drift);
         if let Some(balance) = trajectory.column("energy_balance") {
@@ -147,6 +151,7 @@ impl Panel {
         let mut panel = Panel::new("constraint residual")
             .x_label(time)
             .y_label("residual")
+            .quantities(&[time], &[])
             .log_y()
             .line("max |A_c q̇ + a_c|", t, &residual);
         if S::K > 0 {

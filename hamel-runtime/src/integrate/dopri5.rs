@@ -3,10 +3,13 @@
 //! the same tableau, error norm, PI controller, initial-step heuristic and continuous
 //! extension, so its step counts can be checked against the Fortran code's.
 
+use super::initial_step::{Target, initial_step};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::sampling::Samples;
+use super::settings::{self, Adaptive, RtolFloor};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps, fresh,
-    fresh_component, too_many_steps, too_many_steps_planned,
+    Integrator, MAX_STEPS, Ode, Stats, UNDERFLOW_ULPS, check_problem, check_span, check_state,
+    combine, equal_steps, fresh, fresh_component, too_many_steps, too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -91,59 +94,28 @@ impl DormandPrince {
     }
 
     fn check_settings(&self) -> Result<(), Error> {
-        let positive = |v: f64| v.is_finite() && v > 0.0;
-        let invalid = |name, value, reason| {
-            Err(Error::InvalidSetting {
-                name,
-                value,
-                reason,
-            })
+        let floor = RtolFloor {
+            value: 0.0,
+            inclusive: true,
+            reason: "the relative tolerance must be a finite number ≥ 0",
         };
-        if !(self.rtol.is_finite() && self.rtol >= 0.0) {
-            return invalid(
-                "rtol",
-                self.rtol,
-                "the relative tolerance must be a finite number ≥ 0",
-            );
-        }
-        // A positive atol keeps every scale scᵢ positive, so the error norm is never 0/0.
-        if !positive(self.atol) {
-            return invalid(
-                "atol",
-                self.atol,
-                "the absolute tolerance must be a positive finite number",
-            );
-        }
-        if let Some(h) = self.initial_step.filter(|h| !positive(*h)) {
-            return invalid(
-                "initial step",
-                h,
-                "the initial step must be a positive finite number",
-            );
-        }
-        if self.max_step.is_nan() || self.max_step <= 0.0 {
-            return invalid(
-                "max step",
-                self.max_step,
-                "the largest step must be positive (or infinite)",
-            );
-        }
-        if self.max_steps == 0 {
-            return invalid("max steps", 0.0, "the integration needs at least one step");
-        }
-        if !(self.min_step.is_finite() && (0.0..1.0).contains(&self.min_step)) {
-            return invalid(
-                "min step",
-                self.min_step,
-                "the floor on the step, relative to the span, must be in [0, 1)",
-            );
-        }
-        if let Some(h) = self.fixed_step.filter(|h| !positive(*h)) {
-            return invalid(
-                "fixed step",
-                h,
-                "the fixed step must be a positive finite number",
-            );
+        settings::check(
+            &Adaptive {
+                rtol: self.rtol,
+                atol: self.atol,
+                initial_step: self.initial_step,
+                max_step: self.max_step,
+                max_steps: self.max_steps,
+                min_step: self.min_step,
+            },
+            floor,
+        )?;
+        if let Some(h) = self.fixed_step.filter(|h| !(h.is_finite() && *h > 0.0)) {
+            return Err(Error::InvalidSetting {
+                name: "fixed step",
+                value: h,
+                reason: "the fixed step must be a positive finite number",
+            });
         }
         Ok(())
     }
@@ -358,122 +330,9 @@ impl Controller {
     }
 }
 
-/// Hairer's initial step (HINIT, order 5): a step whose explicit-Euler increment is 1% of the
-/// solution's scale, then refined with a finite-difference estimate of the second derivative
-/// so that the local error of the first step is near the tolerance. Costs one evaluation.
-/// Like the error norm, it looks only at the components the step-size control covers.
-fn initial_step<O: Ode>(
-    ode: &mut O,
-    t: f64,
-    y: &O::State,
-    f0: &O::State,
-    method: &DormandPrince,
-    hmax: f64,
-    stats: &mut Stats,
-) -> Result<f64, Error> {
-    let scale = |i: usize| method.atol + method.rtol * y.as_ref()[i].abs();
-    let n = ode.controlled_components().min(O::State::LEN);
-    let dnf: f64 = (0..n).map(|i| (f0.as_ref()[i] / scale(i)).powi(2)).sum();
-    let dny: f64 = (0..n).map(|i| (y.as_ref()[i] / scale(i)).powi(2)).sum();
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-        1e-6
-    } else {
-        (dny / dnf).sqrt() * 0.01
-    };
-    // A non-finite derivative makes h NaN; start small and let step rejection deal with it.
-    if !(h > 0.0 && h.is_finite()) {
-        h = 1e-6;
-    }
-    h = h.min(hmax);
-
-    let mut f1 = O::State::zeros();
-    ode.rhs(t + h, &combine(y, h, &[(1.0, f0)]), &mut f1)?;
-    stats.evaluations += 1;
-    let der2 = (0..n)
-        .map(|i| ((f1.as_ref()[i] - f0.as_ref()[i]) / scale(i)).powi(2))
-        .sum::<f64>()
-        .sqrt()
-        / h;
-    let der12 = der2.abs().max(dnf.sqrt());
-    let h1 = if der12 <= 1e-15 {
-        (h * 1e-3).max(1e-6)
-    } else {
-        (0.01 / der12).powf(1.0 / 5.0)
-    };
-    // f64::min ignores a NaN h1, leaving a finite step.
-    Ok((100.0 * h).min(h1).min(hmax))
-}
-
 impl<V: Vector> Interpolant<V> for Dense<V> {
     fn at(&self, t: f64) -> V {
         Dense::at(self, t)
-    }
-}
-
-/// The bookkeeping of sample times: which come next, and reporting those an accepted step
-/// covers.
-struct Samples<'a, T: ?Sized, V> {
-    times: &'a T,
-    next: usize,
-    observer: &'a mut dyn Observer<V>,
-}
-
-impl<T: SampleTimes + ?Sized, V: Vector> Samples<'_, T, V> {
-    /// The sample time `next` points at, if any is left.
-    fn upcoming(&self) -> Option<f64> {
-        (self.next < self.times.count()).then(|| self.times.time(self.next))
-    }
-
-    /// Reports the samples in the accepted step from (t, y) to t1 — up to `stop` when the
-    /// observer ends the integration within the step: at t1 the step's result as projected,
-    /// `y1`; inside the step the continuous extension, projected; at a stop the extension
-    /// there, projected, as the last sample. The extension is formed (`dense`) only if a
-    /// sample falls inside the step. Returns the time the observer stopped at, if it did: at
-    /// `stop`, or at a sample it asked to end with.
-    fn report<O: Ode<State = V>>(
-        &mut self,
-        ode: &mut O,
-        (t1, y1): (f64, &V),
-        dense: &mut dyn FnMut() -> Dense<V>,
-        formed: Option<&Dense<V>>,
-        stop: Option<f64>,
-    ) -> Result<Option<f64>, Error> {
-        let end = stop.unwrap_or(t1);
-        let mut made = None;
-        while let Some(s) = self
-            .upcoming()
-            .filter(|s| *s <= end && (stop.is_none() || *s < end))
-        {
-            let control = if s == t1 {
-                self.observer.sample(s, y1)?
-            } else {
-                let extension = match formed {
-                    Some(d) => d,
-                    None => made.get_or_insert_with(&mut *dense),
-                };
-                let mut value = extension.at(s);
-                ode.project(s, &mut value)?;
-                self.observer.sample(s, &value)?
-            };
-            self.next += 1;
-            if let Control::Stop(_) = control {
-                return Ok(Some(s));
-            }
-        }
-        if let Some(ts) = stop {
-            let mut value = if ts == t1 {
-                *y1
-            } else {
-                match formed {
-                    Some(d) => d.at(ts),
-                    None => made.get_or_insert_with(&mut *dense).at(ts),
-                }
-            };
-            ode.project(ts, &mut value)?;
-            // The run ends here whatever the observer answers.
-            let _ = self.observer.sample(ts, &value)?;
-        }
-        Ok(stop)
     }
 }
 
@@ -494,13 +353,9 @@ impl Integrator for DormandPrince {
             next: 0,
             observer,
         };
-        while let Some(s) = samples.upcoming().filter(|s| *s == t0) {
-            let control = samples.observer.sample(s, x0)?;
-            samples.next += 1;
-            if let Control::Stop(_) = control {
-                stats.stopped = Some(s);
-                return Ok(stats);
-            }
+        if let Some(s) = samples.report_start(t0, x0)? {
+            stats.stopped = Some(s);
+            return Ok(stats);
         }
         let Some(t_end) = samples.upcoming().map(|_| samples.times.last()) else {
             return Ok(stats);
@@ -511,12 +366,8 @@ impl Integrator for DormandPrince {
         if needed > self.max_steps as f64 {
             return Err(too_many_steps_planned(ode, t0, smallest, x0, needed));
         }
-        if self.fixed_step.is_none() && t_end - t0 < UNDERFLOW_ULPS * f64::EPSILON * t0.abs() {
-            return Err(Error::SpanTooShort {
-                t0,
-                t_end,
-                state: ode.describe(x0),
-            });
+        if self.fixed_step.is_none() {
+            check_span(ode, t0, t_end, x0)?;
         }
 
         let mut k: Stages<O::State> = [O::State::zeros(); 7];
@@ -537,9 +388,6 @@ impl Integrator for DormandPrince {
         Ok(run.stats)
     }
 }
-
-/// Below this many ulps of t, t + h no longer differs from t by more than a few roundings.
-const UNDERFLOW_ULPS: f64 = 16.0;
 
 /// One integration: the ODE, the samples and their observer, the cost so far and the stages
 /// of the current step.
@@ -572,8 +420,8 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         let moved = self.ode.project(t1, &mut y1_projected)?;
         let k = &self.k;
         // The continuous extension interpolates the step's own result, before projection.
-        let mut extension = || Dense::new(t, h, (y, &y1), k);
-        let watched = self.watching.then(&mut extension);
+        let extension = || Dense::new(t, h, (y, &y1), k);
+        let watched = self.watching.then(&extension);
         let stop = match &watched {
             Some(dense) => {
                 let view = StepView {
@@ -590,13 +438,16 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             }
             None => None,
         };
-        let stopped = self.samples.report(
-            &mut *self.ode,
-            (t1, &y1_projected),
-            &mut extension,
-            watched.as_ref(),
-            stop,
-        )?;
+        // The extension is formed once, and only if a sample falls inside the step; the one
+        // formed for the observer is read in place (moving it, 5n values, cost a copy a step).
+        let mut made = None;
+        let at = |s| match &watched {
+            Some(dense) => dense.at(s),
+            None => made.get_or_insert_with(&extension).at(s),
+        };
+        let stopped = self
+            .samples
+            .report(&mut *self.ode, (t1, &y1_projected), at, stop)?;
         if stopped.is_some() {
             self.stats.stopped = stopped;
             return Ok(None);
@@ -622,7 +473,15 @@ impl DormandPrince {
         let floor = self.min_step * (t_end - t0);
         let mut h = match self.initial_step {
             Some(h) => h.min(hmax),
-            None => initial_step(run.ode, t0, &y0, &run.k[0], self, hmax, &mut run.stats)?,
+            None => {
+                let target = Target {
+                    rtol: self.rtol,
+                    atol: self.atol,
+                    order: 4.0,
+                    hmax,
+                };
+                initial_step(run.ode, (t0, &y0, &run.k[0]), target, &mut run.stats)?
+            }
         };
         let mut controller = Controller::new();
         let (mut t, mut y) = (t0, y0);

@@ -12,13 +12,12 @@
 //! XI). [`crate::HamelSystem::REVERSIBLE`] says whether a model is reversible in this sense.
 
 use super::collocation::{Collocation, Tableau, extrapolate};
+use super::fixed_step::{self, Budget, FixedStep};
 use super::midpoint::ImplicitMidpoint;
 use super::newton::{Criterion, Newton, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
-use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, equal_steps, too_many_steps,
-    too_many_steps_planned,
-};
+use super::sampling::final_sample;
+use super::{Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state};
 use crate::error::Error;
 use crate::vector::Vector;
 
@@ -165,6 +164,11 @@ fn check_settings(method: &GaussLegendre) -> Result<(), Error> {
 }
 
 impl Integrator for GaussLegendre {
+    /// Gauss–Legendre methods are symmetric.
+    fn symmetric(&self) -> bool {
+        true
+    }
+
     fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,
@@ -194,11 +198,18 @@ struct Stepper<'t, V, const S: usize> {
     refresh_rate: f64,
 }
 
+/// The largest relative change of the step for which a factorization is kept: equal steps of
+/// different sample intervals differ in their last bits, and a change of 1 % adds at most
+/// about 0.01 to the contraction of an iteration that converges to rounding anyway.
+const LU_REUSE: f64 = 0.01;
+
 impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
-    fn new(tableau: &'t Tableau<S>, refresh_rate: f64) -> Self {
+    /// The steps for an ODE whose leading `controlled` components the convergence test
+    /// measures ([`Ode::controlled_components`]).
+    fn new(tableau: &'t Tableau<S>, refresh_rate: f64, controlled: usize) -> Self {
         Stepper {
             tableau,
-            newton: Newton::new(V::LEN, S),
+            newton: Newton::new(V::LEN, controlled, S).with_reuse(LU_REUSE),
             last: None,
             refresh: true,
             refresh_rate,
@@ -206,7 +217,7 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
     }
 
     /// One step of size h from (t, y): its collocation polynomial (whose end is the result).
-    fn step<O: Ode<State = V>>(
+    fn collocate<O: Ode<State = V>>(
         &mut self,
         ode: &mut O,
         (t, y): (f64, &V),
@@ -291,12 +302,12 @@ fn advance<O: Ode, const S: usize>(
     h: f64,
     n: usize,
 ) -> Result<(O::State, Stats), Error> {
-    let mut stepper = Stepper::new(tableau, refresh_rate);
+    let mut stepper = Stepper::new(tableau, refresh_rate, ode.controlled_components());
     let mut stats = Stats::default();
     let mut x = *x0;
     for i in 0..n {
         let t = t0 + i as f64 * h;
-        let step = stepper.step(ode, (t, &x), h, &mut stats)?;
+        let step = stepper.collocate(ode, (t, &x), h, &mut stats)?;
         x = tableau.end(&step.y0, &step.z);
         stats.steps += 1;
         check_state(ode, t + h, &x)?;
@@ -314,105 +325,55 @@ fn integrate_fixed<O: Ode, T: SampleTimes + ?Sized, const S: usize>(
     samples: &T,
     observer: &mut dyn Observer<O::State>,
 ) -> Result<Stats, Error> {
-    let (step, max_steps) = (method.step, method.max_steps);
-    if !(step.is_finite() && step > 0.0) {
-        return Err(Error::InvalidSetting {
-            name: "step",
-            value: step,
-            reason: "the step of an implicit fixed-step method must be a positive finite number",
-        });
-    }
-    check_problem(ode, t0, x0, samples)?;
-    let span = samples.last() - t0;
-    if samples.count() > 0 && span / step > max_steps as f64 {
-        return Err(too_many_steps_planned(ode, t0, step, x0, span / step));
-    }
-    let mut run = Run {
-        ode,
-        observer,
-        stepper: Stepper::new(tableau, method.refresh_rate),
-        stats: Stats::default(),
-        watch: false,
+    let budget = Budget {
+        step: method.step,
+        max_steps: method.max_steps,
+        invalid_step: "the step of an implicit fixed-step method must be a positive finite number",
     };
-    run.watch = run.observer.watches_steps();
-    let (mut t, mut x) = (t0, *x0);
-    for i in 0..samples.count() {
-        let sample = samples.time(i);
-        if sample > t {
-            match run.interval((t, x), sample, step, max_steps)? {
-                Some(end) => x = end,
-                None => break,
-            }
-            t = sample;
-        }
-        if let Control::Stop(_) = run.observer.sample(sample, &x)? {
-            run.stats.stopped = Some(sample);
-            break;
-        }
-    }
-    Ok(run.stats)
+    let mut stepper = Stepper::new(tableau, method.refresh_rate, ode.controlled_components());
+    fixed_step::integrate(&mut stepper, &budget, ode, (t0, x0), samples, observer)
 }
 
-/// One fixed-step integration: the ODE, the observer, the steps and their cost.
-struct Run<'a, 't, O: Ode, const S: usize> {
-    ode: &'a mut O,
-    observer: &'a mut dyn Observer<O::State>,
-    stepper: Stepper<'t, O::State, S>,
-    stats: Stats,
-    watch: bool,
-}
-
-impl<O: Ode, const S: usize> Run<'_, '_, O, S> {
-    /// The equal sub-steps from (t, x) to the sample time `to`; the state there, or `None`
-    /// when the observer stopped the integration (its last sample reported).
-    fn interval(
+impl<'t, O: Ode, const S: usize> FixedStep<O> for Stepper<'t, O::State, S> {
+    fn step(
         &mut self,
-        (t, x): (f64, O::State),
-        to: f64,
-        step: f64,
-        max_steps: usize,
-    ) -> Result<Option<O::State>, Error> {
-        let (n, h) = equal_steps(to - t, step);
-        let mut x = x;
-        for i in 0..n {
-            if self.stats.steps >= max_steps {
-                return Err(too_many_steps(&*self.ode, t, h, &x, self.stats.steps));
+        ode: &mut O,
+        (t, x): (f64, &O::State),
+        (_, t1): (f64, f64),
+        stats: &mut Stats,
+    ) -> Result<O::State, Error> {
+        let collocation = self.collocate(ode, (t, x), t1 - t, stats)?;
+        Ok(collocation.tableau.end(&collocation.y0, &collocation.z))
+    }
+
+    /// Shows the step with its collocation polynomial.
+    fn watch(
+        &mut self,
+        ode: &mut O,
+        observer: &mut dyn Observer<O::State>,
+        (t, x): (f64, &O::State),
+        (t1, x1): (f64, &O::State),
+        _: &mut Stats,
+    ) -> Result<Option<f64>, Error> {
+        let Some(collocation) = &self.last else {
+            // `step` keeps every step's polynomial: there is one after a step.
+            return Ok(None);
+        };
+        let view = StepView {
+            t,
+            x,
+            t1,
+            x1,
+            dense: collocation,
+        };
+        match observer.step(&view)? {
+            Control::Continue => Ok(None),
+            Control::Stop(ts) => {
+                let ts = ts.clamp(t, t1);
+                final_sample(ode, observer, ts, (t1, x1), |s| collocation.at(s))?;
+                Ok(Some(ts))
             }
-            // Times from the interval's start, not accumulated; the last step ends on `to`.
-            let start = t + i as f64 * h;
-            let end = if i + 1 < n {
-                t + (i + 1) as f64 * h
-            } else {
-                to
-            };
-            let collocation =
-                self.stepper
-                    .step(self.ode, (start, &x), end - start, &mut self.stats)?;
-            let mut next = collocation.tableau.end(&collocation.y0, &collocation.z);
-            self.stats.steps += 1;
-            check_state(&*self.ode, end, &next)?;
-            self.ode.project(end, &mut next)?;
-            if self.watch {
-                let view = StepView {
-                    t: start,
-                    x: &x,
-                    t1: end,
-                    x1: &next,
-                    dense: collocation,
-                };
-                if let Control::Stop(ts) = self.observer.step(&view)? {
-                    let ts = ts.clamp(start, end);
-                    let mut value = if ts == end { next } else { collocation.at(ts) };
-                    self.ode.project(ts, &mut value)?;
-                    // The run ends here whatever the observer answers.
-                    let _ = self.observer.sample(ts, &value)?;
-                    self.stats.stopped = Some(ts);
-                    return Ok(None);
-                }
-            }
-            x = next;
         }
-        Ok(Some(x))
     }
 }
 

@@ -71,6 +71,11 @@ impl ImplicitMidpoint {
 }
 
 impl Integrator for ImplicitMidpoint {
+    /// Gauss–Legendre methods are symmetric.
+    fn symmetric(&self) -> bool {
+        true
+    }
+
     fn integrate_observed<O: Ode, T: SampleTimes + ?Sized>(
         &self,
         ode: &mut O,

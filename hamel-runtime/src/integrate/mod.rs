@@ -13,12 +13,18 @@
 
 mod collocation;
 mod dopri5;
+mod fixed_step;
 mod gauss;
+mod initial_step;
 mod midpoint;
 mod newton;
 pub mod observer;
 mod radau;
+mod radau_stages;
 mod rk4;
+mod sampling;
+mod settings;
+mod singular;
 
 pub use dopri5::DormandPrince;
 pub use gauss::GaussLegendre;
@@ -130,6 +136,14 @@ pub trait Integrator {
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error>;
 
+    /// Whether the method is symmetric — its step with −h undoes its step with h — as the
+    /// Gauss–Legendre methods are: on a [`crate::HamelSystem::REVERSIBLE`] model such a method
+    /// keeps the energy error bounded over long runs, on any other it does not, and a
+    /// `Simulation`'s summary says so. Default `false`.
+    fn symmetric(&self) -> bool {
+        false
+    }
+
     /// [`Integrator::integrate_observed`] with a closure that observes the samples only.
     fn integrate<O: Ode, T: SampleTimes + ?Sized>(
         &self,
@@ -228,6 +242,22 @@ pub(crate) fn check_problem<O: Ode, T: SampleTimes + ?Sized>(
             });
         }
         previous = s;
+    }
+    Ok(())
+}
+
+/// Below this many ulps of t, t + h no longer differs from t by more than a few roundings.
+pub(crate) const UNDERFLOW_ULPS: f64 = 16.0;
+
+/// Refuses an adaptive integration whose span is shorter than a step can resolve at its
+/// start time (a few ulps of t0): no step could be taken, and that is not a step that shrank.
+pub(crate) fn check_span<O: Ode>(ode: &O, t0: f64, t_end: f64, x0: &O::State) -> Result<(), Error> {
+    if t_end - t0 < UNDERFLOW_ULPS * f64::EPSILON * t0.abs() {
+        return Err(Error::SpanTooShort {
+            t0,
+            t_end,
+            state: ode.describe(x0),
+        });
     }
     Ok(())
 }

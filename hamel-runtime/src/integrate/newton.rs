@@ -12,9 +12,10 @@
 //! McLachlan & Razakarivony, *BIT* 48 (2008)), and RADAU5's test on the predicted remaining
 //! error, for the stiff method whose error control needs no more than the tolerance.
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::collocation::Tableau;
+use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
 use super::{Ode, Stats};
 use crate::error::{Error, Num};
 use crate::vector::Vector;
@@ -60,6 +61,169 @@ pub(crate) enum Outcome {
     },
 }
 
+/// The stage slopes F_i = f(t + cᵢh, y + Zᵢ), counted.
+pub(crate) fn stage_slopes<O: Ode, const S: usize>(
+    ode: &mut O,
+    c: &[f64; S],
+    (t, y, h): (f64, &O::State, f64),
+    z: &[O::State; S],
+    f: &mut [O::State; S],
+    stats: &mut Stats,
+) -> Result<(), Error> {
+    for (i, fi) in f.iter_mut().enumerate() {
+        let mut yi = *y;
+        for (v, dz) in yi.as_mut().iter_mut().zip(z[i].as_ref()) {
+            *v += dz;
+        }
+        ode.rhs(t + c[i] * h, &yi, fi)?;
+    }
+    stats.evaluations += S;
+    Ok(())
+}
+
+/// The bookkeeping of one iteration's convergence, whatever the linear algebra of its
+/// corrections: the observed contraction, and when to stop ([`Criterion`]).
+pub(crate) struct Convergence {
+    criterion: Criterion,
+    max_iterations: usize,
+    /// The last scaled correction (NaN before the first).
+    previous: f64,
+    /// The contraction reported: the largest before rounding (to rounding), RADAU5's
+    /// smoothed one (predicted).
+    rate: f64,
+    theta: f64,
+    theta_old: f64,
+}
+
+impl Convergence {
+    /// A new iteration; `faccon` is RADAU5's FACCON carried from the last step, which it
+    /// relaxes (`faccon^0.8`) as RADAU5 does.
+    pub fn new(criterion: Criterion, faccon: &mut f64) -> Self {
+        *faccon = faccon.max(f64::EPSILON).powf(0.8);
+        let max_iterations = match criterion {
+            Criterion::Rounding => NEWTON_MAX_ITERATIONS,
+            Criterion::Predicted { max_iterations, .. } => max_iterations,
+        };
+        Convergence {
+            criterion,
+            max_iterations,
+            previous: f64::NAN,
+            rate: 0.0,
+            theta: 0.0,
+            theta_old: 0.0,
+        }
+    }
+
+    pub fn max_iterations(&self) -> usize {
+        self.max_iterations
+    }
+
+    fn failed(&self, k: usize, rate: f64, increment: f64, shrink: f64) -> Outcome {
+        Outcome::Failed {
+            iterations: k,
+            rate,
+            increment,
+            shrink,
+        }
+    }
+
+    /// Judges the k-th correction, of scaled size `increment` (its solve having succeeded
+    /// or not), before it is applied: a failure ends the iteration.
+    pub fn judge(
+        &mut self,
+        k: usize,
+        increment: f64,
+        solved: bool,
+        faccon: &mut f64,
+    ) -> Option<Outcome> {
+        // A stage where f is not finite, or a solve that overflowed.
+        if !(solved && increment.is_finite()) {
+            return Some(self.failed(k, f64::NAN, increment, 0.5));
+        }
+        self.theta = if k >= 2 {
+            increment / self.previous
+        } else {
+            0.0
+        };
+        if let Criterion::Predicted {
+            tolerance,
+            max_iterations,
+        } = self.criterion
+        {
+            if k >= 2 {
+                // RADAU5: the geometric mean of the last two rates, once there are two.
+                let smoothed = if k == 2 {
+                    self.theta
+                } else {
+                    (self.theta * self.theta_old).sqrt()
+                };
+                self.theta_old = self.theta;
+                self.rate = smoothed;
+                if smoothed >= 0.99 {
+                    return Some(self.failed(k, smoothed, increment, 0.5));
+                }
+                *faccon = smoothed / (1.0 - smoothed);
+                let left = (max_iterations - k) as i32;
+                let predicted = *faccon * increment * smoothed.powi(left) / tolerance;
+                if predicted >= 1.0 {
+                    let q = predicted.clamp(1e-4, 20.0);
+                    let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
+                    return Some(self.failed(k, smoothed, increment, shrink));
+                }
+            }
+        }
+        None
+    }
+
+    /// After the k-th correction is applied: converged, hopeless, or (`None`) on.
+    pub fn settled(&mut self, k: usize, increment: f64, faccon: f64) -> Option<Outcome> {
+        let theta = self.theta;
+        self.previous = increment.max(f64::MIN_POSITIVE);
+        let converged = |rate| {
+            Some(Outcome::Converged {
+                iterations: k,
+                rate,
+            })
+        };
+        match self.criterion {
+            Criterion::Rounding => {
+                if k >= 2 && increment > ROUNDING_FLOOR {
+                    self.rate = self.rate.max(theta);
+                }
+                let stalled = k >= 2 && theta >= 1.0;
+                // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
+                // ulp: the stages are at rounding already.
+                let below_ulp = k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
+                if increment <= f64::EPSILON
+                    || below_ulp
+                    || (stalled && increment <= ROUNDING_FLOOR)
+                {
+                    return converged(self.rate);
+                }
+                // Diverging, or so slow that rounding is out of reach in the iterations left.
+                let left = (self.max_iterations - k) as f64;
+                if stalled || (k >= 2 && increment * theta.powf(left) > ROUNDING_FLOOR) {
+                    return Some(self.failed(k, theta, increment, 0.5));
+                }
+                None
+            }
+            Criterion::Predicted { tolerance, .. } => (faccon * increment <= tolerance)
+                .then_some(())
+                .and(converged(self.rate)),
+        }
+    }
+
+    /// The failure after the last allowed iteration.
+    pub fn exhausted(&self) -> Outcome {
+        Outcome::Failed {
+            iterations: self.max_iterations,
+            rate: self.rate,
+            increment: self.previous,
+            shrink: 0.5,
+        }
+    }
+}
+
 /// The Jacobian, the factored iteration matrix and the iteration's workspace, for one
 /// integration (allocated once; a factorization allocates its matrix).
 pub(crate) struct Newton {
@@ -76,11 +240,19 @@ pub(crate) struct Newton {
     residual: DVector<f64>,
     /// RADAU5's FACCON, carried from step to step: θ/(1 − θ) of the last iteration.
     faccon: f64,
+    /// The leading components the convergence test measures (`Ode::controlled_components`):
+    /// the others (the work done on a forced system) follow the state and do not act back
+    /// on it, so they converge with it and must not hold it up.
+    controlled: usize,
+    /// The largest relative change of h for which the factorization is kept
+    /// ([`Newton::with_reuse`]).
+    reuse: f64,
 }
 
 impl Newton {
-    /// The machinery for an ODE with `n` components and a method with `stages` stages.
-    pub fn new(n: usize, stages: usize) -> Self {
+    /// The machinery for an ODE with `n` components, of which the leading `controlled` are
+    /// measured by the convergence test, and a method with `stages` stages.
+    pub fn new(n: usize, controlled: usize, stages: usize) -> Self {
         Newton {
             n,
             jacobian: DMatrix::zeros(n, n),
@@ -90,7 +262,19 @@ impl Newton {
             lu: None,
             residual: DVector::zeros(n * stages),
             faccon: 1.0,
+            controlled: controlled.clamp(1, n.max(1)),
+            reuse: 0.0,
         }
+    }
+
+    /// Keeps the factorization for a step h while |h/h_factored − 1| ≤ `ratio` (0: only for
+    /// the same h). Simplified Newton converges to the same stages with an iteration matrix
+    /// for a slightly different step, a little more slowly; a fixed-step method whose steps
+    /// differ in their last bits between sample intervals would otherwise refactor an
+    /// unchanged matrix.
+    pub fn with_reuse(mut self, ratio: f64) -> Self {
+        self.reuse = ratio;
+        self
     }
 
     /// Whether a Jacobian has been evaluated yet.
@@ -143,8 +327,9 @@ impl Newton {
         Ok(())
     }
 
-    /// Factors I − h·(A ⊗ J) unless it is factored for this h already; a singular matrix is
-    /// an error naming t, h and the state x (where the step starts).
+    /// Factors I − h·(A ⊗ J) unless it is factored for this h already (up to the reuse
+    /// ratio); a singular matrix is an error naming t, h, the growing motion that makes it
+    /// singular and the state x (where the step starts).
     pub fn factor<O: Ode, const S: usize>(
         &mut self,
         ode: &O,
@@ -152,7 +337,7 @@ impl Newton {
         (t, x, h): (f64, &O::State, f64),
         stats: &mut Stats,
     ) -> Result<(), Error> {
-        if matches!(self.lu, Some((formed, _)) if formed == h) {
+        if matches!(self.lu, Some((formed, _)) if (h / formed - 1.0).abs() <= self.reuse) {
             return Ok(());
         }
         let n = self.n;
@@ -161,13 +346,14 @@ impl Newton {
             let identity = if r == c { 1.0 } else { 0.0 };
             identity - h * tableau.a[i][j] * self.jacobian[(p, q)]
         });
-        let pivot = factor_checked(matrix, &mut self.lu, h);
         stats.factorizations += 1;
-        match pivot {
-            Some(pivot) => Err(Error::SingularIterationMatrix {
+        let mus = || method_eigenvalues(&tableau.a);
+        match factor_checked(matrix, &mut self.lu, h, &self.jacobian, mus) {
+            Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
                 t,
                 h,
-                pivot,
+                growth,
+                frequency,
                 state: ode.describe(x),
             }),
             None => Ok(()),
@@ -189,22 +375,10 @@ impl Newton {
         stats: &mut Stats,
     ) -> Result<Outcome, Error> {
         let n = self.n;
-        let max_iterations = match criterion {
-            Criterion::Rounding => NEWTON_MAX_ITERATIONS,
-            Criterion::Predicted { max_iterations, .. } => max_iterations,
-        };
+        let mut convergence = Convergence::new(criterion, &mut self.faccon);
         let mut f = [O::State::zeros(); S];
-        let (mut previous, mut rate, mut theta_old) = (f64::NAN, 0.0f64, 0.0);
-        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
-        for k in 1..=max_iterations {
-            for (i, fi) in f.iter_mut().enumerate() {
-                let mut yi = *y;
-                for (v, dz) in yi.as_mut().iter_mut().zip(z[i].as_ref()) {
-                    *v += dz;
-                }
-                ode.rhs(t + tableau.c[i] * h, &yi, fi)?;
-            }
-            stats.evaluations += S;
+        for k in 1..=convergence.max_iterations() {
+            stage_slopes(ode, &tableau.c, (t, y, h), z, &mut f, stats)?;
             for (i, (row, zi)) in tableau.a.iter().zip(z.iter()).enumerate() {
                 for p in 0..n {
                     let sum: f64 = row.iter().zip(&f).map(|(a, fj)| a * fj.as_ref()[p]).sum();
@@ -216,99 +390,30 @@ impl Newton {
             };
             let solved = lu.solve_mut(&mut self.residual);
             let increment = self.scaled_norm(scale);
-            let failed = |rate: f64, shrink: f64| Outcome::Failed {
-                iterations: k,
-                rate,
-                increment,
-                shrink,
-            };
-            // A stage where f is not finite, or a solve that overflowed.
-            if !(solved && increment.is_finite()) {
-                return Ok(failed(f64::NAN, 0.5));
-            }
-            let theta = if k >= 2 { increment / previous } else { 0.0 };
-            if let Criterion::Predicted {
-                tolerance,
-                max_iterations,
-            } = criterion
-            {
-                if k >= 2 {
-                    // RADAU5: the geometric mean of the last two rates, once there are two.
-                    let smoothed = if k == 2 {
-                        theta
-                    } else {
-                        (theta * theta_old).sqrt()
-                    };
-                    theta_old = theta;
-                    rate = smoothed;
-                    if smoothed >= 0.99 {
-                        return Ok(failed(smoothed, 0.5));
-                    }
-                    self.faccon = smoothed / (1.0 - smoothed);
-                    let left = (max_iterations - k) as i32;
-                    let predicted = self.faccon * increment * smoothed.powi(left) / tolerance;
-                    if predicted >= 1.0 {
-                        let q = predicted.clamp(1e-4, 20.0);
-                        let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
-                        return Ok(failed(smoothed, shrink));
-                    }
-                }
+            if let Some(failed) = convergence.judge(k, increment, solved, &mut self.faccon) {
+                return Ok(failed);
             }
             self.apply(z);
-            previous = increment.max(f64::MIN_POSITIVE);
-            match criterion {
-                Criterion::Rounding => {
-                    if k >= 2 && increment > ROUNDING_FLOOR {
-                        rate = rate.max(theta);
-                    }
-                    let stalled = k >= 2 && theta >= 1.0;
-                    // What the next iteration would still change, θ/(1 − θ)·‖ΔZ‖, below an
-                    // ulp: the stages are at rounding already.
-                    let below_ulp =
-                        k >= 2 && theta < 0.5 && theta * increment <= 0.5 * f64::EPSILON;
-                    if increment <= f64::EPSILON
-                        || below_ulp
-                        || (stalled && increment <= ROUNDING_FLOOR)
-                    {
-                        return Ok(Outcome::Converged {
-                            iterations: k,
-                            rate,
-                        });
-                    }
-                    // Diverging, or so slow that rounding is out of reach in the iterations left.
-                    let left = (max_iterations - k) as f64;
-                    if stalled || (k >= 2 && increment * theta.powf(left) > ROUNDING_FLOOR) {
-                        return Ok(failed(theta, 0.5));
-                    }
-                }
-                Criterion::Predicted { tolerance, .. } => {
-                    if self.faccon * increment <= tolerance {
-                        return Ok(Outcome::Converged {
-                            iterations: k,
-                            rate,
-                        });
-                    }
-                }
+            if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
+                return Ok(outcome);
             }
         }
-        Ok(Outcome::Failed {
-            iterations: max_iterations,
-            rate,
-            increment: previous,
-            shrink: 0.5,
-        })
+        Ok(convergence.exhausted())
     }
 
-    /// √(mean((ΔZ / scale)²)) over every stage and component, ΔZ being in `residual`.
+    /// √(mean((ΔZ / scale)²)) over every stage and controlled component, ΔZ being in
+    /// `residual`.
     fn scaled_norm(&self, scale: &[f64]) -> f64 {
-        let n = self.n;
+        let (n, len) = (self.n, self.controlled);
         let sum: f64 = self
             .residual
             .iter()
             .enumerate()
+            .filter(|(r, _)| r % n < len)
             .map(|(r, dz)| (dz / scale[r % n]).powi(2))
             .sum();
-        (sum / self.residual.len() as f64).sqrt()
+        let stages = self.residual.len() / n.max(1);
+        (sum / (stages * len) as f64).sqrt()
     }
 
     /// Z += ΔZ.
@@ -322,31 +427,29 @@ impl Newton {
     }
 }
 
-/// Relative LU pivots below this are zero: the matrix is singular to rounding.
-const SINGULAR_PIVOT: f64 = 1e-13;
-
-/// Factors `matrix` into `slot` (with the h it is for); `Some(pivot)` when it is singular,
-/// the smallest pivot relative to the matrix's largest entry (the slot then left empty).
+/// Factors `matrix` = I − h·μ·J (for the eigenvalues μ of the method, `mus`, asked for only
+/// when needed) into `slot`, with the h it is for; `Some(λ)` when it is singular, λ = (Re, Im)
+/// the eigenvalue of J that makes it so (the slot then left empty). A tiny pivot alone is not
+/// singular ([`super::singular`]): the LU is kept, and a solve that overflows fails the
+/// iteration, which the adaptive method answers with a smaller step.
 pub(crate) fn factor_checked(
     matrix: DMatrix<f64>,
     slot: &mut Option<(f64, LU<f64, Dyn, Dyn>)>,
     h: f64,
-) -> Option<f64> {
+    jacobian: &DMatrix<f64>,
+    mus: impl FnOnce() -> Vec<Complex<f64>>,
+) -> Option<(f64, f64)> {
     let largest = matrix.amax();
     let lu = matrix.lu();
-    let smallest = lu.u().diagonal().amin();
-    let pivot = if largest > 0.0 {
-        smallest / largest
-    } else {
-        0.0
-    };
-    if pivot.is_nan() || pivot <= SINGULAR_PIVOT {
-        *slot = None;
-        Some(pivot)
-    } else {
-        *slot = Some((h, lu));
-        None
+    let pivot = relative_pivot(lu.u().diagonal().amin(), largest);
+    if pivot <= SUSPICIOUS_PIVOT {
+        if let Some(mode) = growing_mode(jacobian, h, &mus()) {
+            *slot = None;
+            return Some(mode);
+        }
     }
+    *slot = Some((h, lu));
+    None
 }
 
 /// The Jacobian by forward differences, row by row into `rows`, with Hairer's increments
@@ -414,7 +517,7 @@ mod tests {
     #[test]
     fn a_linear_problem_converges_at_once() {
         let tableau = Tableau::gauss2();
-        let mut newton = Newton::new(2, 2);
+        let mut newton = Newton::new(2, 2, 2);
         let mut stats = Stats::default();
         let (t, y, h) = (0.0, [1.0, 0.0], 0.1);
         newton.evaluate(&mut Linear, t, &y, &mut stats).unwrap();
@@ -456,7 +559,7 @@ mod tests {
             }
         }
         let tableau = Tableau::gauss1();
-        let mut newton = Newton::new(1, 1);
+        let mut newton = Newton::new(1, 1, 1);
         let mut stats = Stats::default();
         newton
             .evaluate(&mut Growth, 1.5, &[2.0], &mut stats)

@@ -2,11 +2,10 @@
 //! evaluations per step, and the same steps on every run — useful as a reference and for
 //! real-time loops with a fixed budget.
 
+use super::fixed_step::{self, Budget, FixedStep};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
-use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state, combine, equal_steps,
-    too_many_steps, too_many_steps_planned,
-};
+use super::sampling::final_sample;
+use super::{Integrator, MAX_STEPS, Ode, Stats, combine};
 use crate::error::Error;
 use crate::vector::Vector;
 
@@ -48,127 +47,67 @@ impl Integrator for Rk4 {
         samples: &T,
         observer: &mut dyn Observer<O::State>,
     ) -> Result<Stats, Error> {
-        if !(self.step.is_finite() && self.step > 0.0) {
-            return Err(Error::InvalidSetting {
-                name: "step",
-                value: self.step,
-                reason: "the RK4 step must be a positive finite number",
-            });
-        }
-        check_problem(ode, t0, x0, samples)?;
-        // Each sample interval adds at most one step to span/step.
-        let span = samples.last() - t0;
-        if samples.count() > 0 && span / self.step > self.max_steps as f64 {
-            return Err(too_many_steps_planned(
-                ode,
-                t0,
-                self.step,
-                x0,
-                span / self.step,
-            ));
-        }
-        let mut run = Run {
-            ode,
-            observer,
-            stats: Stats::default(),
-            watch: false,
+        let budget = Budget {
+            step: self.step,
+            max_steps: self.max_steps,
+            invalid_step: "the RK4 step must be a positive finite number",
+        };
+        let mut steps = Steps {
+            k1: O::State::zeros(),
             slope: None,
         };
-        run.watch = run.observer.watches_steps();
-        let (mut t, mut x) = (t0, *x0);
-        for i in 0..samples.count() {
-            let sample = samples.time(i);
-            if sample > t {
-                match run.interval((t, x), sample, self.step, self.max_steps)? {
-                    Some(end) => x = end,
-                    None => break,
-                }
-                t = sample;
-            }
-            if let Control::Stop(_) = run.observer.sample(sample, &x)? {
-                run.stats.stopped = Some(sample);
-                break;
-            }
-        }
-        Ok(run.stats)
+        fixed_step::integrate(&mut steps, &budget, ode, (t0, x0), samples, observer)
     }
 }
 
-/// One integration's state: the ODE, the observer, the cost, and the slope at the current
-/// point when it is known already (the last step's end, evaluated for its dense output).
-struct Run<'a, O: Ode> {
-    ode: &'a mut O,
-    observer: &'a mut dyn Observer<O::State>,
-    stats: Stats,
-    watch: bool,
-    slope: Option<O::State>,
+/// RK4's steps: the last step's first stage, and the slope at the current point when it is
+/// known already (the last step's end, evaluated for its dense output).
+struct Steps<V> {
+    k1: V,
+    slope: Option<V>,
 }
 
-impl<O: Ode> Run<'_, O> {
-    /// The equal sub-steps from (t, x) to the sample time `to`; the state there, or `None`
-    /// when the observer stopped the integration (its last sample reported).
-    fn interval(
+impl<O: Ode> FixedStep<O> for Steps<O::State> {
+    fn step(
         &mut self,
-        (t, x): (f64, O::State),
-        to: f64,
-        step: f64,
-        max_steps: usize,
-    ) -> Result<Option<O::State>, Error> {
-        let (n, h) = equal_steps(to - t, step);
-        let mut x = x;
-        // Times are computed from the interval's start, not accumulated, and the last
-        // sub-step ends exactly on the sample.
-        for i in 0..n {
-            if self.stats.steps >= max_steps {
-                return Err(too_many_steps(&*self.ode, t, h, &x, self.stats.steps));
+        ode: &mut O,
+        (t, x): (f64, &O::State),
+        (h, _): (f64, f64),
+        stats: &mut Stats,
+    ) -> Result<O::State, Error> {
+        self.k1 = match self.slope.take() {
+            Some(k1) => k1,
+            None => {
+                let mut k1 = O::State::zeros();
+                ode.rhs(t, x, &mut k1)?;
+                stats.evaluations += 1;
+                k1
             }
-            let start = t + i as f64 * h;
-            let end = if i + 1 < n {
-                t + (i + 1) as f64 * h
-            } else {
-                to
-            };
-            let k1 = match self.slope.take() {
-                Some(k1) => k1,
-                None => {
-                    let mut k1 = O::State::zeros();
-                    self.ode.rhs(start, &x, &mut k1)?;
-                    self.stats.evaluations += 1;
-                    k1
-                }
-            };
-            let mut next = rk4_step(self.ode, start, &x, &k1, h)?;
-            self.stats.steps += 1;
-            self.stats.evaluations += 3;
-            check_state(&*self.ode, end, &next)?;
-            self.ode.project(end, &mut next)?;
-            if self.watch {
-                if let Some(ts) = self.watch_step((start, &x, &k1), (end, &next))? {
-                    self.stats.stopped = Some(ts);
-                    return Ok(None);
-                }
-            }
-            x = next;
-        }
-        Ok(Some(x))
+        };
+        let next = rk4_step(ode, t, x, &self.k1, h)?;
+        stats.evaluations += 3;
+        Ok(next)
     }
 
-    /// Reports a step to the observer with its Hermite interpolant; on a stop, the state
-    /// there as the last sample, and the stop's time.
-    fn watch_step(
+    /// Shows the step with its Hermite interpolant, which needs the slope at the end: that
+    /// slope is the next step's first stage.
+    fn watch(
         &mut self,
-        (t, x, k1): (f64, &O::State, &O::State),
+        ode: &mut O,
+        observer: &mut dyn Observer<O::State>,
+        (t, x): (f64, &O::State),
         (t1, x1): (f64, &O::State),
+        stats: &mut Stats,
     ) -> Result<Option<f64>, Error> {
         let mut k_end = O::State::zeros();
-        self.ode.rhs(t1, x1, &mut k_end)?;
-        self.stats.evaluations += 1;
+        ode.rhs(t1, x1, &mut k_end)?;
+        stats.evaluations += 1;
         let dense = Hermite {
             t,
             h: t1 - t,
             x: *x,
             x1: *x1,
-            k: *k1,
+            k: self.k1,
             k1: k_end,
         };
         let view = StepView {
@@ -178,18 +117,14 @@ impl<O: Ode> Run<'_, O> {
             x1,
             dense: &dense,
         };
-        match self.observer.step(&view)? {
+        match observer.step(&view)? {
             Control::Continue => {
-                // The slope at the (projected) end is the next step's first stage.
                 self.slope = Some(k_end);
                 Ok(None)
             }
             Control::Stop(ts) => {
                 let ts = ts.clamp(t, t1);
-                let mut value = if ts == t1 { *x1 } else { dense.at(ts) };
-                self.ode.project(ts, &mut value)?;
-                // The run ends here whatever the observer answers.
-                let _ = self.observer.sample(ts, &value)?;
+                final_sample(ode, observer, ts, (t1, x1), |s| dense.at(s))?;
                 Ok(Some(ts))
             }
         }

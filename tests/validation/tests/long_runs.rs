@@ -14,6 +14,7 @@
 //! 3. Extra outputs: the input, output and λ columns against the functions that define them,
 //!    row by row; `Simulation::stream` into a `CsvSink` against `Trajectory::write_csv`.
 //! 4. The implicit integrators (`long_runs/implicit.rs`, which lists what it checks).
+//! 5. Radau5 on the standard stiff test set (`long_runs/stiff_set.rs`).
 
 #[allow(dead_code)]
 #[path = "common/planar_closed_forms.rs"]
@@ -26,6 +27,18 @@ mod disk_closed_forms;
 // vertical disk's closed form, stiffness.
 #[path = "long_runs/implicit.rs"]
 mod implicit;
+
+#[allow(dead_code)]
+#[path = "common/stiff_problems.rs"]
+mod stiff_problems;
+
+// A singular mass matrix at the end of a curved ridge names the speed whose inertia diverges.
+#[path = "long_runs/ridge_skate.rs"]
+mod ridge_skate;
+
+// Radau5 on the standard stiff test set.
+#[path = "long_runs/stiff_set.rs"]
+mod stiff_set;
 
 use std::cell::RefCell;
 use std::ops::ControlFlow;
