@@ -31,7 +31,10 @@
 //! orbit camera (drag, scroll, right-drag), follows the mechanism, and shows the time and
 //! the chosen columns with their units beside the scene. Its frames are the trajectory's
 //! samples as computed: nothing is interpolated or smoothed, so sample at the rate you want
-//! to watch. The fragment `#t=1.5&pause` opens it at a time.
+//! to watch. The fragment `#t=1.5&pause` opens it at a time. In a browser that draws without
+//! a graphics processor (SwiftShader), the page lowers the resolution it plays at, to as
+//! little as half, when frames come slower than 50 per second, and says so; paused, it draws
+//! at full resolution.
 //!
 //! A scene or a picture is written whole or not at all, and every bad input is a
 //! [`SceneError`] naming it: a trajectory without the model's coordinates (the missing

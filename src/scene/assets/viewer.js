@@ -395,6 +395,10 @@
       this.dirty = true;
       this.previous = null;
       this.timing = null;
+      // The fraction of the canvas' resolution drawn while playing, and the recent frame
+      // intervals it is chosen from.
+      this.scale = 1;
+      this.recent = [];
     }
 
     sampleAt(t) {
@@ -419,6 +423,34 @@
       this.playing = on && this.samples.n > 1;
       this.controls.play.textContent = this.playing ? 'Pause' : 'Play';
       this.previous = null;
+      this.applyScale();
+    }
+
+    // Keeping real time where the browser draws without a GPU: when the median of 30 frame
+    // intervals while playing exceeds 20 ms (a frame missed at 60 Hz), the canvas is drawn at
+    // three quarters of its resolution, down to half, and shown stretched to its size. A
+    // paused scene is drawn at full resolution.
+    adapt(interval) {
+      this.recent.push(interval);
+      if (this.recent.length < 30) return;
+      const median = this.recent.sort((a, b) => a - b)[15];
+      this.recent = [];
+      if (median > 20 && this.scale > 0.5) {
+        this.scale = Math.max(0.5, 0.75 * this.scale);
+        this.applyScale();
+      }
+    }
+
+    applyScale() {
+      const ratio = (window.devicePixelRatio || 1) * (this.playing ? this.scale : 1);
+      if (this.view.renderer.getPixelRatio() !== ratio) {
+        this.view.renderer.setPixelRatio(ratio);
+        this.dirty = true;
+      }
+      const note = document.getElementById('resolution');
+      note.hidden = this.scale === 1;
+      note.textContent = 'Played at ' + Math.round(100 * this.scale) + ' % of the resolution to keep ' +
+        'real time (this browser draws without a graphics processor); paused, at full resolution.';
     }
 
     // Places everything at sample i and writes the panel.
@@ -482,6 +514,8 @@
         projection: Array.from(camera.projectionMatrix.elements),
         viewport: this.panel.camera.dataset.viewport.split(' ').map(Number),
         pixelRatio: window.devicePixelRatio || 1,
+        // The fraction of the resolution drawn while playing (below 1 where frames were slow).
+        scale: this.scale,
       };
     }
 
@@ -490,6 +524,7 @@
     frame(now) {
       const began = performance.now();
       if (this.playing && this.previous !== null) {
+        this.adapt(now - this.previous);
         this.clock += ((now - this.previous) / 1000) * Number(this.controls.speed.value);
         if (this.clock > this.last) {
           if (this.controls.loop.checked) {

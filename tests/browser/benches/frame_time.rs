@@ -55,6 +55,7 @@ fn run() -> Result<(), String> {
         drawing.extend(d);
     }
     let after = browser.cpu_times();
+    let scale = browser.evaluate("window.hamelScene.state().scale")?;
     let errors = browser.console_errors();
     if !errors.is_empty() {
         return Err(format!("console errors: {errors:?}"));
@@ -91,6 +92,12 @@ fn run() -> Result<(), String> {
         .collect();
     spent.sort();
     println!("CPU per frame: {}", spent.join(", "));
+    println!(
+        "resolution while playing: {} of the canvas' (the page lowers it when frames are slow)",
+        scale
+            .as_f64()
+            .map_or("?".to_string(), |s| format!("{:.0} %", 100.0 * s))
+    );
     Ok(())
 }
 
