@@ -8,19 +8,22 @@
 # the generated code is compiled to machine code in the crate (a library alone would leave
 # its inline generic methods to the program that calls them).
 #
-#   bash benches/build_cost.sh setup DIR         # make both crates in DIR, build hamel
+#   bash benches/build_cost.sh setup DIR         # make the crates in DIR, build hamel
 #   bash benches/build_cost.sh build DIR bodies  # one release build of the model from bodies
 #   bash benches/build_cost.sh build DIR hand    # one release build of the model by hand
+#   bash benches/build_cost.sh build DIR robot   # one release build of the catalogue's robots
 #
 # Time the two `build` commands alternately (A B A B …) and take the median of the per-pair
-# ratios: the machine's speed drifts between builds.
+# ratios: the machine's speed drifts between builds. To compare two commits' builds of the same
+# model, set up a DIR with this script in each commit's tree (`git archive`; the script builds
+# against the tree it is in) and time their `build` commands alternately.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-command=${1:?"setup DIR | build DIR bodies|hand"}
+command=${1:?"setup DIR | build DIR bodies|hand|robot"}
 dir=${2:?"the directory to build in"}
 
 crate() {
-    local name=$1 source=$2 model=$3
+    local name=$1 source=$2 model=$3 state=${4:-11}
     mkdir -p "$dir/$name/src"
     cat > "$dir/$name/Cargo.toml" <<TOML
 [package]
@@ -39,8 +42,8 @@ TOML
 fn main() {
     use hamel::HamelSystem;
     let model = $model;
-    let x = [0.1; 11];
-    let mut dx = [0.0; 11];
+    let x = [0.1; $state];
+    let mut dx = [0.0; $state];
     let ok = model.rhs(0.0, &x, &[0.0, 0.0], &mut dx).is_ok();
     let jacobian = model.linearize(0.0, &x, &[0.0, 0.0]).is_ok();
     println!("{ok} {jacobian} {dx:?}");
@@ -53,17 +56,18 @@ setup)
     crate bodies "$root/src/models/whipple_bicycle.rs" "WhippleBicycle::default()"
     crate hand "$root/tests/validation/tests/common/whipple_by_hand.rs" \
         "WhippleByHand::from(&hamel::models::WhippleBicycle::default())"
-    for name in bodies hand; do
+    crate robot "$root/src/models/mobile_robot.rs" "MobileRobot::default()" 8
+    for name in bodies hand robot; do
         (cd "$dir/$name" && CARGO_TARGET_DIR="$dir/target" cargo build --release --quiet)
     done
     ;;
 build)
-    name=${3:?"bodies or hand"}
+    name=${3:?"bodies, hand or robot"}
     touch "$dir/$name/src/main.rs"
     cd "$dir/$name" && CARGO_TARGET_DIR="$dir/target" cargo build --release --quiet
     ;;
 *)
-    echo "unknown command $command: setup DIR | build DIR bodies|hand" >&2
+    echo "unknown command $command: setup DIR | build DIR bodies|hand|robot" >&2
     exit 2
     ;;
 esac

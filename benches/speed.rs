@@ -13,11 +13,13 @@
 //! robot's two generated variants are also timed through `rhs`, which computes those values
 //! at every call, as the hand-written closed form does.
 //!
-//! * The everyday robot (`MobileRobot`: energies, constraints, quasi-velocities) over the
-//!   same 64 seeded states and inputs as `rhs.rs`, in three variants: (c) the hand-written
-//!   closed form (`tests/validation/tests/common/robot_closed_form.rs`), (b) generated, B = A⁻¹ by
-//!   the generated LU, (a) generated with the inverse B given (`#[velocities]`): the same
-//!   roles as `MobileRobot` with the paper's B added, [`RobotWithInverse`] below. The startup
+//! * The robot (`MobileRobot`: stated from its body and its two wheels rolling on the ground)
+//!   over the same 64 seeded states and inputs as `rhs.rs`, in three variants: (c) the
+//!   hand-written closed form (`tests/validation/tests/common/robot_closed_form.rs`), (b)
+//!   generated, B = A⁻¹ by the generated LU, (a) generated with the inverse B given
+//!   (`#[velocities]`): the robot written by hand from its energies, constraints and
+//!   quasi-velocities (as the catalogue had it before it was stated from its wheels) with the
+//!   paper's B added, [`RobotWithInverse`] below. The startup
 //!   checks that (a) and (b) agree to 1e-12 on every sample. The catalogue's
 //!   `MobileRobotPaper` (L̃ given with B, the paper's input form) is timed beside them.
 //! * The Whipple bicycle stated from its bodies and contacts (the catalogue's
@@ -52,8 +54,9 @@ hamel::n_trailer!(
     pub NTrailer16, trailers = 16, axles = 17
 );
 
-/// `MobileRobot` with the inverse B given: its roles copied as they are, and the
-/// `#[velocities]` of `MobileRobotPaper` (the same rows A).
+/// The robot written by hand from its energies (`tests/validation/tests/common/
+/// robot_by_hand.rs`, the catalogue's `MobileRobot` before it was stated from its wheels) with
+/// the inverse B given: the `#[velocities]` of `MobileRobotPaper` (the same rows A).
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotWithInverse {

@@ -32,6 +32,7 @@ run() {
         /\(c\) closed form/ { c = $(NF-1) }
         /^  \((a|b)\) generated|MobileRobotPaper/ && !/unprepared/ {
             name = $0; sub(/^ +/, "", name); sub(/  +.*/, "", name); robot[name] = $(NF-1) }
+        /^  stated from bodies and contacts / { robot["bicycle stated from bodies"] = $(NF-1) }
         /^ +[0-9]+ +[0-9]+ +[0-9.]+ / { print "N=" $1, $3 }
         END { for (k in robot) print k, robot[k] / c }'
 }

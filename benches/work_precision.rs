@@ -3,13 +3,19 @@
 //! references) and on the suite's two mechanical stiff models (the disk with k = 10⁶ against
 //! its closed form, the robot with a k = 10⁴ speed controller against Dormand–Prince at
 //! 10⁻¹³), at rtol = 10⁻⁴ … 10⁻¹⁰: achieved error, steps, rejections, right-hand-side
-//! evaluations, Jacobians, LU factorizations and wall time (median of 7 runs).
+//! evaluations, Jacobians, LU factorizations and wall time.
 //!
-//! `cargo bench -p hamel-benches --bench work_precision` prints the table and writes
-//! `target/work_precision/hamel.csv`. With the other solvers' CSVs beside it (written by
-//! `benches/work_precision/run.sh`, which runs this too: scipy's `Radau` and `BDF`, diffsol's
-//! BDF and SDIRK), it also prints the side-by-side table of the README and draws one figure
-//! per problem, error against wall time, into `benches/work_precision/<problem>.svg`.
+//! `benches/work_precision/run.sh` compares it with scipy's `Radau` and `BDF` and diffsol's
+//! BDF and ESDIRK34 by calling this binary in two modes:
+//! - `round R PROBLEM`: Radau5 on PROBLEM at every tolerance, a batch of runs of at least
+//!   0.1 s each (the wall time the batch's mean), appended to
+//!   `target/work_precision/hamel.csv` as round R (the other solvers are run likewise, round
+//!   after round, alternating with it);
+//! - `report`: the tables of all three CSVs, the side-by-side ratios at equal error and one
+//!   figure per problem, error against wall time, into `benches/work_precision/<problem>.svg`.
+//!
+//! Without a mode (`cargo bench -p hamel-benches --bench work_precision`) it prints hamel's
+//! table alone, from three rounds, and writes nothing.
 
 #[allow(dead_code)]
 #[path = "../tests/validation/tests/common/stiff_problems.rs"]
@@ -31,47 +37,84 @@ use stiff_problems::{
     Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, radau5,
 };
 
-use compare::Row;
+use compare::{HAMEL, Row};
 
 const TOLERANCES: [f64; 7] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
 
-/// Repetitions of each run; the wall time is their median.
-const REPEATS: usize = 7;
+/// One run of a problem at rtol: the statistics and the achieved error.
+type Run = Box<dyn FnMut(f64) -> (Stats, f64)>;
+type NewRun = fn() -> Run;
 
-/// The median wall time of `REPEATS` runs of `f`, and its last result.
-fn timed<T>(mut f: impl FnMut() -> T) -> (T, f64) {
-    let mut times = Vec::with_capacity(REPEATS);
-    let mut last = None;
-    for _ in 0..REPEATS {
-        let start = Instant::now();
-        last = Some(f());
-        times.push(start.elapsed().as_secs_f64());
+/// The problems by name, each with the constructor of its run.
+const PROBLEMS: [(&str, NewRun); 7] = [
+    (Robertson::NAME, test_set::<Robertson>),
+    (VanDerPol::NAME, test_set::<VanDerPol>),
+    (Hires::NAME, test_set::<Hires>),
+    (Oregonator::NAME, test_set::<Oregonator>),
+    (Pollution::NAME, test_set::<Pollution>),
+    ("stiff disk", stiff_disk),
+    ("stiff robot", stiff_robot),
+];
+
+/// The least time a batch of runs takes: runs shorter than this are repeated, and their wall
+/// time is the batch's mean. A sub-millisecond run fits in one time slice of a loaded machine
+/// or loses a whole one to another process, where a long run (scipy's) gets the machine's
+/// average share: batches of similar length see the same share.
+const BATCH_SECONDS: f64 = 0.1;
+
+/// `f`'s last result and its mean wall time over a batch of at least [`BATCH_SECONDS`].
+fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let mut runs = 0;
+    loop {
+        let result = f();
+        runs += 1;
+        let elapsed = start.elapsed().as_secs_f64();
+        if elapsed >= BATCH_SECONDS {
+            return (result, elapsed / runs as f64);
+        }
     }
-    times.sort_by(f64::total_cmp);
-    (last.unwrap(), times[REPEATS / 2])
 }
 
-fn row(problem: &str, rtol: f64, (stats, error, wall): (Stats, f64, f64)) -> Row {
-    Row {
-        problem: problem.into(),
-        solver: "hamel Radau5".into(),
-        rtol,
-        error,
-        steps: stats.steps as f64,
-        rejected: stats.rejected as f64,
-        evaluations: stats.evaluations as f64,
-        jacobians: stats.jacobians as f64,
-        factorizations: stats.factorizations as f64,
-        wall,
-    }
+/// One round on `problem`: a batch at every tolerance, after an untimed warm-up run (the
+/// first run in a process pays for cold caches).
+fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
+    let (_, new) = PROBLEMS
+        .iter()
+        .find(|(name, _)| *name == problem)
+        .ok_or_else(|| {
+            let names: Vec<&str> = PROBLEMS.iter().map(|(name, _)| *name).collect();
+            format!("no problem {problem:?}: one of {names:?}")
+        })?;
+    let mut run = new();
+    run(TOLERANCES[0]);
+    Ok(TOLERANCES
+        .iter()
+        .map(|&rtol| {
+            let ((stats, error), wall) = batch(|| run(rtol));
+            Row {
+                round,
+                problem: problem.into(),
+                solver: HAMEL.into(),
+                rtol,
+                error,
+                steps: stats.steps as f64,
+                rejected: stats.rejected as f64,
+                evaluations: stats.evaluations as f64,
+                jacobians: stats.jacobians as f64,
+                factorizations: stats.factorizations as f64,
+                wall,
+            }
+        })
+        .collect())
 }
 
-/// Radau5 on one problem of the test set at every tolerance.
-fn test_set<P: StiffProblem>(rows: &mut Vec<Row>) {
-    for rtol in TOLERANCES {
-        let ((end, stats), wall) = timed(|| radau5::<P>(rtol).expect("the run"));
-        rows.push(row(P::NAME, rtol, (stats, mixed_error::<P>(&end), wall)));
-    }
+/// Radau5 on one problem of the test set.
+fn test_set<P: StiffProblem>() -> Run {
+    Box::new(|rtol| {
+        let (end, stats) = radau5::<P>(rtol).expect("the run");
+        (stats, mixed_error::<P>(&end))
+    })
 }
 
 /// A model with constant inputs as an `Ode` with its exact Jacobian (the statistics of a
@@ -122,32 +165,29 @@ impl<S: HamelSystem, F: Fn(&S, f64, &S::State) -> S::Inputs> Ode for Model<'_, S
 
 /// The stiff disk (k = 10⁶, c = 10⁶ + 1: modes e^(−t), e^(−10⁶t)) to t = 10, its error the
 /// largest over 10 samples against the closed form, relative to the state's size (0.2).
-fn stiff_disk(rows: &mut Vec<Row>) {
+fn stiff_disk() -> Run {
     let sys = StiffDisk::default();
     let start = [0.0, 0.0, 0.1, 0.2];
     let motion = StiffMotion::new(sys.r, start, -0.2, 1.0, (-1.0, -1e6));
     let x0 = sys.state_from_speeds(0.0, &start, &[-0.2, 1.0]).unwrap();
     let samples: Vec<f64> = (1..=10).map(|i| i as f64).collect();
-    for rtol in TOLERANCES {
-        let ((stats, error), wall) = timed(|| {
-            let mut error = 0.0f64;
-            let mut model = Model {
-                system: &sys,
-                inputs: |_: &StiffDisk, _, _: &[f64; 6]| [],
-            };
-            let stats = Radau5::new(rtol, rtol)
-                .integrate(&mut model, 0.0, &x0, &samples, &mut |t, x| {
-                    let exact = motion.state(t);
-                    for i in 0..6 {
-                        error = error.max((x[i] - exact[i]).abs() / (exact[i].abs() + 1.0));
-                    }
-                    Ok(())
-                })
-                .expect("the run");
-            (stats, error)
-        });
-        rows.push(row("stiff disk", rtol, (stats, error, wall)));
-    }
+    Box::new(move |rtol| {
+        let mut error = 0.0f64;
+        let mut model = Model {
+            system: &sys,
+            inputs: |_: &StiffDisk, _, _: &[f64; 6]| [],
+        };
+        let stats = Radau5::new(rtol, rtol)
+            .integrate(&mut model, 0.0, &x0, &samples, &mut |t, x| {
+                let exact = motion.state(t);
+                for i in 0..6 {
+                    error = error.max((x[i] - exact[i]).abs() / (exact[i].abs() + 1.0));
+                }
+                Ok(())
+            })
+            .expect("the run");
+        (stats, error)
+    })
 }
 
 fn robot_controller(robot: &MobileRobot, t: f64, x: &[f64; 8]) -> [f64; 2] {
@@ -155,52 +195,80 @@ fn robot_controller(robot: &MobileRobot, t: f64, x: &[f64; 8]) -> [f64; 2] {
     [-1e4 * (qd[3] - 5.0), -1e4 * (qd[4] - 5.0)]
 }
 
+/// The robot under its speed controller.
+fn model(robot: &MobileRobot) -> impl Ode<State = [f64; 8]> + '_ {
+    Model {
+        system: robot,
+        inputs: robot_controller,
+    }
+}
+
 /// The guide's stiff robot (k = 10⁴ N m s) to t = 5, its error at the end against
 /// Dormand–Prince at rtol = atol = 10⁻¹³ (an explicit method: an independent answer).
-fn stiff_robot(rows: &mut Vec<Row>) {
+fn stiff_robot() -> Run {
     let robot = MobileRobot::default();
     let x0 = robot
         .state_from_speeds(0.0, &[0.0, 0.0, 3.0, 0.0, 0.0], &[0.0, 0.0, 0.0])
         .unwrap();
-    let model = || Model {
-        system: &robot,
-        inputs: robot_controller,
-    };
     let mut reference = x0;
     DormandPrince::new(1e-13, 1e-13)
-        .integrate(&mut model(), 0.0, &x0, &[5.0], &mut |_, x| {
+        .integrate(&mut model(&robot), 0.0, &x0, &[5.0], &mut |_, x| {
             reference = *x;
             Ok(())
         })
         .expect("the reference run");
-    for rtol in TOLERANCES {
-        let ((stats, end), wall) = timed(|| {
-            let mut end = x0;
-            let stats = Radau5::new(rtol, rtol)
-                .integrate(&mut model(), 0.0, &x0, &[5.0], &mut |_, x| {
-                    end = *x;
-                    Ok(())
-                })
-                .expect("the run");
-            (stats, end)
-        });
+    Box::new(move |rtol| {
+        let mut end = x0;
+        let stats = Radau5::new(rtol, rtol)
+            .integrate(&mut model(&robot), 0.0, &x0, &[5.0], &mut |_, x| {
+                end = *x;
+                Ok(())
+            })
+            .expect("the run");
         let error = end
             .iter()
             .zip(&reference)
             .map(|(a, b)| (a - b).abs() / (b.abs() + 1.0))
             .fold(0.0, f64::max);
-        rows.push(row("stiff robot", rtol, (stats, error, wall)));
-    }
+        (stats, error)
+    })
 }
 
 fn main() {
-    let mut rows = Vec::new();
-    test_set::<Robertson>(&mut rows);
-    test_set::<VanDerPol>(&mut rows);
-    test_set::<Hires>(&mut rows);
-    test_set::<Oregonator>(&mut rows);
-    test_set::<Pollution>(&mut rows);
-    stiff_disk(&mut rows);
-    stiff_robot(&mut rows);
-    compare::report(rows);
+    // `cargo bench` passes `--bench`.
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let result = match args[..] {
+        ["round", number, problem] => number
+            .parse()
+            .map_err(|_| format!("the round is a number, not {number:?}"))
+            .and_then(|number| round(problem, number))
+            .map(|rows| compare::append_csv(&rows, &compare::data_dir().join("hamel.csv"))),
+        ["report"] => {
+            let mut rows = Vec::new();
+            for solver in ["hamel", "scipy", "diffsol"] {
+                rows.extend(compare::read_csv(
+                    &compare::data_dir().join(format!("{solver}.csv")),
+                ));
+            }
+            if rows.is_empty() {
+                Err("no rows in target/work_precision/: run benches/work_precision/run.sh".into())
+            } else {
+                compare::report(&rows, true);
+                Ok(())
+            }
+        }
+        [] => (1..=3)
+            .flat_map(|number| PROBLEMS.iter().map(move |(name, _)| round(name, number)))
+            .collect::<Result<Vec<Vec<Row>>, String>>()
+            .map(|rows| compare::report(&rows.concat(), false)),
+        _ => Err("usage: work_precision [round R PROBLEM | report]".into()),
+    };
+    if let Err(message) = result {
+        eprintln!("work_precision: {message}");
+        std::process::exit(2);
+    }
 }

@@ -9,7 +9,8 @@
 //!    and named by its behaviour — the weave (a complex pair, two real modes below 0.68
 //!    m/s), the capsize (the real mode that crosses zero at the capsize speed) and the
 //!    castor (the large negative one);
-//! 2. the weave and capsize speeds, where the largest real part crosses zero;
+//! 2. the weave and capsize speeds, the ends of the self-stable range, located on the modes
+//!    that cross zero there (`hamel::ModeSweep::stable_ranges`);
 //! 3. two nonlinear simulations: at 4.6 m/s, inside the self-stable range, a push in roll
 //!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave (a
 //!    simulation that takes more than a second shows a progress bar on a terminal).
@@ -26,8 +27,7 @@
 use hamel::models::WhippleBicycle;
 use hamel::plot::{Figure, PALETTE, Panel, Rgb, Series};
 use hamel::prelude::*;
-use hamel::roots::brent;
-use hamel::{Linearization, Mode, ModeBranch, track_modes};
+use hamel::{Linearization, Mode, ModeBranch, ModeSweep, track_modes};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -57,9 +57,17 @@ fn modes(bike: &WhippleBicycle, v: f64) -> Result<Vec<Mode>, Error> {
     lateral(bike, v)?.modes()
 }
 
-/// The largest real part of the lateral eigenvalues: zero at the boundaries of self-stability.
-fn abscissa(bike: &WhippleBicycle, v: f64) -> Result<f64, Error> {
-    Ok(modes(bike, v)?[0].value.re)
+/// The weave and capsize speeds: the ends of the self-stable range of the sweep's tracked
+/// modes, each located on the mode that crosses there (`hamel::ModeSweep`).
+fn critical_speeds(bike: &WhippleBicycle, all: &Sweep) -> Result<(f64, f64), Error> {
+    let sweep = ModeSweep::from_branches("v", track_modes(all.iter().cloned())?);
+    let linearize = |v| lateral(bike, v);
+    match sweep.stable_ranges(&linearize)?.first() {
+        Some(r) if r.opens.is_some() && r.closes.is_some() => Ok((r.start, r.end)),
+        _ => Err(unnamed(
+            "weave and capsize (no self-stable range inside 0 … 10 m/s)",
+        )),
+    }
 }
 
 /// The modes at each speed of a sweep.
@@ -275,8 +283,7 @@ fn run() -> Result<(), Error> {
 
     let (csv, all) = sweep(&bike)?;
     println!("{}", table(&all));
-    let speed = |a, b| brent("the largest real part", |v| abscissa(&bike, v), a, b, 1e-14);
-    let (weave, capsize) = (speed(4.0, 5.0)?, speed(6.0, 7.0)?);
+    let (weave, capsize) = critical_speeds(&bike, &all)?;
     println!("weave speed   {weave:.14} m/s   (paper: 4.29238253634111)");
     println!("capsize speed {capsize:.14} m/s   (paper: 6.02426201538837)");
     println!("self-stable between them\n");

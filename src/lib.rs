@@ -9,6 +9,8 @@
 //!   contacts, the velocities derived by the macro.
 //! * [`docs::running`] — running a simulation: events, extra columns, streaming, progress,
 //!   the limits that end every run, and what the summary flags.
+//! * [`docs::studies`] — studies of any model (`hamel::study`): the command line of a batch
+//!   engine's task in a few lines, and stability along a parameter ([`ModeSweep`]).
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
@@ -68,6 +70,8 @@ pub mod parquet;
 pub mod plot;
 pub mod prelude;
 pub mod scene;
+#[cfg(feature = "study")]
+pub mod study;
 
 #[doc(hidden)]
 pub use hamel_macros::__hamel_with_helpers;
@@ -126,6 +130,74 @@ macro_rules! rate {
              of a role of a `#[hamel_system]` model that is read with the velocities `qd` \
              (`#[constraints]`, `#[quasi_velocities]`, `#[kinetic_energy]`, `#[lagrangian]`, \
              `#[forces]`), where the macro computes it"
+        )
+    };
+}
+
+/// The angular velocity ω of a rotation along the motion, in the ground's axes:
+/// `angular_velocity!(body.orientation)`, a `Vector3` (`body_rates!` gives it in the body's
+/// own axes). The macro computes it, from the turns the rotation is a product of, in the body
+/// of a role of a `#[hamel_system]` model that is read with the velocities `qd`, as `rate!`;
+/// anywhere else it is a compile error.
+#[macro_export]
+macro_rules! angular_velocity {
+    ($($expression:tt)*) => {
+        ::core::compile_error!(
+            "`angular_velocity!` is the angular velocity of a rotation along the motion: it can \
+             be used only in the body of a role of a `#[hamel_system]` model that is read with \
+             the velocities `qd` (`#[constraints]`, `#[quasi_velocities]`, `#[kinetic_energy]`, \
+             `#[lagrangian]`, `#[forces]`), where the macro computes it"
+        )
+    };
+}
+
+/// The body rates Ω = Rᵀ ω of a rotation R along the motion — its angular velocity in the
+/// rotated body's own axes, the classic quasi-velocities of Hamel's equations:
+/// `body_rates!(ball.orientation).to_array()` as the speeds of a ball. The macro computes it
+/// in the body of a role of a `#[hamel_system]` model that is read with the velocities `qd`,
+/// as `rate!`; anywhere else it is a compile error. `hamel::docs::geometry` uses it for
+/// Chaplygin's ball.
+///
+/// ```
+/// use hamel::prelude::*;
+///
+/// #[hamel_system]
+/// pub struct Top { pub i1: f64, pub i2: f64, pub i3: f64 }
+///
+/// #[hamel_system(coordinates(w, x, y, z), speeds(w1, w2, w3), constraints(unit))]
+/// impl Top {
+///     #[bodies]
+///     fn bodies(&self, q: &[f64; 4]) -> [Body; 1] {
+///         let orientation = Rotation3::from_quaternion(q[0], q[1], q[2], q[3]);
+///         let inertia = Inertia::principal(self.i1, self.i2, self.i3);
+///         [Body::new(1.0, inertia, Vector3::zeros(), orientation)]
+///     }
+///
+///     /// The quaternion's length does not change (the orientation does not depend on it).
+///     #[constraints]
+///     fn unit(&self, q: &[f64; 4], qd: &[f64; 4]) -> [f64; 1] {
+///         [q[0] * qd[0] + q[1] * qd[1] + q[2] * qd[2] + q[3] * qd[3]]
+///     }
+///
+///     #[quasi_velocities]
+///     fn rates(&self, q: &[f64; 4], _qd: &[f64; 4]) -> [f64; 3] {
+///         let [top] = self.bodies(q);
+///         body_rates!(top.orientation).to_array()
+///     }
+/// }
+///
+/// let top = Top { i1: 1.0, i2: 2.0, i3: 3.0 };
+/// // Turning about the body's z axis at 2 rad/s: q̇ = ½ q ⊗ (0, 0, 0, 2) at q = 1.
+/// assert_eq!(top.rates(&[1.0, 0.0, 0.0, 0.0], &[0.0, 0.0, 0.0, 1.0]), [0.0, 0.0, 2.0]);
+/// ```
+#[macro_export]
+macro_rules! body_rates {
+    ($($expression:tt)*) => {
+        ::core::compile_error!(
+            "`body_rates!` is the angular velocity of a rotation along the motion in the body's \
+             own axes: it can be used only in the body of a role of a `#[hamel_system]` model \
+             that is read with the velocities `qd` (`#[constraints]`, `#[quasi_velocities]`, \
+             `#[kinetic_energy]`, `#[lagrangian]`, `#[forces]`), where the macro computes it"
         )
     };
 }

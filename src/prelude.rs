@@ -16,6 +16,8 @@ pub use crate::{
     bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
     potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
-// The geometry vocabulary a model's roles are written in, and the rate along the motion.
-pub use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3, disk_contact};
-pub use crate::rate;
+// The geometry vocabulary a model's roles are written in, and the rates along the motion.
+pub use crate::geometry::{
+    Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3, disk_contact,
+};
+pub use crate::{angular_velocity, body_rates, rate};

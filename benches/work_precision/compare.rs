@@ -1,17 +1,33 @@
-//! The work–precision rows of every solver side by side: hamel's (measured by the bench),
-//! scipy's and diffsol's (read from the CSVs `run.sh` writes), as tables and as one figure
-//! per problem (error against wall time, both logarithmic).
+//! The work–precision rows of every solver side by side: hamel's, scipy's and diffsol's, read
+//! from the CSVs `run.sh` has the three write round by round, as tables and as one figure per
+//! problem (error against wall time, both logarithmic).
+//!
+//! Wall-time ratios are taken per round, between runs made close together (`run.sh`
+//! alternates the solvers problem by problem), and only then summarized over the rounds: the
+//! machine's speed drifts, and cancels from a ratio of runs made close together.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use hamel::plot::{Figure, Panel};
+use hamel_benches::interleave::Spread;
 
-/// One run: a solver on a problem at a tolerance. Counts are NaN where a solver does not
-/// report them.
+/// The solver whose rows are measured here, and the others' labels in their CSVs.
+pub const HAMEL: &str = "hamel Radau5";
+const OTHERS: [&str; 4] = [
+    "scipy Radau",
+    "scipy BDF",
+    "diffsol BDF",
+    "diffsol ESDIRK34",
+];
+
+/// One run: a solver on a problem at a tolerance, in a round of `run.sh`. Counts are NaN
+/// where a solver does not report them.
 #[derive(Clone, Debug)]
 pub struct Row {
+    pub round: usize,
     pub problem: String,
     pub solver: String,
     pub rtol: f64,
@@ -25,9 +41,10 @@ pub struct Row {
 }
 
 const HEADER: &str =
-    "problem,solver,rtol,error,steps,rejected,evaluations,jacobians,factorizations,wall";
+    "round,problem,solver,rtol,error,steps,rejected,evaluations,jacobians,factorizations,wall";
 
-fn data_dir() -> PathBuf {
+/// Where `run.sh` has the solvers write their CSVs.
+pub fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/work_precision")
 }
 
@@ -35,12 +52,17 @@ fn figure_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("work_precision")
 }
 
-fn write_csv(rows: &[Row], path: &Path) {
-    let mut text = format!("{HEADER}\n");
+/// Appends `rows` to the CSV at `path`, with the header if the file is new.
+pub fn append_csv(rows: &[Row], path: &Path) {
+    let mut text = String::new();
+    if !path.exists() {
+        text = format!("{HEADER}\n");
+    }
     for r in rows {
         let _ = writeln!(
             text,
-            "{},{},{:e},{:e},{},{},{},{},{},{:e}",
+            "{},{},{},{:e},{:e},{},{},{},{},{},{:e}",
+            r.round,
             r.problem,
             r.solver,
             r.rtol,
@@ -53,10 +75,17 @@ fn write_csv(rows: &[Row], path: &Path) {
             r.wall
         );
     }
-    std::fs::write(path, text).expect("write the CSV");
+    std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .and_then(|mut file| file.write_all(text.as_bytes()))
+        .expect("append to the CSV");
 }
 
-fn read_csv(path: &Path) -> Vec<Row> {
+/// The rows of a CSV that `append_csv`, `scipy_stiff.py` or the diffsol crate wrote (none if
+/// the file is missing).
+pub fn read_csv(path: &Path) -> Vec<Row> {
     let Ok(text) = std::fs::read_to_string(path) else {
         return Vec::new();
     };
@@ -69,17 +98,18 @@ fn read_csv(path: &Path) -> Vec<Row> {
                     .and_then(|v| v.parse::<f64>().ok())
                     .unwrap_or(f64::NAN)
             };
-            (f.len() == 10).then(|| Row {
-                problem: f[0].into(),
-                solver: f[1].into(),
-                rtol: num(2),
-                error: num(3),
-                steps: num(4),
-                rejected: num(5),
-                evaluations: num(6),
-                jacobians: num(7),
-                factorizations: num(8),
-                wall: num(9),
+            (f.len() == 11).then(|| Row {
+                round: f[0].parse().unwrap_or(0),
+                problem: f[1].into(),
+                solver: f[2].into(),
+                rtol: num(3),
+                error: num(4),
+                steps: num(5),
+                rejected: num(6),
+                evaluations: num(7),
+                jacobians: num(8),
+                factorizations: num(9),
+                wall: num(10),
             })
         })
         .collect()
@@ -109,24 +139,63 @@ fn at_error(curve: &[&Row], error: f64, y: impl Fn(&Row) -> f64) -> Option<f64> 
     })
 }
 
-/// Prints the tables, the equal-error ratios, and draws the figures.
-pub fn report(hamel: Vec<Row>) {
-    let dir = data_dir();
-    std::fs::create_dir_all(&dir).expect("the data directory");
-    write_csv(&hamel, &dir.join("hamel.csv"));
-    let mut rows = hamel;
-    for other in ["scipy.csv", "diffsol.csv"] {
-        rows.extend(read_csv(&dir.join(other)));
-    }
-    let mut problems: Vec<String> = Vec::new();
-    for r in &rows {
-        if !problems.contains(&r.problem) {
-            problems.push(r.problem.clone());
+fn median(values: impl Iterator<Item = f64>) -> f64 {
+    Spread::of(&values.collect::<Vec<_>>()).median
+}
+
+/// One row per problem, solver and tolerance: each field's median over the rounds (the
+/// counts and errors are the same in every round; the wall time is not).
+fn medians(rows: &[Row]) -> Vec<Row> {
+    let mut groups: Vec<Vec<&Row>> = Vec::new();
+    for r in rows {
+        let same = |g: &&mut Vec<&Row>| {
+            g[0].problem == r.problem && g[0].solver == r.solver && g[0].rtol == r.rtol
+        };
+        match groups.iter_mut().find(same) {
+            Some(group) => group.push(r),
+            None => groups.push(vec![r]),
         }
     }
-    for problem in &problems {
-        let of: Vec<&Row> = rows.iter().filter(|r| &r.problem == problem).collect();
-        println!("\n{problem}\n");
+    groups
+        .into_iter()
+        .map(|g| {
+            let of = |field: fn(&Row) -> f64| median(g.iter().map(|r| field(r)));
+            Row {
+                round: 0,
+                problem: g[0].problem.clone(),
+                solver: g[0].solver.clone(),
+                rtol: g[0].rtol,
+                error: of(|r| r.error),
+                steps: of(|r| r.steps),
+                rejected: of(|r| r.rejected),
+                evaluations: of(|r| r.evaluations),
+                jacobians: of(|r| r.jacobians),
+                factorizations: of(|r| r.factorizations),
+                wall: of(|r| r.wall),
+            }
+        })
+        .collect()
+}
+
+/// Prints every solver's table per problem (medians over the rounds) and, if other solvers'
+/// rows are there, the equal-error ratios; draws the figures if `figures`.
+pub fn report(rows: &[Row], figures: bool) {
+    let mut rounds: Vec<usize> = rows.iter().map(|r| r.round).collect();
+    rounds.sort_unstable();
+    rounds.dedup();
+    let points = medians(rows);
+    let mut problems: Vec<&str> = Vec::new();
+    for r in &points {
+        if !problems.contains(&r.problem.as_str()) {
+            problems.push(&r.problem);
+        }
+    }
+    for &problem in &problems {
+        let of: Vec<&Row> = points.iter().filter(|r| r.problem == problem).collect();
+        println!(
+            "\n{problem} (wall time: median of {} rounds)\n",
+            rounds.len()
+        );
         println!(
             "| solver | rtol | error | steps | rejected | evaluations | Jacobians | LU | wall (ms) |"
         );
@@ -145,64 +214,119 @@ pub fn report(hamel: Vec<Row>) {
                 1e3 * r.wall
             );
         }
-        draw(problem, &of);
+        if figures {
+            draw(problem, &of);
+        }
     }
-    equal_error(&rows, &problems);
+    if rows.iter().any(|r| r.solver != HAMEL) {
+        equal_error(rows, &points, &problems, &rounds);
+    }
 }
 
-/// Per problem: at the errors hamel's Radau5 achieved, the other solvers' evaluations and
-/// wall times interpolated to the same error, as ratios hamel/other: the median and the
-/// largest over the tolerances where both curves reach the error.
-fn equal_error(rows: &[Row], problems: &[String]) {
+/// hamel's wall time over `solver`'s at each error hamel reached that `solver`'s curve also
+/// reaches, among `rows` (one round's), keyed by hamel's rtol.
+fn wall_ratios(rows: &[&Row], solver: &str) -> Vec<(f64, f64)> {
+    let theirs: Vec<&Row> = rows
+        .iter()
+        .copied()
+        .filter(|r| r.solver == solver)
+        .collect();
+    rows.iter()
+        .filter(|r| r.solver == HAMEL)
+        .filter_map(|r| at_error(&theirs, r.error, |r| r.wall).map(|v| (r.rtol, r.wall / v)))
+        .collect()
+}
+
+fn shown(v: f64) -> String {
+    if v < 0.1 {
+        format!("{v:.1e}")
+    } else {
+        format!("{v:.2}")
+    }
+}
+
+/// Per problem, hamel / other at equal achieved error. Evaluations (the same in every round):
+/// the median and the largest over hamel's errors that the other's curve reaches. Wall time:
+/// in each round the median over those errors, then the median and the 10th–90th percentiles
+/// of these per-round ratios, and the largest over the errors of the per-error median ratio.
+fn equal_error(rows: &[Row], points: &[Row], problems: &[&str], rounds: &[usize]) {
     println!(
-        "\nAt equal achieved error: hamel Radau5 / other median (largest) over the errors both reach\n"
+        "\nAt equal achieved error, hamel Radau5 / other. Evaluations: median (largest) over \
+         the errors both reach. Wall: median over {} rounds of each round's median over those \
+         errors (p10–p90 over the rounds), the largest over the errors of the per-error medians\n",
+        rounds.len()
     );
     println!(
-        "| problem | evaluations / scipy Radau | wall / scipy Radau | wall / scipy BDF | wall / diffsol BDF | wall / diffsol SDIRK |"
+        "| problem | evaluations / scipy Radau | wall / {} |",
+        OTHERS.join(" | wall / ")
     );
     println!("|---|---:|---:|---:|---:|---:|");
-    for problem in problems {
+    for &problem in problems {
+        if !rows
+            .iter()
+            .any(|r| r.problem == problem && r.solver != HAMEL)
+        {
+            continue;
+        }
         let curve = |solver: &str| -> Vec<&Row> {
-            rows.iter()
-                .filter(|r| &r.problem == problem && r.solver == solver)
+            points
+                .iter()
+                .filter(|r| r.problem == problem && r.solver == solver)
                 .collect()
         };
-        let ours = curve("hamel Radau5");
-        let median_ratio = |solver: &str, y: &dyn Fn(&Row) -> f64| -> String {
-            let theirs = curve(solver);
-            let mut ratios: Vec<f64> = ours
-                .iter()
-                .filter_map(|r| at_error(&theirs, r.error, y).map(|v| y(r) / v))
-                .collect();
-            if ratios.is_empty() {
-                return "–".into();
-            }
-            ratios.sort_by(f64::total_cmp);
-            let (median, worst) = (ratios[ratios.len() / 2], ratios[ratios.len() - 1]);
-            let shown = |v: f64| {
-                if v < 0.1 {
-                    format!("{v:.1e}")
-                } else {
-                    format!("{v:.2}")
-                }
-            };
-            format!(
-                "{} (largest {}, n = {})",
-                shown(median),
-                shown(worst),
-                ratios.len()
-            )
+        let mut evaluations: Vec<f64> = curve(HAMEL)
+            .iter()
+            .filter_map(|r| {
+                at_error(&curve("scipy Radau"), r.error, |r| r.evaluations)
+                    .map(|v| r.evaluations / v)
+            })
+            .collect();
+        evaluations.sort_by(f64::total_cmp);
+        let mut line = match evaluations.last() {
+            Some(&largest) => format!(
+                "| {problem} | {} ({}, n = {})",
+                shown(median(evaluations.iter().copied())),
+                shown(largest),
+                evaluations.len()
+            ),
+            None => format!("| {problem} | –"),
         };
-        let evaluations = |r: &Row| r.evaluations;
-        let wall = |r: &Row| r.wall;
-        println!(
-            "| {problem} | {} | {} | {} | {} | {} |",
-            median_ratio("scipy Radau", &evaluations),
-            median_ratio("scipy Radau", &wall),
-            median_ratio("scipy BDF", &wall),
-            median_ratio("diffsol BDF", &wall),
-            median_ratio("diffsol SDIRK", &wall),
-        );
+        for solver in OTHERS {
+            let mut per_round = Vec::new();
+            let mut per_error: BTreeMap<u64, Vec<f64>> = BTreeMap::new();
+            for &round in rounds {
+                let of: Vec<&Row> = rows
+                    .iter()
+                    .filter(|r| r.problem == problem && r.round == round)
+                    .collect();
+                let ratios = wall_ratios(&of, solver);
+                if !ratios.is_empty() {
+                    per_round.push(median(ratios.iter().map(|&(_, v)| v)));
+                }
+                for (rtol, v) in ratios {
+                    per_error.entry(rtol.to_bits()).or_default().push(v);
+                }
+            }
+            if per_round.is_empty() {
+                line += " | –";
+                continue;
+            }
+            let spread = Spread::of(&per_round);
+            let largest = per_error
+                .values()
+                .map(|v| median(v.iter().copied()))
+                .fold(0.0, f64::max);
+            let _ = write!(
+                line,
+                " | {} ({}–{}), max {}, n = {}",
+                shown(spread.median),
+                shown(spread.p10),
+                shown(spread.p90),
+                shown(largest),
+                per_error.len()
+            );
+        }
+        println!("{line} |");
     }
 }
 
@@ -222,7 +346,7 @@ fn draw(problem: &str, rows: &[&Row]) {
         return;
     }
     let mut panel = Panel::new(format!("{problem}: achieved error against wall time"))
-        .x_label("log10 of the wall time in s (median of runs)")
+        .x_label("log10 of the wall time in s (median of rounds)")
         .y_label("achieved error")
         .log_y();
     for (solver, mut points) in by_solver {

@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
-# The work–precision comparison of benches/work_precision.rs in one run: scipy's Radau and
-# BDF (a Python venv made here, numpy and scipy from PyPI), diffsol's BDF and SDIRK (the
-# crate benches/work_precision/diffsol, which the workspace never builds), then hamel's
-# Radau5, the side-by-side tables and the figures (benches/work_precision/*.svg). Needs
+# The work–precision comparison of benches/work_precision.rs: hamel's Radau5, scipy's Radau and
+# BDF (scipy_stiff.py, in a Python venv made here, numpy and scipy from PyPI) and diffsol's
+# BDF and ESDIRK34 (the crate benches/work_precision/diffsol, which the workspace never
+# builds), then the side-by-side tables and the figures (benches/work_precision/*.svg). Needs
 # python3 and crates.io; the CSVs go to target/work_precision/.
 #
-#   bash benches/work_precision/run.sh
+# The machine's speed drifts, so the solvers are interleaved: ROUNDS rounds (default 7), each
+# running every solver once on each problem at every tolerance (a batch of runs of at least
+# 0.1 s each), problem by problem, the solver that starts moving on by one each round. The
+# report takes each wall-time ratio per round before the median over the rounds.
+#
+#   bash benches/work_precision/run.sh [ROUNDS]
 set -euo pipefail
+rounds=${1:-7}
 root=$(cd "$(dirname "$0")/../.." && pwd)
 out="$root/target/work_precision"
 mkdir -p "$out"
@@ -14,10 +20,37 @@ if [ ! -x "$out/venv/bin/python" ]; then
     python3 -m venv "$out/venv"
     "$out/venv/bin/pip" install -q numpy scipy
 fi
-"$out/venv/bin/python" -c 'import numpy, scipy; print("numpy", numpy.__version__, "scipy", scipy.__version__)'
-"$out/venv/bin/python" "$root/benches/work_precision/scipy_stiff.py" "$out/scipy.csv"
-if [ -f "$root/benches/work_precision/diffsol/Cargo.toml" ]; then
-    cargo run -q --release --manifest-path "$root/benches/work_precision/diffsol/Cargo.toml" \
-        --target-dir "$out/diffsol-target" -- "$out/diffsol.csv"
-fi
-cd "$root" && cargo bench -q -p hamel-benches --bench work_precision
+python="$out/venv/bin/python"
+"$python" -c 'import numpy, scipy; print("numpy", numpy.__version__, "scipy", scipy.__version__)'
+cargo build -q --release --manifest-path "$root/benches/work_precision/diffsol/Cargo.toml" \
+    --target-dir "$out/diffsol-target"
+hamel=$(cd "$root" && cargo bench -q -p hamel-benches --bench work_precision --no-run \
+    --message-format=json | "$python" -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("target", {}).get("name") == "work_precision" and m.get("executable"):
+        print(m["executable"])')
+
+run() { # solver round problem
+    case $1 in
+        hamel) "$hamel" round "$2" "$3" ;;
+        scipy) "$python" "$root/benches/work_precision/scipy_stiff.py" "$out/scipy.csv" "$2" "$3" ;;
+        diffsol) "$out/diffsol-target/release/work-precision-diffsol" "$out/diffsol.csv" "$2" "$3" ;;
+    esac
+}
+
+rm -f "$out/hamel.csv" "$out/scipy.csv" "$out/diffsol.csv"
+solvers=(hamel scipy diffsol)
+for round in $(seq 1 "$rounds"); do
+    echo "round $round of $rounds, load average: $(cut -d' ' -f1-3 /proc/loadavg)"
+    for problem in ROBER VDPOL HIRES OREGO POLLU; do
+        for i in 0 1 2; do
+            run "${solvers[(round + i) % 3]}" "$round" "$problem"
+        done
+    done
+    # Problems of hamel's alone (no ratio to take), for its table and figures.
+    run hamel "$round" "stiff disk"
+    run hamel "$round" "stiff robot"
+done
+"$hamel" report

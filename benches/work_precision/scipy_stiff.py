@@ -1,12 +1,15 @@
 """scipy's Radau and BDF on the stiff test set of benches/work_precision.rs: the same problems,
 spans, tolerances (atol = ATOL_RATIO * rtol), exact Jacobians and mixed error against the Bari
 Test Set's references (tests/validation/tests/common/stiff_problems.rs has the definitions and
-the sources). Writes one CSV row per run: the wall time is the median of 5 runs (3 at
-rtol <= 1e-9), the counts scipy's nfev (right-hand sides, the Jacobian's excluded, as hamel
-counts them when the Jacobian is given), njev and nlu.
+the sources). One round of run.sh on one problem: each method at each tolerance, a batch of
+runs of at least BATCH_SECONDS (after an untimed warm-up run; see benches/work_precision.rs),
+one CSV row per batch appended to OUT.csv, the wall time the batch's mean: the counts are
+scipy's nfev (right-hand sides, the Jacobian's excluded, as hamel counts them when the
+Jacobian is given), njev and nlu.
 
-    python scipy_stiff.py OUT.csv
+    python scipy_stiff.py OUT.csv ROUND PROBLEM
 """
+import os
 import sys
 import time
 
@@ -14,6 +17,18 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 TOLERANCES = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
+BATCH_SECONDS = 0.1
+
+
+def batch(f):
+    """f's last result and its mean wall time over a batch of at least BATCH_SECONDS."""
+    runs, start = 0, time.perf_counter()
+    while True:
+        result = f()
+        runs += 1
+        elapsed = time.perf_counter() - start
+        if elapsed >= BATCH_SECONDS:
+            return result, elapsed / runs
 
 
 def rober():
@@ -141,33 +156,37 @@ def pollu():
     return ("POLLU", f, jac, y0, 60.0, 1e-4, ref)
 
 
-def main(out):
-    rows = ["problem,solver,rtol,error,steps,rejected,evaluations,jacobians,factorizations,wall"]
-    for problem in [rober(), vdpol(), hires(), orego(), pollu()]:
-        name, f, jac, y0, t_end, ratio, ref = problem
-        ref = np.array(ref)
-        for method in ["Radau", "BDF"]:
-            for rtol in TOLERANCES:
-                repeats = 3 if rtol <= 1e-9 else 5
-                walls = []
-                for _ in range(repeats):
-                    start = time.perf_counter()
-                    sol = solve_ivp(f, (0.0, t_end), y0, method=method, rtol=rtol,
-                                    atol=ratio * rtol, jac=jac, t_eval=[t_end])
-                    walls.append(time.perf_counter() - start)
-                if not sol.success:
-                    print(f"{name} {method} {rtol:g}: {sol.message}", file=sys.stderr)
-                    continue
-                y = sol.y[:, -1]
-                error = float(np.max(np.abs(y - ref) / (np.abs(ref) + ratio)))
-                wall = sorted(walls)[len(walls) // 2]
-                # scipy reports no step counts; its solvers' steps are not exposed by solve_ivp.
-                rows.append(f"{name},scipy {method},{rtol:e},{error:e},,,{sol.nfev},{sol.njev},"
-                            f"{sol.nlu},{wall:e}")
-                print(rows[-1], flush=True)
-    with open(out, "w") as handle:
-        handle.write("\n".join(rows) + "\n")
+def main(out, round_number, problem_name):
+    problems = {p[0]: p for p in [rober(), vdpol(), hires(), orego(), pollu()]}
+    if problem_name not in problems:
+        sys.exit(f"scipy_stiff.py: no problem {problem_name!r}: one of {list(problems)}")
+    name, f, jac, y0, t_end, ratio, ref = problems[problem_name]
+    ref = np.array(ref)
+
+    def run(method, rtol):
+        return solve_ivp(f, (0.0, t_end), y0, method=method, rtol=rtol, atol=ratio * rtol,
+                         jac=jac, t_eval=[t_end])
+
+    run("Radau", TOLERANCES[0])
+    rows = []
+    for method in ["Radau", "BDF"]:
+        for rtol in TOLERANCES:
+            sol, wall = batch(lambda: run(method, rtol))
+            if not sol.success:
+                print(f"{name} {method} {rtol:g}: {sol.message}", file=sys.stderr)
+                continue
+            y = sol.y[:, -1]
+            error = float(np.max(np.abs(y - ref) / (np.abs(ref) + ratio)))
+            # solve_ivp reports no step counts.
+            rows.append(f"{round_number},{name},scipy {method},{rtol:e},{error:e},,,{sol.nfev},"
+                        f"{sol.njev},{sol.nlu},{wall:e}")
+    header = not os.path.exists(out)
+    with open(out, "a") as handle:
+        if header:
+            handle.write("round,problem,solver,rtol,error,steps,rejected,evaluations,jacobians,"
+                         "factorizations,wall\n")
+        handle.write("".join(row + "\n" for row in rows))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], int(sys.argv[2]), sys.argv[3])

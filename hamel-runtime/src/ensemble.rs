@@ -12,15 +12,21 @@
 //!   the final state, the summary, event times, chosen samples; eigenvalues and modes.
 //! * [`ParameterTable`] reads a study's cases from CSV, and [`Shard`] splits them among the
 //!   tasks of a batch engine (a Slurm job array, Ray or Dask tasks): "run row i, write a
-//!   result", each shard written whole or not at all ([`write_complete`]).
+//!   result", each shard written whole or not at all and complete only once its manifest is
+//!   written after it ([`write_shard`], [`shard_state`]).
+//!
+//! `hamel::study` (in the `hamel` crate) builds a study's command line on these.
 
 mod select;
 mod shard;
 mod table;
 
 pub use select::{ModeColumns, Outputs};
-pub use shard::{Shard, check_writable, is_complete, write_complete};
-pub use table::{ParameterTable, Table};
+pub use shard::{
+    Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path,
+    remove_leftovers, shard_state, write_complete, write_shard,
+};
+pub use table::{CaseError, CsvWriter, ParameterTable, Table};
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
@@ -161,7 +167,7 @@ impl<'a> Ensemble<'a> {
 
     /// Runs the study into a [`Table`] with the columns `names`: `case(i)` gives row i's
     /// values, one per column (a row of another length is an error in its place); a failed
-    /// case's row is NaN, with its error.
+    /// case's row is NaN, with its error's kind and message.
     pub fn table(
         &self,
         names: Vec<String>,
@@ -171,7 +177,8 @@ impl<'a> Ensemble<'a> {
     }
 
     /// [`Self::table`] for cases whose indices in a larger study are `indices` (a shard's
-    /// rows): `case` gets the position in `indices`, the table records the index.
+    /// rows): `case` gets the position in `indices`, the table records the index. An index
+    /// given twice is refused before any case runs.
     pub fn table_of(
         &self,
         names: Vec<String>,
@@ -187,8 +194,17 @@ impl<'a> Ensemble<'a> {
                 ),
             });
         }
-        // Names that cannot be columns are refused before anything runs.
+        // Names that cannot be columns, and indices given twice, are refused before anything
+        // runs.
         let mut table = Table::new(names)?;
+        let mut seen = std::collections::HashSet::with_capacity(indices.len());
+        if let Some(i) = indices.iter().find(|&&i| !seen.insert(i)) {
+            return Err(Error::DuplicateName {
+                kind: "case index",
+                name: i.to_string(),
+                context: "each case of a study has one row",
+            });
+        }
         let width = table.names().len();
         let rows = self.run(|i| {
             let values = case(i)?;
@@ -201,7 +217,7 @@ impl<'a> Ensemble<'a> {
             }
         })?;
         for (index, row) in indices.into_iter().zip(rows) {
-            table.push(index, row);
+            table.push(index, row)?;
         }
         Ok(table)
     }

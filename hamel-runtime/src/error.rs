@@ -104,6 +104,43 @@ impl Singularity {
     }
 }
 
+impl core::fmt::Display for Singularity {
+    /// What was singular, by the index of the speed or coordinate (the generated code does not
+    /// know the time and state; [`Singularity::at`] gives the error that names them).
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            Singularity::MassMatrix { speed, value } => write!(
+                f,
+                "the reduced mass matrix is singular: its pivot for speed #{speed} is {}",
+                Num(value)
+            ),
+            Singularity::Transformation { coordinate, value } => write!(
+                f,
+                "A(q) is singular: its pivot for coordinate #{coordinate} is {}; the \
+                 constraints and quasi-velocities do not determine that coordinate's velocity",
+                Num(value)
+            ),
+            Singularity::IndefiniteMassMatrix { speed, value } => write!(
+                f,
+                "the reduced mass matrix is not positive definite: its pivot for speed \
+                 #{speed} is {}",
+                Num(value)
+            ),
+            Singularity::NonFinite { speed: Some(speed) } => write!(
+                f,
+                "the reduced mass matrix has a value that is not a finite number, for speed \
+                 #{speed}"
+            ),
+            Singularity::NonFinite { speed: None } => {
+                f.write_str("A(q) has an entry that is not a finite number")
+            }
+        }
+    }
+}
+
+/// `?` takes a [`Singularity`] into `Box<dyn std::error::Error>`.
+impl std::error::Error for Singularity {}
+
 /// A number in a message: four significant digits, exponent form only when very small or
 /// large (`-0.2`, `3.8e-10`, `1.825`), where `{:e}` would print `-2e-1` and `{}` `0.00000001`.
 pub struct Num(pub f64);
@@ -419,6 +456,16 @@ pub enum Error {
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
 
+    /// A file could not be read: missing, unreadable, or not what it should be.
+    #[error("cannot read {path}: {message}")]
+    Read { path: String, message: String },
+
+    /// A case of a study failed for a reason of its own (a reversal that never came, no
+    /// stable range in the scan): `kind` groups such failures in the study's table
+    /// (`error_kind`), `message` says what happened to the study's user.
+    #[error("{message}")]
+    CaseFailed { kind: String, message: String },
+
     /// Newton's method found no value of a dependent coordinate that satisfies its holonomic
     /// constraint, starting from the values in `configuration` (the configuration given to
     /// `assemble`, or the state after an integrator step when projecting).
@@ -662,6 +709,14 @@ pub enum Error {
         value: f64,
         state: NamedValues,
     },
+
+    /// A body of the model (`#[bodies]`) has a mass or an inertia no matter gives: refused
+    /// when a state is built and when a run starts.
+    #[error(
+        "body `{body}` is not a physical rigid body: {reason}; check the parameters its mass \
+         and inertia are made of"
+    )]
+    UnphysicalBody { body: String, reason: String },
 
     /// The right-hand side met a value that is not a finite number in the matrices it
     /// factors: the reduced mass matrix (`speed` names the first speed whose pivot or diagonal

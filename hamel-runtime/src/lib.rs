@@ -7,6 +7,7 @@ mod crossing;
 mod driver;
 pub mod ensemble;
 mod error;
+mod error_kind;
 mod events;
 pub mod geometry;
 pub mod integrate;
@@ -20,6 +21,7 @@ pub mod roots;
 mod scalar;
 mod simulation;
 mod sink;
+pub mod stability;
 mod system;
 mod system_ode;
 pub mod tracking;
@@ -29,7 +31,9 @@ mod vector;
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use crossing::{SingularCrossing, transformation_determinant};
-pub use ensemble::{Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table};
+pub use ensemble::{
+    CaseError, Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table,
+};
 pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{
@@ -45,6 +49,7 @@ pub use recorder::Output;
 pub use scalar::Scalar;
 pub use simulation::{MAX_SAMPLES, PROGRESS_INTERVAL, Progress, Simulation};
 pub use sink::{CsvSink, Sink};
+pub use stability::{CROSSING_TOLERANCE, Crossing, ModeSweep, StableRange};
 pub use system::{CONSTRAINT_TOLERANCE, HamelSystem, INVERSE_TOLERANCE, Parameters};
 pub use tracking::{ModeBranch, ModeTracker, TRACKING_TIE_TOLERANCE, track_modes};
 pub use trajectory::{ENERGY_WARNING, EnergyScale, Stopped, Summary, Trajectory};

@@ -331,10 +331,22 @@ pub trait HamelSystem: Parameters {
         linearization::linearize(self, t, x, u)
     }
 
-    /// Check the parameters, and that a closed-form inverse B really inverts A at (t, q).
+    /// That the model's rigid bodies (`#[bodies]`) at (t, q) are bodies matter could make: a
+    /// positive mass, an inertia tensor positive semi-definite whose principal moments satisfy
+    /// the triangle inequalities ([`crate::geometry::check_bodies`]); an
+    /// [`Error::UnphysicalBody`] names the first that is not. `#[hamel_system]` implements it
+    /// for a model with `#[bodies]`; the default checks nothing.
+    fn check_bodies(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
+        let _ = (t, q);
+        Ok(())
+    }
+
+    /// Check the parameters and the bodies they make ([`Self::check_bodies`]), and that a
+    /// closed-form inverse B really inverts A at (t, q).
     fn check_configuration(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        self.check_bodies(t, q)?;
         let defect = self.inverse_defect(t, q).map_err(|s| {
             s.at(
                 t,

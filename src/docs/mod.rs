@@ -7,6 +7,9 @@
 //!   singular; shared helpers; the rolling disk, Chaplygin's ball and the bicycle.
 //! * [`running`] — running a simulation: the recorded columns, events, streaming, progress
 //!   and cancelling, the limits that end every run, and what the summary flags.
+//! * [`studies`] — studies of any model: a study's command line in a few lines (grids,
+//!   shards, merge, resume, job arrays), honest tables, and stability along a parameter
+//!   (modes tracked, crossings, stable ranges); the bicycle's and the rattleback's studies.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
@@ -19,6 +22,13 @@ pub mod geometry {}
 
 #[doc = include_str!("running.md")]
 pub mod running {}
+
+#[cfg(feature = "study")]
+#[doc = include_str!("studies.md")]
+#[doc = "```no_run"]
+#[doc = include_str!("../../examples/rattleback_study.rs")]
+#[doc = "```"]
+pub mod studies {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}

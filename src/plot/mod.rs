@@ -86,6 +86,7 @@ mod field;
 mod figure;
 mod heatmap;
 mod legend;
+mod modes;
 mod prepare;
 mod render;
 mod text;

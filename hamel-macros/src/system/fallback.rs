@@ -115,14 +115,19 @@ fn dimensions(
         coordinates.len()
     };
     let written = |role: Role| written_length(&roles.get(role)?.f.sig.output);
-    let p = super::spec::written_rows(roles)
-        .filter(|&p| p < n)
-        .or_else(|| written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k)))
-        .or_else(|| {
-            (speed_names > 0)
-                .then(|| n.checked_sub(speed_names))
-                .flatten()
-        })?;
+    let from_rows = super::spec::written_rows(roles).filter(|&p| p < n);
+    let from_speeds = written(Role::QuasiVelocities).and_then(|k| n.checked_sub(k));
+    // Rolling contacts may give fewer rows than two each (two wheels on one axle) and
+    // fewer heights than `determines(..)` names: the speeds say better.
+    let (first, second) = match roles.get(Role::Contacts) {
+        Some(_) => (from_speeds, from_rows),
+        None => (from_rows, from_speeds),
+    };
+    let p = first.or(second).or_else(|| {
+        (speed_names > 0)
+            .then(|| n.checked_sub(speed_names))
+            .flatten()
+    })?;
     Some((n, p, m))
 }
 
@@ -137,7 +142,9 @@ fn typed_arguments(f: &syn::ImplItemFn) -> impl Iterator<Item = &syn::Type> {
 /// rustc would not know) with the index constants, `rhs_generic` and `impl HamelSystem` as
 /// stand-ins. The bodies of the functions the errors are about are left out too (an
 /// `unreachable!()`), so that rustc does not report the same mistake again in its own words
-/// (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic).
+/// (`self.m = ..` in a `&self` method, an `f32` argument in `f64` arithmetic), and so are
+/// those of the functions that use `rate!` and its kin: only the macro knows what they mean,
+/// and their run-time stand-ins are compile errors of their own.
 pub fn fallback(
     imp: &syn::ItemImpl,
     faulty: &HashSet<String>,
@@ -150,7 +157,8 @@ pub fn fallback(
         match item {
             syn::ImplItem::Fn(f) => {
                 taken.insert(f.sig.ident.to_string());
-                if faulty.contains(&f.sig.ident.to_string()) {
+                let rates = crate::engine::lower::uses_rate(f);
+                if faulty.contains(&f.sig.ident.to_string()) || rates {
                     f.block = syn::parse_quote!({
                         ::core::unreachable!(
                             "hamel: this function has errors, reported at build time"
@@ -258,6 +266,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         reversible: false,
         constant_determinant: false,
         units: Vec::new(),
+        check_bodies: None,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -298,39 +298,7 @@ pub fn generate(
     };
     let plain =
         |ids: &[syn::Ident]| -> Vec<String> { ids.iter().map(|i| i.unraw().to_string()).collect() };
-    let row_names = |f: &syn::ImplItemFn, count: usize| -> Vec<String> {
-        (0..count)
-            .map(|i| super::equations::constraint_row(f, i))
-            .collect()
-    };
-    // Named in `constraints(..)`, or after the functions and the rows' indices, as an indexed
-    // group is (`theta[3]` is `theta0`…): `blade0`, then `wheel0_x`, `wheel0_y`, `rail0`,
-    // `wheel0_height`. Each is then an identifier, and so is its force column in a CSV header
-    // (`lambda_blade0`).
-    let constraints = match &spec.constraint_names {
-        Some(names) => plain(names),
-        None => {
-            let mut rows = spec
-                .constraints
-                .map(|f| row_names(f, spec.written_constraints()))
-                .unwrap_or_default();
-            let contacts = spec.geometry.contacts.as_ref();
-            if let Some(c) = contacts {
-                let name = c.f.sig.ident.unraw();
-                rows.extend(
-                    (0..c.count).flat_map(|i| [format!("{name}{i}_x"), format!("{name}{i}_y")]),
-                );
-            }
-            if let Some(h) = &spec.holonomic {
-                rows.extend(row_names(h.f, h.dependent.len()));
-            }
-            if let Some(c) = contacts {
-                let name = c.f.sig.ident.unraw();
-                rows.extend((0..c.dependent.len()).map(|i| format!("{name}{i}_height")));
-            }
-            rows
-        }
-    };
+    let constraints = constraint_names(spec);
     let header = Header {
         imp,
         dims,
@@ -343,13 +311,21 @@ pub fn generate(
         reversible: eq.reversible,
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
+        check_bodies: check_bodies(spec),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
-    let bounds = parameter_bounds(read.arrays);
+    // A generic impl is of a generic parameter struct, an error of the struct's own: an array
+    // pattern on an array of generic length would add rustc's.
+    let bounds = if imp.generics.params.is_empty() {
+        parameter_bounds(read.arrays)
+    } else {
+        TokenStream::new()
+    };
     let system = interface::trait_impl(&header, &bodies);
-    let mechanism = mechanism(spec, imp);
+    let notes = super::notes::notes(spec, &header.constraints);
+    let mechanism = mechanism(spec, imp, &notes);
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
     Ok(quote! {
@@ -366,8 +342,60 @@ pub fn generate(
     })
 }
 
+/// The constraint rows' names: as `constraints(..)` gives them, or after the functions and the
+/// rows' indices, as an indexed group is (`theta[3]` is `theta0`…): `blade0`, then
+/// `wheel0_x`, `wheel0_y` (the contacts' rows kept), `rail0`, `wheel0_height`. Each is then
+/// an identifier, and so is its force column in a CSV header (`lambda_blade0`).
+fn constraint_names(spec: &Spec<'_>) -> Vec<String> {
+    if let Some(names) = &spec.constraint_names {
+        return names.iter().map(|i| i.unraw().to_string()).collect();
+    }
+    let row_names = |f: &syn::ImplItemFn, count: usize| -> Vec<String> {
+        (0..count)
+            .map(|i| super::equations::constraint_row(f, i))
+            .collect()
+    };
+    let mut rows = spec
+        .constraints
+        .map(|f| row_names(f, spec.written_constraints()))
+        .unwrap_or_default();
+    let contacts = spec.geometry.contacts.as_ref();
+    if let Some(c) = contacts {
+        let name = c.f.sig.ident.unraw();
+        let axis = |row: usize| ["x", "y"][row % 2];
+        rows.extend(
+            c.reading
+                .kept
+                .iter()
+                .map(|&row| format!("{name}{}_{}", row / 2, axis(row))),
+        );
+    }
+    if let Some(h) = &spec.holonomic {
+        rows.extend(row_names(h.f, h.dependent.len()));
+    }
+    if let Some(c) = contacts {
+        let name = c.f.sig.ident.unraw();
+        rows.extend((0..c.dependent.len()).map(|i| format!("{name}{i}_height")));
+    }
+    rows
+}
+
+/// `HamelSystem::check_bodies` for a model stated from its bodies: the run-time check of
+/// each body's mass and inertia, on the model's own `#[bodies]` function.
+fn check_bodies(spec: &Spec<'_>) -> Option<TokenStream> {
+    let (f, _) = spec.geometry.bodies?;
+    let ident = &f.sig.ident;
+    let call = if spec.takes_time(f) {
+        quote!(Self::#ident(self, t, q))
+    } else {
+        quote!(Self::#ident(self, q))
+    };
+    let names = &spec.body_names;
+    Some(quote!(::hamel::geometry::check_bodies(&#call, &[#(#names),*])))
+}
+
 /// `impl Mechanism` for a model stated from its bodies.
-fn mechanism(spec: &Spec<'_>, imp: &syn::ItemImpl) -> Option<TokenStream> {
+fn mechanism(spec: &Spec<'_>, imp: &syn::ItemImpl, notes: &[String]) -> Option<TokenStream> {
     let (bodies, _) = spec.geometry.bodies?;
     let call = |f| super::mechanism::Call {
         f,
@@ -382,7 +410,7 @@ fn mechanism(spec: &Spec<'_>, imp: &syn::ItemImpl) -> Option<TokenStream> {
         imp,
         spec.dims.n,
         &spec.body_names,
-        Some(&roles),
+        Some((&roles, notes)),
     ))
 }
 

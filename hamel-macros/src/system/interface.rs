@@ -30,6 +30,8 @@ pub struct Header<'a> {
     pub constant_determinant: bool,
     /// `units(..)`: a quantity's name and its unit (`UNITS`, emitted when there are any).
     pub units: Vec<(String, String)>,
+    /// `check_bodies`'s body, for a model with `#[bodies]` (the default checks nothing).
+    pub check_bodies: Option<TokenStream>,
 }
 
 /// The body of each method (a block's contents).
@@ -144,6 +146,14 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
     let motion = motion(&l, b);
     let rows = rows(&l, b);
     let matrices = matrices(&l, b);
+    let check_bodies = h.check_bodies.as_ref().map(|body| {
+        let n = &l.n;
+        quote! {
+            fn check_bodies(&self, t: f64, q: &[f64; #n]) -> ::core::result::Result<(), ::hamel::Error> {
+                #body
+            }
+        }
+    });
     // `do_not_recommend`: rustc's "the trait `HamelSystem` is not implemented for `Model`"
     // would otherwise list every model of the program (the catalogue's too) as the types that
     // do implement it, ten lines of no help under each such error.
@@ -157,6 +167,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #motion
             #rows
             #matrices
+            #check_bodies
         }
     }
 }

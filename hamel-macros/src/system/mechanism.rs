@@ -32,12 +32,13 @@ pub struct Roles<'a> {
     pub gravity: Option<Call<'a>>,
 }
 
-/// The implementation: `roles` to call, or `None` for the stand-in of a model with mistakes.
+/// The implementation: `roles` to call and the notes on the geometry, or `None` for the
+/// stand-in of a model with mistakes.
 pub fn mechanism_impl(
     imp: &syn::ItemImpl,
     n: usize,
     names: &[String],
-    roles: Option<&Roles<'_>>,
+    roles: Option<(&Roles<'_>, &[String])>,
 ) -> TokenStream {
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
@@ -46,7 +47,12 @@ pub fn mechanism_impl(
     let never = quote!(::core::unreachable!(
         "hamel: the model has errors, reported at build time"
     ));
-    let (bodies, contacts, gravity) = match roles {
+    let notes = roles.map_or(&[][..], |(_, notes)| notes);
+    let notes_doc = notes
+        .iter()
+        .map(|note| format!(" {note}"))
+        .collect::<Vec<_>>();
+    let (bodies, contacts, gravity) = match roles.map(|(r, _)| r) {
         Some(r) => {
             let bodies = r.bodies.tokens(quote!(q));
             let contacts = r.contacts.as_ref().map_or_else(
@@ -70,8 +76,10 @@ pub fn mechanism_impl(
     quote! {
         #[allow(clippy::all, unused_variables)]
         #[diagnostic::do_not_recommend]
+        #(#[doc = #notes_doc])*
         impl #impl_generics #geometry::Mechanism for #ty #where_clause {
             const BODIES: &'static [&'static str] = &[#(#names),*];
+            const NOTES: &'static [&'static str] = &[#(#notes),*];
 
             fn bodies_at(&self, t: f64, q: &[f64; #n]) -> ::std::vec::Vec<#geometry::Body> {
                 #bodies

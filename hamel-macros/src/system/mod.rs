@@ -16,6 +16,7 @@ mod ldlt;
 mod linearity;
 mod mechanism;
 mod model;
+mod notes;
 mod parameters;
 mod rank;
 mod rate_bodies;
@@ -122,7 +123,7 @@ fn expand_impl(
     let spec = spec::check(names, &roles, &mut lowerer, &at);
     let equations = spec
         .as_ref()
-        .and_then(|s| equations::build(s, &mut lowerer));
+        .and_then(|s| equations::build_cheaper(s, &mut lowerer));
     if lowerer.has_errors() {
         check_unreached_bodies(&roles, &mut lowerer);
     }

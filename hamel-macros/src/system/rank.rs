@@ -91,6 +91,34 @@ fn first_dependent(rows: &[&[f64]]) -> Option<usize> {
     None
 }
 
+/// The matrix `rows` evaluated at the generic points where every entry is finite.
+pub fn samples(g: &crate::engine::graph::Graph, rows: &[Vec<NodeId>]) -> Vec<Vec<Vec<f64>>> {
+    let width = rows.first().map_or(0, Vec::len);
+    let entries: Vec<NodeId> = rows.iter().flatten().copied().collect();
+    generic::points(3, g.input_count())
+        .into_iter()
+        .map(|point| g.evaluate(&entries, &point))
+        .filter(|values| values.iter().all(|x| x.is_finite()))
+        .map(|values| values.chunks(width.max(1)).map(<[f64]>::to_vec).collect())
+        .collect()
+}
+
+/// Whether `row` is a linear combination of `basis` (to [`TOLERANCE`] of its size; a zero row
+/// is one of any).
+pub fn in_span(basis: &[&[f64]], row: &[f64]) -> bool {
+    let mut rows: Vec<&[f64]> = basis.to_vec();
+    rows.push(row);
+    let independent_before = first_dependent(basis).is_none();
+    // The basis itself is independent (its rows were kept for being so); should rounding
+    // make it look otherwise, the row adds nothing a dependent basis would not.
+    !independent_before || first_dependent(&rows) == Some(basis.len())
+}
+
+/// c with a = c b, when the rows are parallel and b is not zero.
+pub fn factor(a: &[f64], b: &[f64]) -> Option<f64> {
+    parallel(a, b).then(|| dot(a, b) / dot(b, b))
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

@@ -1,10 +1,22 @@
 //! Splitting a study among the tasks of a batch engine: shard i of n takes a contiguous
 //! block of the table's rows, so that the shards' tables, concatenated in order, are the
-//! table one task would write. Each shard's file is written whole or not at all, so that a
-//! restarted study skips exactly the shards that finished.
+//! table one task would write.
+//!
+//! A shard's file counts as complete only when its manifest says so: written after the data
+//! (each by atomic rename, after a flush to disk), it holds the hash of what the shard was
+//! computed from ([`ShardStamp`]: the parameter table, the shard, the study's columns and
+//! format), the row count, and the data file's size and checksum (XXH3). A file without its
+//! manifest (a task killed while writing), a truncated or altered one, or one of another grid
+//! (the table edited since) is recomputed. Every writer writes under a name of its own and
+//! renames, so two tasks given the same shard leave one complete file.
 
+use std::hash::Hasher as _;
+use std::io::{BufWriter, Read, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use twox_hash::XxHash3_64;
 
 use crate::error::Error;
 
@@ -33,13 +45,29 @@ impl Shard {
             (Ok(i), Ok(n)) => (i, n),
             _ => return Err(invalid("does not have whole numbers on both sides of `/`")),
         };
-        if count == 0 {
-            return Err(invalid("has no parts (n = 0)"));
+        Shard::new(index, count).map_err(|_| {
+            invalid(if count == 0 {
+                "has no parts (n = 0)"
+            } else {
+                "is out of range: i must be less than n"
+            })
+        })
+    }
+
+    /// Shard `index` of `count`, checked: 0 ≤ index < count.
+    pub fn new(index: usize, count: usize) -> Result<Shard, Error> {
+        if index < count {
+            Ok(Shard { index, count })
+        } else {
+            Err(Error::InvalidShard {
+                spec: format!("{index}/{count}"),
+                reason: if count == 0 {
+                    "has no parts (n = 0)"
+                } else {
+                    "is out of range: i must be less than n"
+                },
+            })
         }
-        if index >= count {
-            return Err(invalid("is out of range: i must be less than n"));
-        }
-        Ok(Shard { index, count })
     }
 
     /// The rows of a table of `total` rows this shard takes: a contiguous block, the blocks
@@ -49,44 +77,362 @@ impl Shard {
         at(self.index)..at(self.index + 1)
     }
 
-    /// The shard's file name: `shard-0003-of-0008.<extension>`, which sorts in shard order.
+    /// The shard's file name, `shard-0003-of-0008.<extension>`: both numbers padded to the
+    /// digits of n − 1 (at least four), so that the names of one study's shards sort in shard
+    /// order for any n (`shard-00003-of-12000`).
     pub fn file_name(&self, extension: &str) -> String {
-        format!("shard-{:04}-of-{:04}.{extension}", self.index, self.count)
+        let width = (self.count.saturating_sub(1).max(1).ilog10() as usize + 1).max(4);
+        format!(
+            "shard-{:0width$}-of-{:0width$}.{extension}",
+            self.index, self.count
+        )
     }
 }
 
-/// The name a file is written under until it is complete: beside it, with `.partial` added.
-fn partial_path(path: &Path) -> PathBuf {
+/// What a shard's file must have been computed from to count as complete: a hash of the
+/// parameter table, the shard, the study's columns and the format
+/// ([`ShardStamp::new`]), and the number of rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShardStamp {
+    pub grid: u64,
+    pub rows: u64,
+}
+
+impl ShardStamp {
+    /// The stamp of shard `shard` of a study of `columns`, written as `format`, whose
+    /// parameter table has the column names `names` and the rows `rows` (all of them, not
+    /// only the shard's: a table edited anywhere moves every shard's rows).
+    pub fn new<'a>(
+        names: &[String],
+        rows: impl IntoIterator<Item = &'a [f64]>,
+        shard: Shard,
+        columns: &[String],
+        format: &str,
+    ) -> ShardStamp {
+        let mut h = XxHash3_64::with_seed(0);
+        let text = |h: &mut XxHash3_64, s: &str| {
+            h.write_u64(s.len() as u64);
+            h.write(s.as_bytes());
+        };
+        text(&mut h, "hamel study shard 1");
+        for name in names {
+            text(&mut h, name);
+        }
+        let mut total = 0usize;
+        for row in rows {
+            for v in row {
+                h.write_u64(v.to_bits());
+            }
+            total += 1;
+        }
+        h.write_u64(total as u64);
+        h.write_u64(shard.index as u64);
+        h.write_u64(shard.count as u64);
+        for column in columns {
+            text(&mut h, column);
+        }
+        text(&mut h, format);
+        ShardStamp {
+            grid: h.finish(),
+            rows: shard.rows(total).len() as u64,
+        }
+    }
+}
+
+/// Whether a shard's file is complete, and if not, why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ShardState {
+    /// The file and its manifest are there and agree with each other and with the stamp.
+    Complete,
+    /// Neither is there: the shard has not been written.
+    Missing,
+    /// Something is there but not a complete shard of this study: the reason.
+    Incomplete(String),
+}
+
+/// The manifest's name: beside the file, `.manifest` added.
+pub fn manifest_path(path: &Path) -> PathBuf {
+    with_suffix(path, ".manifest")
+}
+
+fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
     let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(".partial");
+    name.push(suffix);
     path.with_file_name(name)
 }
 
-/// Whether the file at `path` is complete: [`write_complete`] gives a file its name only once
-/// it is written and flushed, so a file by that name is whole; a half-written one has
-/// another name and is never taken for it.
-pub fn is_complete(path: impl AsRef<Path>) -> bool {
-    path.as_ref().is_file()
+/// A name no other writer uses, beside `path`: `<name>.partial-<pid>-<n>`.
+fn partial_path(path: &Path) -> PathBuf {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    with_suffix(path, &format!(".partial-{}-{n}", std::process::id()))
 }
 
-/// Writes a file whole or not at all: `write` fills `<path>.partial`, which is flushed to
-/// disk and then renamed to `path` (atomic within a file system). A task killed in between
-/// leaves only the `.partial` file, which the next attempt overwrites.
-pub fn write_complete(
-    path: impl AsRef<Path>,
-    write: impl FnOnce(&mut std::fs::File) -> Result<(), Error>,
-) -> Result<(), Error> {
+/// The state of the shard file at `path` against `stamp`.
+pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
     let path = path.as_ref();
+    let manifest = match std::fs::read_to_string(manifest_path(path)) {
+        Ok(text) => text,
+        Err(_) if path.exists() => {
+            return ShardState::Incomplete(
+                "it has no manifest (its task was stopped before it finished)".into(),
+            );
+        }
+        Err(_) => return ShardState::Missing,
+    };
+    let Some(m) = Manifest::parse(&manifest) else {
+        return ShardState::Incomplete("its manifest is not one hamel wrote".into());
+    };
+    if m.grid != stamp.grid {
+        return ShardState::Incomplete(
+            "it was computed from another parameter table or study (its manifest's grid hash \
+             differs)"
+                .into(),
+        );
+    }
+    if m.rows != stamp.rows {
+        return ShardState::Incomplete(format!(
+            "its manifest says {} rows, the shard has {}",
+            m.rows, stamp.rows
+        ));
+    }
+    match checksum(path) {
+        Ok((bytes, _)) if bytes != m.bytes => ShardState::Incomplete(format!(
+            "it has {bytes} bytes, its manifest says {} (truncated or altered)",
+            m.bytes
+        )),
+        Ok((_, sum)) if sum != m.checksum => {
+            ShardState::Incomplete("its checksum differs from its manifest's (altered)".into())
+        }
+        Ok(_) => ShardState::Complete,
+        Err(e) => ShardState::Incomplete(format!("it cannot be read: {e}")),
+    }
+}
+
+/// The size and XXH3 checksum of a file's bytes.
+fn checksum(path: &Path) -> std::io::Result<(u64, u64)> {
+    let mut file = std::fs::File::open(path)?;
+    let mut h = XxHash3_64::with_seed(0);
+    let mut buffer = vec![0u8; 1 << 16];
+    let mut bytes = 0u64;
+    loop {
+        let n = file.read(&mut buffer)?;
+        if n == 0 {
+            return Ok((bytes, h.finish()));
+        }
+        h.write(&buffer[..n]);
+        bytes += n as u64;
+    }
+}
+
+/// What a manifest records.
+struct Manifest {
+    grid: u64,
+    rows: u64,
+    bytes: u64,
+    checksum: u64,
+}
+
+const MANIFEST_HEADER: &str = "hamel shard manifest 1";
+
+impl Manifest {
+    fn text(&self, file: &str) -> String {
+        format!(
+            "{MANIFEST_HEADER}\nfile {file}\ngrid {:016x}\nrows {}\nbytes {}\nxxh3 {:016x}\n",
+            self.grid, self.rows, self.bytes, self.checksum
+        )
+    }
+
+    fn parse(text: &str) -> Option<Manifest> {
+        let mut lines = text.lines();
+        if lines.next()? != MANIFEST_HEADER {
+            return None;
+        }
+        let mut field = |key: &str, radix: u32| -> Option<u64> {
+            let line = lines.find(|l| l.starts_with(key))?;
+            u64::from_str_radix(line.strip_prefix(key)?.trim(), radix).ok()
+        };
+        Some(Manifest {
+            grid: field("grid ", 16)?,
+            rows: field("rows ", 10)?,
+            bytes: field("bytes ", 10)?,
+            checksum: field("xxh3 ", 16)?,
+        })
+    }
+}
+
+/// A shard's file while it is written: buffered, its bytes counted and checksummed.
+pub struct ShardFile {
+    file: BufWriter<std::fs::File>,
+    hasher: XxHash3_64,
+    bytes: u64,
+}
+
+impl Write for ShardFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.hasher.write(&buf[..n]);
+        self.bytes += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+/// How a shard's writing ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Written {
+    /// This task wrote it.
+    Written,
+    /// Another task given the same shard completed it while this one was writing.
+    ByAnother,
+}
+
+/// Writes a shard's file whole or not at all, and then its manifest: `write` fills a file
+/// of this task's own beside `path`, which is flushed to disk and renamed to `path`; the
+/// manifest (`stamp`, the file's size and checksum) is then written and renamed the same way.
+/// A task killed at any point leaves no manifest that describes a file other than the one
+/// beside it. Leftover files of killed tasks (`<name>.partial-*`) are removed afterwards.
+pub fn write_shard(
+    path: impl AsRef<Path>,
+    stamp: &ShardStamp,
+    write: impl FnOnce(&mut ShardFile) -> Result<(), Error>,
+) -> Result<Written, Error> {
+    let path = path.as_ref();
+    let io = |p: &Path, e: std::io::Error| Error::Io {
+        path: p.display().to_string(),
+        message: e.to_string(),
+    };
+    let (bytes, checksum) = match write_renamed(path, write)? {
+        Some(done) => done,
+        None => return by_another(path, stamp),
+    };
+    let manifest = Manifest {
+        grid: stamp.grid,
+        rows: stamp.rows,
+        bytes,
+        checksum,
+    };
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let text = manifest.text(&name);
+    let written = write_renamed(&manifest_path(path), |f| {
+        f.write_all(text.as_bytes()).map_err(|e| io(path, e))
+    })?;
+    if written.is_none() {
+        return by_another(path, stamp);
+    }
+    remove_leftovers(path);
+    sync_directory(path);
+    Ok(Written::Written)
+}
+
+/// When this task's rename found its file gone (another task's clean-up removed it), the
+/// shard is complete if the other task completed it.
+fn by_another(path: &Path, stamp: &ShardStamp) -> Result<Written, Error> {
+    match shard_state(path, stamp) {
+        ShardState::Complete => Ok(Written::ByAnother),
+        state => Err(Error::Io {
+            path: path.display().to_string(),
+            message: format!(
+                "this task's file was removed while it was written, and the shard is not \
+                 complete ({state:?}): was the output directory cleared meanwhile?"
+            ),
+        }),
+    }
+}
+
+/// Writes through a file of this task's own and renames it to `path`: the size and checksum
+/// written, or `None` when the file was removed before the rename (by another task).
+fn write_renamed(
+    path: &Path,
+    write: impl FnOnce(&mut ShardFile) -> Result<(), Error>,
+) -> Result<Option<(u64, u64)>, Error> {
     let partial = partial_path(path);
     let io = |p: &Path, e: std::io::Error| Error::Io {
         path: p.display().to_string(),
         message: e.to_string(),
     };
-    let mut file = std::fs::File::create(&partial).map_err(|e| io(&partial, e))?;
-    write(&mut file)?;
+    let file = std::fs::File::create(&partial).map_err(|e| io(&partial, e))?;
+    let mut shard = ShardFile {
+        file: BufWriter::with_capacity(1 << 16, file),
+        hasher: XxHash3_64::with_seed(0),
+        bytes: 0,
+    };
+    if let Err(e) = write(&mut shard) {
+        let _ = std::fs::remove_file(&partial);
+        return Err(e);
+    }
+    let file = shard
+        .file
+        .into_inner()
+        .map_err(|e| io(&partial, e.into_error()))?;
     file.sync_all().map_err(|e| io(&partial, e))?;
     drop(file);
-    std::fs::rename(&partial, path).map_err(|e| io(path, e))
+    match std::fs::rename(&partial, path) {
+        Ok(()) => Ok(Some((shard.bytes, shard.hasher.finish()))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && !partial.exists() => Ok(None),
+        Err(e) => Err(io(path, e)),
+    }
+}
+
+/// Flushes a directory's entries (the renames) to disk, where the system allows it.
+fn sync_directory(path: &Path) {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
+        }
+    } else if let Ok(d) = std::fs::File::open(".") {
+        let _ = d.sync_all();
+    }
+}
+
+/// Removes the files that killed tasks left while writing the shard at `path` or its
+/// manifest (`<name>.partial-*`): [`write_shard`] does after writing, and a task that finds
+/// the shard complete should (the task that completed it may have been killed before it
+/// did). A task still writing one of them finds the shard complete when it renames, and
+/// says so ([`Written::ByAnother`]).
+pub fn remove_leftovers(path: &Path) {
+    let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
+        return;
+    };
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let name = name.to_string_lossy();
+    let prefixes = [
+        format!("{name}.partial-"),
+        format!("{name}.manifest.partial-"),
+    ];
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let file = file.to_string_lossy();
+        if prefixes.iter().any(|p| file.starts_with(p.as_str())) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Writes a file whole or not at all (no manifest: a study's single result file): `write`
+/// fills a file of this task's own beside `path`, flushed to disk and renamed to `path`.
+pub fn write_complete(
+    path: impl AsRef<Path>,
+    write: impl FnOnce(&mut ShardFile) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let path = path.as_ref();
+    match write_renamed(path, write)? {
+        Some(_) => Ok(()),
+        None => Err(Error::Io {
+            path: path.display().to_string(),
+            message: "the file being written was removed before it was complete".into(),
+        }),
+    }
 }
 
 /// Makes sure a study can write into `dir` before it runs anything: creates the directory
@@ -105,31 +451,4 @@ pub fn check_writable(dir: impl AsRef<Path>) -> Result<(), Error> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shards_parse_and_cover_the_rows_in_order() {
-        assert_eq!(Shard::parse("3/8").unwrap(), Shard { index: 3, count: 8 });
-        assert_eq!(Shard::parse(" 0 / 1 ").unwrap(), Shard::ALL);
-        for bad in ["8/8", "9/8", "0/0", "-1/8", "a/8", "3", "3/8/1", ""] {
-            let e = Shard::parse(bad).unwrap_err();
-            assert!(matches!(e, Error::InvalidShard { .. }), "{bad}: {e}");
-            assert!(e.to_string().contains(&format!("`{bad}`")), "{e}");
-        }
-        for total in [0, 1, 7, 8, 100, 1001] {
-            let mut next = 0;
-            for index in 0..8 {
-                let rows = Shard { index, count: 8 }.rows(total);
-                assert_eq!(rows.start, next);
-                assert!(rows.len() <= total / 8 + 1);
-                next = rows.end;
-            }
-            assert_eq!(next, total);
-        }
-        assert_eq!(
-            Shard { index: 3, count: 8 }.file_name("csv"),
-            "shard-0003-of-0008.csv"
-        );
-    }
-}
+mod tests;

@@ -1,32 +1,80 @@
 //! A study's results as a table of named `f64` columns, and the parameter table its cases
-//! are read from: both as CSV that pandas (`read_csv`) and polars read as they are.
+//! are read from: both as CSV (RFC 4180, written and read by the `csv` crate) that pandas
+//! (`read_csv`) and polars read as they are, and that this module reads back equal.
 
-use std::fmt::Write as _;
+use std::collections::HashSet;
 use std::io::Write;
 use std::path::Path;
 
 use crate::error::Error;
 
-/// The columns every study table has besides its own: the case index first, the error last.
+/// The columns every study table has besides its own: the case index first, the error's
+/// kind and message last.
 const CASE: &str = "case";
+const ERROR_KIND: &str = "error_kind";
 const ERROR: &str = "error";
 
+/// Why a case failed: the error's kind ([`Error::kind`], `singular_mass_matrix`, or a
+/// study's own) and its message.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CaseError {
+    /// A short name that groups failures: never empty.
+    pub kind: String,
+    /// What happened, for the study's user.
+    pub message: String,
+}
+
+impl CaseError {
+    /// The kind and message of `error`.
+    pub fn of(error: &Error) -> CaseError {
+        CaseError {
+            kind: error.kind().to_string(),
+            message: error.to_string(),
+        }
+    }
+}
+
+impl std::fmt::Display for CaseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} ({})", self.message, self.kind)
+    }
+}
+
 /// A study's results: one row per case, with the case's index (its row in the study's
-/// parameter table), a value for every named column, and the error of a case that failed (its
-/// values are then NaN). Written as CSV with the header `case,<columns>,error`, numbers in
-/// Rust's shortest form that reads back to the same `f64` (bit for bit), an empty `error` for
-/// a case that succeeded.
-#[derive(Clone, Debug, PartialEq)]
+/// parameter table), a value for every named column, and the error of a case that failed
+/// (its values it could not compute are NaN). Written as CSV with the header
+/// `case,<columns>,error_kind,error`, numbers in Rust's shortest form that reads back to the
+/// same `f64` (bit for bit; `NaN`, `inf`), `error_kind` and `error` empty for a case that
+/// succeeded. Each case index appears once.
+///
+/// Two tables are equal when their names, cases and errors are, and their values bit for
+/// bit, any NaN being equal to any other: a table read back from its CSV equals the table.
+#[derive(Clone, Debug)]
 pub struct Table {
     names: Vec<String>,
     cases: Vec<u64>,
     columns: Vec<Vec<f64>>,
-    errors: Vec<Option<String>>,
+    errors: Vec<Option<CaseError>>,
+    seen: HashSet<u64>,
+}
+
+impl PartialEq for Table {
+    fn eq(&self, other: &Table) -> bool {
+        let same = |a: &f64, b: &f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        self.names == other.names
+            && self.cases == other.cases
+            && self.errors == other.errors
+            && self
+                .columns
+                .iter()
+                .zip(&other.columns)
+                .all(|(a, b)| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| same(x, y)))
+    }
 }
 
 impl Table {
     /// An empty table with these value columns. A name that is empty, holds a comma, quote or
-    /// line break, or repeats (or is `case` or `error`) is an error.
+    /// line break, or repeats (or is `case`, `error_kind` or `error`) is an error.
     pub fn new(names: Vec<String>) -> Result<Table, Error> {
         check_names(&names)?;
         let columns = vec![Vec::new(); names.len()];
@@ -35,52 +83,66 @@ impl Table {
             cases: Vec::new(),
             columns,
             errors: Vec::new(),
+            seen: HashSet::new(),
         })
     }
 
-    /// Appends the row of case `index`: its values (one per column), or its error. Values
-    /// of another length are an error in the row's place.
-    pub fn push(&mut self, index: u64, row: Result<Vec<f64>, Error>) {
-        let row = row.and_then(|values| {
-            if values.len() == self.names.len() {
-                Ok(values)
-            } else {
-                Err(Error::DimensionMismatch {
-                    what: format!(
-                        "case {index} has {} values for {} columns",
-                        values.len(),
-                        self.names.len()
-                    ),
-                })
-            }
-        });
-        self.cases.push(index);
+    /// Appends the row of case `index`: its values (one per column), or its error (its values
+    /// NaN). Values of another length are an error in the row's place. A case index the
+    /// table has already is refused ([`Error::DuplicateName`]).
+    pub fn push(&mut self, index: u64, row: Result<Vec<f64>, Error>) -> Result<(), Error> {
+        let width = self.names.len();
         match row {
+            Ok(values) if values.len() == width => self.push_row(index, values, None),
             Ok(values) => {
-                for (column, v) in self.columns.iter_mut().zip(values) {
-                    column.push(v);
-                }
-                self.errors.push(None);
+                let e = Error::DimensionMismatch {
+                    what: format!(
+                        "case {index} has {} values for {width} columns",
+                        values.len()
+                    ),
+                };
+                self.push_row(index, vec![f64::NAN; width], Some(CaseError::of(&e)))
             }
-            Err(e) => {
-                self.cases.pop();
-                self.push_failed(index, e.to_string());
-            }
+            Err(e) => self.push_row(index, vec![f64::NAN; width], Some(CaseError::of(&e))),
         }
     }
 
-    /// Appends the row of case `index` that failed with the message `error` (its values
-    /// NaN): a row read back from a file.
-    pub fn push_failed(&mut self, index: u64, error: String) {
-        self.cases.push(index);
-        for column in &mut self.columns {
-            column.push(f64::NAN);
+    /// Appends a row as it is: its values (one per column; a failed case keeps those it has,
+    /// its parameters, NaN for the others) and its error, if it failed.
+    pub fn push_row(
+        &mut self,
+        index: u64,
+        values: Vec<f64>,
+        error: Option<CaseError>,
+    ) -> Result<(), Error> {
+        if values.len() != self.names.len() {
+            return Err(Error::DimensionMismatch {
+                what: format!(
+                    "case {index} has {} values for the {} columns ({})",
+                    values.len(),
+                    self.names.len(),
+                    self.names.join(", ")
+                ),
+            });
         }
-        self.errors.push(Some(error));
+        if !self.seen.insert(index) {
+            return Err(duplicate_case(index));
+        }
+        self.cases.push(index);
+        for (column, v) in self.columns.iter_mut().zip(values) {
+            column.push(v);
+        }
+        self.errors.push(error.map(|mut e| {
+            if e.kind.is_empty() {
+                e.kind = "error".into();
+            }
+            e
+        }));
+        Ok(())
     }
 
     /// The rows of `other` after this table's (the shards of a study, in order); its columns
-    /// must be the same.
+    /// must be the same, its case indices others than this table's.
     pub fn append(&mut self, other: Table) -> Result<(), Error> {
         if other.names != self.names {
             return Err(Error::DimensionMismatch {
@@ -91,6 +153,10 @@ impl Table {
                 ),
             });
         }
+        if let Some(&index) = other.cases.iter().find(|c| self.seen.contains(c)) {
+            return Err(duplicate_case(index));
+        }
+        self.seen.extend(other.cases.iter().copied());
         self.cases.extend(other.cases);
         for (column, more) in self.columns.iter_mut().zip(other.columns) {
             column.extend(more);
@@ -124,8 +190,8 @@ impl Table {
         Some(&self.columns[j])
     }
 
-    /// Each row's error message, `None` for a case that succeeded.
-    pub fn errors(&self) -> &[Option<String>] {
+    /// Each row's error, `None` for a case that succeeded.
+    pub fn errors(&self) -> &[Option<CaseError>] {
         &self.errors
     }
 
@@ -139,56 +205,42 @@ impl Table {
         (i < self.len()).then(|| self.columns.iter().map(|c| c[i]).collect())
     }
 
-    /// The CSV text: `case,<columns>,error`, then a line per row.
-    pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
-        writeln!(w, "{CASE},{},{ERROR}", self.names.join(","))?;
-        let mut line = String::new();
-        for (i, case) in self.cases.iter().enumerate() {
-            line.clear();
-            let _ = write!(line, "{case}");
-            for column in &self.columns {
-                let _ = write!(line, ",{:?}", column[i]);
-            }
-            line.push(',');
-            if let Some(e) = &self.errors[i] {
-                // RFC 4180: quoted, a quote doubled.
-                let _ = write!(line, "\"{}\"", e.replace('"', "\"\""));
-            }
-            line.push('\n');
-            w.write_all(line.as_bytes())?;
-        }
-        Ok(())
+    /// The CSV text: `case,<columns>,error_kind,error`, then a record per row.
+    pub fn write_csv<W: Write>(&self, w: W) -> std::io::Result<()> {
+        let mut writer = CsvWriter::new(w, &self.names)?;
+        writer.write(self)?;
+        writer.finish().map(|_| ())
     }
 
     /// The table read back from [`Self::write_csv`]'s text (`source` names it in errors).
+    /// Every mistake is an [`Error::Table`] naming the line and column: a header that is not
+    /// `case,<columns>,error_kind,error`, a record of another length, a case index that is not
+    /// a whole number or repeats, a value that is not a number, an error without its kind.
     pub fn parse_csv(text: &str, source: &str) -> Result<Table, Error> {
-        let mut lines = records(text);
-        let header = match lines.next() {
-            Some((_, Ok(fields))) => fields,
-            Some((line, Err(problem))) => return Err(table_error(source, line, "", problem)),
-            None => return Err(table_error(source, 1, "", "the file is empty".into())),
-        };
-        let (first, last) = (header.first(), header.last());
-        if header.len() < 2
-            || first.map(String::as_str) != Some(CASE)
-            || last.map(String::as_str) != Some(ERROR)
+        let mut reader = reader(text.as_bytes());
+        let header = header(&mut reader, source, "a study table")?;
+        let problem = |p: String| table_error(source, 1, "", p);
+        let width = header.len();
+        if width < 3
+            || header[0] != CASE
+            || header[width - 2] != ERROR_KIND
+            || header[width - 1] != ERROR
         {
-            return Err(table_error(
-                source,
-                1,
-                "",
-                format!("a study table's header is `{CASE},<columns>,{ERROR}`"),
-            ));
+            return Err(problem(format!(
+                "a study table's header is `{CASE},<columns>,{ERROR_KIND},{ERROR}`, not `{}`",
+                header.join(",")
+            )));
         }
-        let mut table = Table::new(header[1..header.len() - 1].to_vec())?;
-        for (line, fields) in lines {
-            let fields = fields.map_err(|problem| table_error(source, line, "", problem))?;
-            if fields.len() != header.len() {
+        let mut table =
+            Table::new(header[1..width - 2].to_vec()).map_err(|e| problem(e.to_string()))?;
+        for record in reader.records() {
+            let (line, fields) = record_fields(record, source)?;
+            if fields.len() != width {
                 return Err(table_error(
                     source,
                     line,
                     "",
-                    format!("{} fields for {} columns", fields.len(), header.len()),
+                    format!("{} fields for {width} columns", fields.len()),
                 ));
             }
             let case = fields[0].parse::<u64>().map_err(|_| {
@@ -199,23 +251,40 @@ impl Table {
                     format!("`{}` is not a case index", fields[0]),
                 )
             })?;
-            let mut values = Vec::with_capacity(header.len() - 2);
-            for (name, field) in header[1..].iter().zip(&fields[1..fields.len() - 1]) {
+            let mut values = Vec::with_capacity(width - 3);
+            for (name, field) in header[1..].iter().zip(&fields[1..width - 2]) {
                 let v = field.parse::<f64>().map_err(|_| {
                     table_error(source, line, name, format!("`{field}` is not a number"))
                 })?;
                 values.push(v);
             }
-            let error = &fields[fields.len() - 1];
-            table.cases.push(case);
-            for (column, v) in table.columns.iter_mut().zip(values) {
-                column.push(v);
-            }
+            let (kind, message) = (&fields[width - 2], &fields[width - 1]);
+            let error = match (kind.is_empty(), message.is_empty()) {
+                (true, true) => None,
+                (true, false) => {
+                    return Err(table_error(
+                        source,
+                        line,
+                        ERROR_KIND,
+                        "an error needs its kind".into(),
+                    ));
+                }
+                (false, _) => Some(CaseError {
+                    kind: kind.clone(),
+                    message: message.clone(),
+                }),
+            };
             table
-                .errors
-                .push((!error.is_empty()).then(|| error.clone()));
+                .push_row(case, values, error)
+                .map_err(|e| table_error(source, line, CASE, e.to_string()))?;
         }
         Ok(table)
+    }
+
+    /// The table in the CSV file at `path`.
+    pub fn read_csv(path: impl AsRef<Path>) -> Result<Table, Error> {
+        let path = path.as_ref();
+        Table::parse_csv(&read_text(path)?, &path.display().to_string())
     }
 
     /// Writes the CSV to a file (created or truncated).
@@ -231,6 +300,87 @@ impl Table {
     }
 }
 
+/// A study table's CSV written a block of rows at a time, so that a study of any size is
+/// written in the memory of one block: the header first, then each [`Table`]'s rows as they
+/// come (the blocks' case indices are the writer's to keep apart).
+pub struct CsvWriter<W: Write> {
+    writer: csv::Writer<W>,
+    names: Vec<String>,
+    /// One record's fields, reused.
+    record: csv::ByteRecord,
+}
+
+impl<W: Write> CsvWriter<W> {
+    /// Writes the header `case,<names>,error_kind,error` to `w`.
+    pub fn new(w: W, names: &[String]) -> std::io::Result<CsvWriter<W>> {
+        let mut writer = csv::WriterBuilder::new()
+            .quote_style(csv::QuoteStyle::Necessary)
+            .from_writer(w);
+        let header = std::iter::once(CASE)
+            .chain(names.iter().map(String::as_str))
+            .chain([ERROR_KIND, ERROR]);
+        writer.write_record(header)?;
+        Ok(CsvWriter {
+            writer,
+            names: names.to_vec(),
+            record: csv::ByteRecord::new(),
+        })
+    }
+
+    /// Writes `block`'s rows (its columns must be the writer's).
+    pub fn write(&mut self, block: &Table) -> std::io::Result<()> {
+        if block.names != self.names {
+            return Err(std::io::Error::other(format!(
+                "a block of the columns ({}) written to a table of ({})",
+                block.names.join(", "),
+                self.names.join(", ")
+            )));
+        }
+        use std::fmt::Write as _;
+        let mut number = String::new();
+        for (i, case) in block.cases.iter().enumerate() {
+            self.record.clear();
+            number.clear();
+            let _ = write!(number, "{case}");
+            self.record.push_field(number.as_bytes());
+            for column in &block.columns {
+                number.clear();
+                // `{:?}`: the shortest text that reads back to the same bits.
+                let _ = write!(number, "{:?}", column[i]);
+                self.record.push_field(number.as_bytes());
+            }
+            match &block.errors[i] {
+                Some(e) => {
+                    self.record.push_field(e.kind.as_bytes());
+                    self.record.push_field(e.message.as_bytes());
+                }
+                None => {
+                    self.record.push_field(b"");
+                    self.record.push_field(b"");
+                }
+            }
+            self.writer.write_byte_record(&self.record)?;
+        }
+        Ok(())
+    }
+
+    /// Flushes what is buffered and returns the underlying writer.
+    pub fn finish(self) -> std::io::Result<W> {
+        self.writer
+            .into_inner()
+            .map_err(|e| std::io::Error::other(e.error().to_string()))
+    }
+}
+
+/// The error for a case index given twice.
+fn duplicate_case(index: u64) -> Error {
+    Error::DuplicateName {
+        kind: "case index",
+        name: index.to_string(),
+        context: "each case of a study has one row",
+    }
+}
+
 /// Names must be usable as CSV column names, once each, and not the table's own.
 fn check_names(names: &[String]) -> Result<(), Error> {
     for (i, name) in names.iter().enumerate() {
@@ -238,6 +388,8 @@ fn check_names(names: &[String]) -> Result<(), Error> {
             Some("a column needs a name")
         } else if name.contains([',', '"', '\n', '\r']) {
             Some("a column name may not contain a comma, a quote or a line break (CSV)")
+        } else if name.trim() != name {
+            Some("a column name may not begin or end with a space")
         } else {
             None
         };
@@ -247,11 +399,12 @@ fn check_names(names: &[String]) -> Result<(), Error> {
                 reason,
             });
         }
-        if names[..i].contains(name) || name == CASE || name == ERROR {
+        if names[..i].contains(name) || [CASE, ERROR_KIND, ERROR].contains(&name.as_str()) {
             return Err(Error::DuplicateName {
                 kind: "column",
                 name: name.clone(),
-                context: "a study table's columns are `case`, then each named once, then `error`",
+                context: "a study table's columns are `case`, then each named once, then \
+                          `error_kind` and `error`",
             });
         }
     }
@@ -268,51 +421,71 @@ fn table_error(source: &str, line: usize, column: &str, problem: String) -> Erro
     }
 }
 
-/// The records of CSV text with their line numbers: fields split at commas, RFC 4180 quotes
-/// honoured within a line (a record spans one line), blank lines skipped.
-fn records(text: &str) -> impl Iterator<Item = (usize, Result<Vec<String>, String>)> + '_ {
-    text.lines()
-        .enumerate()
-        .map(|(i, line)| (i + 1, line.strip_suffix('\r').unwrap_or(line)))
-        .filter(|(_, line)| !line.trim().is_empty())
-        .map(|(n, line)| (n, fields(line)))
+/// The text of the file at `path`, or "cannot read" naming it.
+fn read_text(path: &Path) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(|e| Error::Read {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
 }
 
-/// One line's fields.
-fn fields(line: &str) -> Result<Vec<String>, String> {
-    let mut out = Vec::new();
-    let mut field = String::new();
-    let mut chars = line.chars().peekable();
-    let mut quoted = false;
-    let mut at_start = true;
-    while let Some(c) = chars.next() {
-        match (quoted, c) {
-            (false, ',') => {
-                out.push(std::mem::take(&mut field));
-                at_start = true;
-                continue;
-            }
-            (false, '"') if at_start => quoted = true,
-            (false, '"') => return Err("a quote inside an unquoted field".into()),
-            (true, '"') if chars.peek() == Some(&'"') => {
-                chars.next();
-                field.push('"');
-            }
-            (true, '"') => quoted = false,
-            (_, c) => field.push(c),
+/// A reader of RFC 4180 text: records of any length (checked here, to say which line),
+/// a byte-order mark (which spreadsheets write) skipped.
+fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
+    if input
+        .fill_buf()
+        .is_ok_and(|b| b.starts_with("\u{feff}".as_bytes()))
+    {
+        input.consume(3);
+    }
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(input)
+}
+
+/// The first record, the header; `what` names the table in the message of an empty one.
+fn header<R: std::io::Read>(
+    reader: &mut csv::Reader<R>,
+    source: &str,
+    what: &str,
+) -> Result<Vec<String>, Error> {
+    match reader.records().next() {
+        Some(record) => Ok(record_fields(record, source)?.1),
+        None => Err(table_error(
+            source,
+            1,
+            "",
+            format!("the file is empty: {what} needs a header of column names"),
+        )),
+    }
+}
+
+/// A record's line and fields, or the reader's error naming the line.
+fn record_fields(
+    record: Result<csv::StringRecord, csv::Error>,
+    source: &str,
+) -> Result<(usize, Vec<String>), Error> {
+    match record {
+        Ok(record) => {
+            let line = record.position().map_or(0, |p| p.line() as usize);
+            Ok((line, record.iter().map(str::to_string).collect()))
         }
-        at_start = false;
+        Err(e) => {
+            let line = e.position().map_or(0, |p| p.line() as usize);
+            let problem = match e.kind() {
+                csv::ErrorKind::Utf8 { .. } => "the text is not UTF-8".to_string(),
+                _ => e.to_string(),
+            };
+            Err(table_error(source, line, "", problem))
+        }
     }
-    if quoted {
-        return Err("a quoted field is not closed on its line".into());
-    }
-    out.push(field);
-    Ok(out)
 }
 
 /// A study's cases read from CSV: a header of parameter names, then one row of numbers per
-/// case. Every mistake is an error naming the line and the column: a name the study does
-/// not know, or given twice; a missing value; a field that is not a finite number.
+/// case. Every mistake is an error naming the line and the column: a column the study does
+/// not know, or given twice, or one of its parameters missing; a missing value; a field that
+/// is not a finite number.
 ///
 /// ```
 /// use hamel_runtime::ParameterTable;
@@ -321,125 +494,119 @@ fn fields(line: &str) -> Result<Vec<String>, String> {
 /// assert_eq!((table.len(), table.get(1, "mass")), (2, Some(90.0)));
 /// let e = ParameterTable::parse("trail,mass\n0.08,heavy\n", "grid.csv", &["trail", "mass"]).unwrap_err();
 /// assert_eq!(e.to_string(), "grid.csv, line 2, column `mass`: `heavy` is not a number");
+/// let e = ParameterTable::parse("trail\n0.08\n", "grid.csv", &["trail", "mass"]).unwrap_err();
+/// assert_eq!(
+///     e.to_string(),
+///     "grid.csv, line 1: the study's parameter `mass` is missing; its parameters are trail, mass"
+/// );
 /// # Ok::<(), hamel_runtime::Error>(())
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParameterTable {
     names: Vec<String>,
-    rows: Vec<Vec<f64>>,
+    /// The rows one after another, each as long as the names: a table of 10⁶ cases of two
+    /// parameters is 16 MB.
+    values: Vec<f64>,
+    count: usize,
 }
 
 impl ParameterTable {
-    /// The table in `text` (`source` names it in errors, a path); its columns must be among
-    /// `known`.
+    /// The table in `text` (`source` names it in errors, a path); its columns must be
+    /// `known`, each once, in any order.
     pub fn parse(text: &str, source: &str, known: &[&str]) -> Result<ParameterTable, Error> {
-        let mut lines = records(text);
-        let names = match lines.next() {
-            Some((_, Ok(names))) => names,
-            Some((line, Err(problem))) => return Err(table_error(source, line, "", problem)),
-            None => {
-                return Err(table_error(
-                    source,
-                    1,
-                    "",
-                    "the table is empty: it needs a header of parameter names".into(),
-                ));
-            }
-        };
-        for (j, name) in names.iter().enumerate() {
-            let name = name.trim();
-            if !known.contains(&name) {
-                return Err(table_error(
-                    source,
-                    1,
-                    name,
-                    format!(
-                        "unknown column; the study's parameters are {}",
-                        known.join(", ")
-                    ),
-                ));
-            }
-            if names[..j].iter().any(|n| n.trim() == name) {
-                return Err(table_error(
-                    source,
-                    1,
-                    name,
-                    "the column is given twice".into(),
-                ));
-            }
-        }
+        ParameterTable::from_reader(text.as_bytes(), source, known)
+    }
+
+    /// The table in the file at `path`, read as a stream (the table is held as numbers, not
+    /// as text).
+    pub fn read(path: impl AsRef<Path>, known: &[&str]) -> Result<ParameterTable, Error> {
+        let path = path.as_ref();
+        let file = std::fs::File::open(path).map_err(|e| Error::Read {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let source = path.display().to_string();
+        ParameterTable::from_reader(std::io::BufReader::new(file), &source, known)
+    }
+
+    /// The table read from `input`.
+    fn from_reader(
+        input: impl std::io::BufRead,
+        source: &str,
+        known: &[&str],
+    ) -> Result<ParameterTable, Error> {
+        let mut reader = reader(input);
+        let names = header(&mut reader, source, "a parameter table").map_err(|e| match e {
+            Error::Table { file, line, .. } => Error::Table {
+                file,
+                line,
+                column: String::new(),
+                problem: "the table is empty: it needs a header of parameter names".into(),
+            },
+            e => e,
+        })?;
         let names: Vec<String> = names.iter().map(|n| n.trim().to_string()).collect();
-        let mut rows = Vec::new();
-        for (line, fields) in lines {
-            let fields = fields.map_err(|problem| table_error(source, line, "", problem))?;
-            if fields.len() > names.len() {
+        check_header(&names, source, known)?;
+        let (mut values, mut count) = (Vec::new(), 0);
+        let mut record = csv::StringRecord::new();
+        loop {
+            match reader.read_record(&mut record) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(e) => return Err(record_fields(Err(e), source).unwrap_err()),
+            }
+            let line = record.position().map_or(0, |p| p.line() as usize);
+            if record.iter().all(|f| f.trim().is_empty()) {
+                continue;
+            }
+            if record.len() > names.len() {
                 return Err(table_error(
                     source,
                     line,
                     "",
-                    format!("{} values for {} columns", fields.len(), names.len()),
+                    format!("{} values for {} columns", record.len(), names.len()),
                 ));
             }
-            let mut row = Vec::with_capacity(names.len());
             for (j, name) in names.iter().enumerate() {
-                let field = fields.get(j).map_or("", |f| f.trim());
-                if field.is_empty() {
-                    return Err(table_error(
-                        source,
-                        line,
-                        name,
-                        "the value is missing".into(),
-                    ));
-                }
-                match field.parse::<f64>() {
-                    Ok(v) if v.is_finite() => row.push(v),
-                    Ok(_) => {
-                        return Err(table_error(
-                            source,
-                            line,
-                            name,
-                            format!("`{field}` is not a finite number"),
-                        ));
-                    }
-                    Err(_) => {
-                        return Err(table_error(
-                            source,
-                            line,
-                            name,
-                            format!("`{field}` is not a number"),
-                        ));
-                    }
-                }
+                let field = record.get(j).map_or("", |f| f.trim());
+                values.push(parse_value(field).map_err(|p| table_error(source, line, name, p))?);
             }
-            rows.push(row);
+            count += 1;
         }
-        Ok(ParameterTable { names, rows })
+        Ok(ParameterTable {
+            names,
+            values,
+            count,
+        })
     }
 
-    /// The table in the file at `path`.
-    pub fn read(path: impl AsRef<Path>, known: &[&str]) -> Result<ParameterTable, Error> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
-        ParameterTable::parse(&text, &path.display().to_string(), known)
-    }
-
-    /// A table of these columns and rows (each as long as the names), as a study builds its
-    /// grid; [`Self::to_csv`] writes it for the shards to read.
+    /// A table of these columns and rows (each as long as the names, every value a finite
+    /// number), as a study builds its grid; [`Self::to_csv`] writes it for the shards to read.
     pub fn from_rows(names: Vec<String>, rows: Vec<Vec<f64>>) -> Result<ParameterTable, Error> {
         check_names(&names)?;
-        if let Some(i) = rows.iter().position(|r| r.len() != names.len()) {
-            return Err(Error::DimensionMismatch {
-                what: format!(
-                    "row {i} has {} values for {} columns",
-                    rows[i].len(),
-                    names.len()
-                ),
-            });
+        for (i, row) in rows.iter().enumerate() {
+            if row.len() != names.len() {
+                return Err(Error::DimensionMismatch {
+                    what: format!(
+                        "row {i} has {} values for {} columns",
+                        row.len(),
+                        names.len()
+                    ),
+                });
+            }
+            if let Some(j) = row.iter().position(|v| !v.is_finite()) {
+                return Err(Error::InvalidParameter {
+                    name: format!("{} (row {i} of the parameter table)", names[j]),
+                    value: row[j],
+                });
+            }
         }
-        Ok(ParameterTable { names, rows })
+        let count = rows.len();
+        Ok(ParameterTable {
+            names,
+            values: rows.into_iter().flatten().collect(),
+            count,
+        })
     }
 
     /// The column names, in order.
@@ -449,87 +616,88 @@ impl ParameterTable {
 
     /// The number of rows (cases).
     pub fn len(&self) -> usize {
-        self.rows.len()
+        self.count
     }
 
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty()
+        self.count == 0
     }
 
     /// Row i's values, in the order of [`Self::names`].
     pub fn row(&self, i: usize) -> Option<&[f64]> {
-        self.rows.get(i).map(Vec::as_slice)
+        let width = self.names.len();
+        (i < self.count).then(|| &self.values[i * width..(i + 1) * width])
     }
 
     /// Row i's value of the column `name`, if both exist.
     pub fn get(&self, i: usize, name: &str) -> Option<f64> {
         let j = self.names.iter().position(|n| n == name)?;
-        self.rows.get(i).map(|r| r[j])
+        self.row(i).map(|r| r[j])
     }
 
-    /// The CSV text, numbers exact (they read back to the same bits).
+    /// The CSV text, numbers exact (they read back to the same bits): [`Self::parse`] with
+    /// the same names gives the same table.
     pub fn to_csv(&self) -> String {
-        let mut text = self.names.join(",");
-        text.push('\n');
-        for row in &self.rows {
-            let fields: Vec<String> = row.iter().map(|v| format!("{v:?}")).collect();
-            text.push_str(&fields.join(","));
-            text.push('\n');
+        let mut writer = csv::Writer::from_writer(Vec::new());
+        let text = (|| -> csv::Result<Vec<u8>> {
+            writer.write_record(&self.names)?;
+            for row in (0..self.count).filter_map(|i| self.row(i)) {
+                writer.write_record(row.iter().map(|v| format!("{v:?}")))?;
+            }
+            writer.into_inner().map_err(|e| e.into_error().into())
+        })();
+        // Writing to memory cannot fail, and every field is ASCII or a checked name.
+        String::from_utf8(text.unwrap_or_default()).unwrap_or_default()
+    }
+}
+
+/// A parameter table's header: exactly the study's parameters, each once.
+fn check_header(names: &[String], source: &str, known: &[&str]) -> Result<(), Error> {
+    let header = |column: &str, problem: String| table_error(source, 1, column, problem);
+    let parameters = known.join(", ");
+    for (j, name) in names.iter().enumerate() {
+        if !known.contains(&name.as_str()) {
+            return Err(header(
+                name,
+                format!("unknown column; the study's parameters are {parameters}"),
+            ));
         }
-        text
+        if names[..j].contains(name) {
+            return Err(header(name, "the column is given twice".into()));
+        }
+    }
+    let missing: Vec<&str> = known
+        .iter()
+        .copied()
+        .filter(|k| !names.iter().any(|n| n == k))
+        .collect();
+    match missing.as_slice() {
+        [] => Ok(()),
+        [one] => Err(header(
+            "",
+            format!("the study's parameter `{one}` is missing; its parameters are {parameters}"),
+        )),
+        more => Err(header(
+            "",
+            format!(
+                "the study's parameters `{}` are missing; its parameters are {parameters}",
+                more.join("`, `")
+            ),
+        )),
+    }
+}
+
+/// A parameter's value: a finite number.
+fn parse_value(field: &str) -> Result<f64, String> {
+    if field.is_empty() {
+        return Err("the value is missing".into());
+    }
+    match field.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err(format!("`{field}` is not a finite number")),
+        Err(_) => Err(format!("`{field}` is not a number")),
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn csv_fields_follow_rfc_4180() {
-        assert_eq!(fields("a,b,,c").unwrap(), ["a", "b", "", "c"]);
-        assert_eq!(
-            fields("1,\"x, \"\"y\"\"\",2").unwrap(),
-            ["1", "x, \"y\"", "2"]
-        );
-        assert!(fields("1,\"open").is_err());
-        assert!(fields("1,a\"b").is_err());
-    }
-
-    #[test]
-    fn tables_round_trip_through_csv_bit_for_bit() {
-        let mut t = Table::new(vec!["a".into(), "b".into()]).unwrap();
-        t.push(3, Ok(vec![0.1 + 0.2, -1e-300]));
-        t.push(
-            4,
-            Err(Error::InvalidSetting {
-                name: "x",
-                value: 1.0,
-                reason: "a \"quoted\", comma",
-            }),
-        );
-        t.push(5, Ok(vec![1.0]));
-        let mut text = Vec::new();
-        t.write_csv(&mut text).unwrap();
-        let text = String::from_utf8(text).unwrap();
-        assert!(text.starts_with("case,a,b,error\n3,0.30000000000000004,-1e-300,\n4,NaN,NaN,\""));
-        let back = Table::parse_csv(&text, "t.csv").unwrap();
-        assert_eq!(back.cases(), [3, 4, 5]);
-        assert_eq!(back.errors(), t.errors());
-        assert_eq!(back.row(0), t.row(0));
-        assert!(
-            back.errors()[2]
-                .as_deref()
-                .unwrap()
-                .contains("1 values for 2 columns")
-        );
-        assert_eq!(back.failed(), 2);
-    }
-
-    #[test]
-    fn bad_column_names_are_refused() {
-        for bad in ["", "a,b", "case", "error"] {
-            assert!(Table::new(vec![bad.into()]).is_err(), "{bad:?}");
-        }
-        assert!(Table::new(vec!["a".into(), "a".into()]).is_err());
-    }
-}
+mod tests;

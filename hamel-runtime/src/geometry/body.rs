@@ -1,6 +1,6 @@
 //! Rigid bodies and rolling contacts, as a model's `#[bodies]` and `#[contacts]` state them.
 
-use super::{Rotation3, Vector3};
+use super::{Rotation3, Shape, Surface, Vector3};
 
 /// The inertia tensor of a body about its centre of mass, in the body's own axes. The
 /// products are the tensor's off-diagonal entries (SymPy's `inertia(frame, ixx, iyy, izz,
@@ -59,6 +59,8 @@ impl Inertia {
 /// In a model's `#[bodies]` role these are functions of the coordinates (and the time); the
 /// macro derives the velocity of the centre, the angular velocity Ω (from Rᵀ Ṙ), the kinetic
 /// energy Σ ½ m |ṙ|² + ½ Ωᵀ I Ω and, with `#[gravity]`, the potential energy of gravity.
+/// A body may have a [`Shape`] ([`Body::with_shape`]): where it rolls, the contact point then
+/// follows from the shape ([`Contact::rolling`]), and scenes draw it.
 ///
 /// ```
 /// use hamel_runtime::geometry::{Body, Inertia, Rotation3, Vector3};
@@ -78,15 +80,27 @@ pub struct Body {
     pub inertia: Inertia,
     pub centre: Vector3,
     pub orientation: Rotation3,
+    /// Its shape where it rolls, if it has been given one.
+    pub shape: Option<Shape>,
 }
 
 impl Body {
+    /// A body without a shape (give it one with [`Body::with_shape`]).
     pub const fn new(mass: f64, inertia: Inertia, centre: Vector3, orientation: Rotation3) -> Self {
         Body {
             mass,
             inertia,
             centre,
             orientation,
+            shape: None,
+        }
+    }
+
+    /// The same body with the shape `shape` (in its own axes).
+    pub const fn with_shape(self, shape: Shape) -> Self {
+        Body {
+            shape: Some(shape),
+            ..self
         }
     }
 
@@ -106,19 +120,31 @@ impl Body {
     }
 }
 
-/// A body that rolls without slipping at a point: in a model's `#[contacts]` role, the macro
-/// makes the velocity of the body's material point at the contact, v + ω × (P − r), equal to
-/// that of the surface it rolls on, along the surface (two constraint rows). The surface is
-/// the ground, the plane z = 0 at rest ([`Contact::ground`]), or a horizontal surface that
-/// moves with another body, a turntable or a belt ([`Contact::on`]). The contact's height
-/// above the surface is a holonomic condition, which `#[contacts(determines(..))]` states
-/// where it is not already built into the coordinates.
+/// A body that rolls without slipping on a surface: in a model's `#[contacts]` role, the
+/// macro makes the velocity of the body's material point at the contact, v + ω × (P − r),
+/// equal to that of the surface there, along the surface (two constraint rows). The contact's
+/// height above the surface is a holonomic condition, which `#[contacts(determines(..))]`
+/// states where it is not already built into the coordinates.
+///
+/// [`Contact::rolling`] finds the point from the body's [`Shape`] and the [`Surface`]; the
+/// other constructors take it as written.
+///
+/// ```
+/// use hamel_runtime::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
+/// // A ball of radius 0.1 resting on a plane inclined by 0.2 rad about y.
+/// let incline = Rotation3::about_y(0.2);
+/// let ball = Body::new(1.0, Inertia::principal(0.004, 0.004, 0.004),
+///     incline * Vector3::new(0.0, 0.0, 0.1), Rotation3::identity()).with_shape(Shape::sphere(0.1));
+/// let contact = Contact::rolling(ball, Surface::plane(Vector3::zeros(), incline));
+/// assert!(contact.point.norm() < 1e-16);
+/// assert!(contact.surface.height(contact.point).abs() < 1e-16);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
     /// The body that rolls.
     pub body: Body,
-    /// The body whose surface it rolls on; `None` for the ground at rest.
-    pub surface: Option<Body>,
+    /// What it rolls on.
+    pub surface: Surface,
     /// Where they touch, in the ground frame.
     pub point: Vector3,
 }
@@ -129,18 +155,52 @@ impl Contact {
     pub const fn ground(body: Body, point: Vector3) -> Self {
         Contact {
             body,
-            surface: None,
+            surface: Surface::ground(),
             point,
         }
     }
 
-    /// `body` rolls without slipping on a horizontal surface that moves with `surface` (a
-    /// turntable, a belt: a body whose pose is a function of the time), touching it at
-    /// `point`.
+    /// `body` rolls without slipping on the plane z = 0 of `surface`'s own axes (through its
+    /// centre), which moves with `surface` (a turntable, tilted or not, or a belt: a body whose
+    /// pose is a function of the time), touching it at `point`.
     pub const fn on(body: Body, surface: Body, point: Vector3) -> Self {
         Contact {
             body,
-            surface: Some(surface),
+            surface: Surface::of(surface),
+            point,
+        }
+    }
+
+    /// `body` rolls without slipping on `surface`, touching it at `point`.
+    pub const fn new(body: Body, surface: Surface, point: Vector3) -> Self {
+        Contact {
+            body,
+            surface,
+            point,
+        }
+    }
+
+    /// `body` rolls without slipping on `surface`, touching it where its shape does: the
+    /// point of the shape farthest along the surface's inward normal (on a sphere or in a
+    /// bowl, towards or away from its centre: exact for a ball). A body without a shape is
+    /// a point at its centre of mass. In a model, the macro requires the shape, and a ball
+    /// for a sphere or a bowl.
+    pub fn rolling(body: Body, surface: Surface) -> Self {
+        let point = match body.shape {
+            None => body.centre,
+            Some(shape) => {
+                let centre = body.point(shape.centre());
+                let inward = match surface {
+                    Surface::Plane { orientation, .. } => -(orientation * Vector3::z()),
+                    Surface::Sphere { centre: c, .. } => (c - centre).normalize(),
+                    Surface::Bowl { centre: c, .. } => (centre - c).normalize(),
+                };
+                shape.support(&body, inward)
+            }
+        };
+        Contact {
+            body,
+            surface,
             point,
         }
     }

@@ -1,6 +1,7 @@
 //! What a model stated from geometry says about itself at run time: its bodies, where they
-//! touch the ground, and gravity, at any configuration. Scenes and pictures of a model are
-//! drawn from this, so they show the model as the macro reads it.
+//! touch their surfaces, and gravity, at any configuration. Scenes and pictures of a model
+//! are drawn from this, so they show the model as the macro reads it: a body's shape, where
+//! it has one, is [`Body::shape`], and what a contact rolls on is [`Contact::surface`].
 
 use super::{Body, Contact, Vector3};
 use crate::system::HamelSystem;
@@ -18,6 +19,11 @@ pub trait Mechanism: HamelSystem {
     /// The bodies' names, in the order `#[bodies]` returns them: as given in
     /// `#[hamel_system(bodies(..))]`, or `body0`, `body1`, … by default.
     const BODIES: &'static [&'static str];
+
+    /// What the macro noted while reading the model's geometry: each contact row left out
+    /// because it repeats the others at every configuration (two wheels on one axle), with
+    /// what the kept rows' constraint forces then are. Empty for most models.
+    const NOTES: &'static [&'static str] = &[];
 
     /// The bodies at time `t` and configuration `q`: the model's `#[bodies]` function.
     fn bodies_at(&self, t: f64, q: &Self::Coordinates) -> Vec<Body>;

@@ -8,10 +8,10 @@
 //! `inertia(frame, ixx, iyy, izz, ixy, iyz, izx)` order).
 //!
 //! A model states its rigid bodies with `#[bodies]` (mass, inertia, centre of mass and
-//! orientation as functions of q), and the macro derives their velocities, the kinetic
-//! energy and gravity's potential; `#[contacts]` states where bodies roll without slipping,
-//! and the macro derives the constraint rows from the velocity of the material point at the
-//! contact. `hamel::docs::geometry` is the guide.
+//! orientation as functions of q, and optionally a [`Shape`]), and the macro derives their
+//! velocities, the kinetic energy and gravity's potential; `#[contacts]` states where bodies
+//! roll without slipping on a [`Surface`], and the macro derives the constraint rows from the
+//! velocity of the material point at the contact. `hamel::docs::geometry` is the guide.
 //!
 //! ```
 //! use hamel_runtime::geometry::{Rotation3, Vector3};
@@ -28,11 +28,17 @@
 //! ```
 
 mod body;
+mod check;
 mod mechanism;
 mod rotation;
+mod shape;
+mod surface;
 mod vector;
 
 pub use body::{Body, Contact, Inertia, disk_contact};
+pub use check::check_bodies;
 pub use mechanism::Mechanism;
 pub use rotation::Rotation3;
+pub use shape::Shape;
+pub use surface::Surface;
 pub use vector::Vector3;

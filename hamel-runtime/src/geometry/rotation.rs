@@ -9,8 +9,9 @@ use core::ops::{Index, Mul};
 ///
 /// It is always a rotation: it is made from elementary rotations
 /// ([`about_x`](Self::about_x), [`about_y`](Self::about_y), [`about_z`](Self::about_z)),
-/// a rotation about an axis ([`from_axis_angle`](Self::from_axis_angle)) or Euler angles,
-/// and products and transposes of those. `a * b` applies `b` first, then `a`: a body
+/// a rotation about an axis ([`from_axis_angle`](Self::from_axis_angle)), Euler angles or a
+/// quaternion ([`from_quaternion`](Self::from_quaternion)), and products and transposes of
+/// those; [`from_matrix_unchecked`](Self::from_matrix_unchecked) trusts its caller. `a * b` applies `b` first, then `a`: a body
 /// oriented by `a` that turns by `b` in its own axes is oriented by `a * b` (a
 /// body-fixed sequence, SymPy's `orient_body_fixed`).
 ///
@@ -93,6 +94,54 @@ impl Rotation3 {
     /// the fixed axes, R = R_z(yaw) R_y(pitch) R_x(roll).
     pub fn from_euler_angles(roll: f64, pitch: f64, yaw: f64) -> Self {
         Rotation3::about_z(yaw) * Rotation3::about_y(pitch) * Rotation3::about_x(roll)
+    }
+
+    /// The rotation of the quaternion w + x i + y j + z k, which need not have unit length
+    /// (the rotation of q/|q|; the zero quaternion gives no rotation matrix, every entry NaN):
+    /// R = I + 2 (w \[v\]ₓ + \[v\]ₓ²) / |q|² for v = (x, y, z). Orientations by quaternions have
+    /// no singularity; nalgebra's `UnitQuaternion::from_quaternion` followed by its rotation
+    /// matrix.
+    pub fn from_quaternion(w: f64, x: f64, y: f64, z: f64) -> Self {
+        let s = 2.0 / (w * w + x * x + y * y + z * z);
+        let (wx, wy, wz) = (s * w * x, s * w * y, s * w * z);
+        let (xx, xy, xz) = (s * x * x, s * x * y, s * x * z);
+        let (yy, yz, zz) = (s * y * y, s * y * z, s * z * z);
+        Rotation3 {
+            matrix: [
+                [1.0 - yy - zz, xy - wz, xz + wy],
+                [xy + wz, 1.0 - xx - zz, yz - wx],
+                [xz - wy, yz + wx, 1.0 - xx - yy],
+            ],
+        }
+    }
+
+    /// The rotation whose matrix is `matrix` (row by row), taken as it is: it must be
+    /// orthogonal with determinant 1 (nalgebra's `Rotation3::from_matrix_unchecked`).
+    pub const fn from_matrix_unchecked(matrix: [[f64; 3]; 3]) -> Self {
+        Rotation3 { matrix }
+    }
+
+    /// The unit quaternion `[w, x, y, z]` of the rotation, with w ≥ 0: the inverse of
+    /// [`Rotation3::from_quaternion`] (nalgebra's `UnitQuaternion::from_rotation_matrix`),
+    /// for the initial values of a model oriented by a quaternion.
+    ///
+    /// ```
+    /// use hamel_runtime::geometry::Rotation3;
+    /// let r = Rotation3::about_z(0.4) * Rotation3::about_x(-1.2);
+    /// let [w, x, y, z] = r.to_quaternion();
+    /// let back = Rotation3::from_quaternion(w, x, y, z);
+    /// let m = (r.matrix(), back.matrix());
+    /// assert!((0..9).all(|k| (m.0[k / 3][k % 3] - m.1[k / 3][k % 3]).abs() < 1e-15));
+    /// ```
+    pub fn to_quaternion(&self) -> [f64; 4] {
+        let m = &self.matrix;
+        let matrix = nalgebra::Matrix3::new(
+            m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2],
+        );
+        let rotation = nalgebra::Rotation3::from_matrix_unchecked(matrix);
+        let q = nalgebra::UnitQuaternion::from_rotation_matrix(&rotation);
+        let sign = if q.w < 0.0 { -1.0 } else { 1.0 };
+        [sign * q.w, sign * q.i, sign * q.j, sign * q.k]
     }
 
     /// The inverse rotation, Rᵀ.

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use hamel_runtime::ensemble::{check_writable, is_complete, write_complete};
+use hamel_runtime::ensemble::{ShardStamp, ShardState, check_writable, shard_state, write_shard};
 use hamel_runtime::{
     DormandPrince, Ensemble, Error, Outputs, ParameterTable, Shard, Simulation, Table,
 };
@@ -85,8 +85,12 @@ fn a_study_gives_the_same_bits_on_any_number_of_threads() {
     let result = Table::parse_csv(&one, "study").unwrap();
     assert_eq!(result.len(), 48);
     assert_eq!(result.failed(), 1);
-    let error = result.errors()[47].as_deref().unwrap();
-    assert!(error.contains("singular reduced mass matrix"), "{error}");
+    let error = result.errors()[47].as_ref().unwrap();
+    assert_eq!(error.kind, "singular_mass_matrix");
+    assert!(
+        error.message.contains("singular reduced mass matrix"),
+        "{error}"
+    );
     assert!(result.column("final_x").unwrap()[47].is_nan());
     assert!(
         result.column("final_x").unwrap()[..47]
@@ -116,20 +120,29 @@ const WORKER_SHARD: &str = "HAMEL_TEST_SHARD";
 const WORKER_DIR: &str = "HAMEL_TEST_SHARD_DIR";
 
 /// What a batch engine's task does: read the parameter table, run its shard's rows unless
-/// the shard's file is complete, write the file whole or not at all.
+/// the shard's file is complete, write the file whole or not at all, then its manifest.
 fn run_shard(dir: &Path, shard: Shard) -> Result<(), Error> {
     let path = dir.join(shard.file_name("csv"));
-    if is_complete(&path) {
+    let table = ParameterTable::read(dir.join("grid.csv"), &PARAMETERS)?;
+    let rows = (0..table.len()).map(|i| table.row(i).unwrap());
+    let stamp = ShardStamp::new(
+        table.names(),
+        rows,
+        shard,
+        &outputs().names::<Skate>(),
+        "csv",
+    );
+    if shard_state(&path, &stamp) == ShardState::Complete {
         return Ok(());
     }
-    let table = ParameterTable::read(dir.join("grid.csv"), &PARAMETERS)?;
     let result = study(&table, shard.rows(table.len()), 2);
-    write_complete(&path, |file| {
+    write_shard(&path, &stamp, |file| {
         result.write_csv(file).map_err(|e| Error::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })
     })
+    .map(|_| ())
 }
 
 /// A fresh directory for one test's files.
@@ -200,42 +213,29 @@ fn shards_as_separate_processes_give_the_same_rows() {
     assert_eq!(csv(&joined(&eight, 8)), whole, "8 shards against 1");
 
     // A restart recomputes what is missing and only that: shard 5 was killed while writing
-    // (its half-written file has another name and is not taken for it), shard 2 finished.
+    // (its half-written file has a name of its own and is not taken for it), shard 6 was
+    // truncated after it finished, shard 2 finished.
     let five = eight.join(Shard { index: 5, count: 8 }.file_name("csv"));
     std::fs::remove_file(&five).unwrap();
+    std::fs::remove_file(hamel_runtime::ensemble::manifest_path(&five)).unwrap();
     let half = eight.join(format!(
-        "{}.partial",
+        "{}.partial-1-0",
         Shard { index: 5, count: 8 }.file_name("csv")
     ));
     std::fs::write(&half, "case,final_x\n3,0.1").unwrap();
-    assert!(!is_complete(&five) && !is_complete(eight.join("nothing.csv")));
+    let six = eight.join(Shard { index: 6, count: 8 }.file_name("csv"));
+    let text = std::fs::read_to_string(&six).unwrap();
+    std::fs::write(&six, &text[..text.len() / 2]).unwrap();
     let two = eight.join(Shard { index: 2, count: 8 }.file_name("csv"));
     let before = std::fs::metadata(&two).unwrap().modified().unwrap();
     shards_in_processes(&eight, 8);
     assert_eq!(std::fs::metadata(&two).unwrap().modified().unwrap(), before);
     assert!(!half.exists());
+    assert_eq!(std::fs::read_to_string(&six).unwrap(), text);
     assert_eq!(csv(&joined(&eight, 8)), whole, "after the restart");
     for dir in [one, eight] {
         std::fs::remove_dir_all(dir).unwrap();
     }
-}
-
-#[test]
-fn a_file_that_fails_while_written_is_never_complete() {
-    let dir = scratch("failed-write");
-    let path = dir.join("shard-0000-of-0001.csv");
-    let e = write_complete(&path, |file| {
-        use std::io::Write;
-        file.write_all(b"case,x,error\n0,").unwrap();
-        Err(Error::Io {
-            path: "disk".into(),
-            message: "full".into(),
-        })
-    })
-    .unwrap_err();
-    assert!(matches!(e, Error::Io { .. }));
-    assert!(!is_complete(&path));
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -247,19 +247,19 @@ fn bad_tables_shards_and_directories_are_refused_naming_them() {
             "grid.csv, line 1, column `volume`: unknown column; the study's parameters are mass, inertia, speed, brake",
         ),
         (
-            "mass,inertia\n1,0.2\n2,heavy\n",
+            "mass,inertia,speed,brake\n1,0.2,3,4\n2,heavy,3,4\n",
             "grid.csv, line 3, column `inertia`: `heavy` is not a number",
         ),
         (
-            "mass,inertia\n1,0.2\n2\n",
+            "mass,inertia,speed,brake\n1,0.2,3,4\n2\n",
             "grid.csv, line 3, column `inertia`: the value is missing",
         ),
         (
-            "mass,inertia\n1,,\n",
-            "grid.csv, line 2: 3 values for 2 columns",
+            "mass,inertia,speed,brake\n1,2,3,4,\n",
+            "grid.csv, line 2: 5 values for 4 columns",
         ),
         (
-            "mass,inertia\n1,inf\n",
+            "mass,inertia,speed,brake\n1,inf,3,4\n",
             "grid.csv, line 2, column `inertia`: `inf` is not a finite number",
         ),
         (
@@ -269,6 +269,11 @@ fn bad_tables_shards_and_directories_are_refused_naming_them() {
         (
             "",
             "grid.csv, line 1: the table is empty: it needs a header of parameter names",
+        ),
+        (
+            "mass,inertia,speed\n1,0.2,3\n",
+            "grid.csv, line 1: the study's parameter `brake` is missing; its parameters are \
+             mass, inertia, speed, brake",
         ),
     ];
     for (text, message) in cases {

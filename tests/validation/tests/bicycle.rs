@@ -23,7 +23,7 @@ mod xorshift;
 
 use hamel::models::WhippleBicycle;
 use hamel::roots::brent;
-use hamel::{Error, HamelSystem, Linearization};
+use hamel::{Error, HamelSystem, Linearization, ModeSweep};
 use nalgebra::Complex;
 use whipple_by_hand::WhippleByHand;
 
@@ -310,6 +310,40 @@ fn the_weave_and_capsize_speeds_are_table_2s() {
     assert!(spectral_abscissa(&bike, 5.0).unwrap() < 0.0);
     assert!(spectral_abscissa(&bike, 3.0).unwrap() > 0.0);
     assert!(spectral_abscissa(&bike, 7.0).unwrap() > 0.0);
+}
+
+/// The stability functions — the lateral modes tracked along the speed, the stable range's
+/// ends located on the modes that cross there — give the speeds the search of the largest
+/// real part gives (the examples' search before them) to 10⁻¹², on the study's scan (steps
+/// of 0.5 m/s) and a finer one; the range is opened by the weave pair and closed by the
+/// capsize mode, a real one.
+#[test]
+fn the_stability_functions_give_the_searchs_weave_and_capsize_speeds() {
+    let bike = WhippleBicycle::default();
+    let (weave, capsize) = weave_and_capsize(&bike);
+    let lateral = |v: f64| Ok(linearized(&bike, v));
+    for step in [0.5, 0.25] {
+        let speeds = (0..=(10.0 / step) as i32).map(|i| step * f64::from(i));
+        let sweep = ModeSweep::track("v", speeds, &lateral).unwrap();
+        let ranges = sweep.stable_ranges(&lateral).unwrap();
+        assert_eq!(ranges.len(), 1, "{ranges:?}");
+        let (opens, closes) = (
+            ranges[0].opens.as_ref().unwrap(),
+            ranges[0].closes.as_ref().unwrap(),
+        );
+        assert!(
+            (opens.parameter - weave).abs() <= 1e-12,
+            "{} vs {weave}",
+            opens.parameter
+        );
+        assert!(
+            (closes.parameter - capsize).abs() <= 1e-12,
+            "{} vs {capsize}",
+            closes.parameter
+        );
+        assert!(!opens.destabilizing && opens.frequency > 1.0);
+        assert!(closes.destabilizing && closes.frequency == 0.0);
+    }
 }
 
 /// Below the weave speed the bicycle is unstable: at 2 m/s a lean of 0.05 rad grows until it

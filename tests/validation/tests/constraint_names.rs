@@ -13,8 +13,9 @@ use hamel::prelude::*;
 fn the_catalogue_names_its_constraints() {
     assert_eq!(KnifeEdge::CONSTRAINTS, ["blade"]);
     assert_eq!(ChaplyginSleigh::CONSTRAINTS, ["blade"]);
-    assert_eq!(MobileRobot::CONSTRAINTS, ["no_side_slip", "no_slip"]);
-    assert_eq!(MobileRobotPaper::CONSTRAINTS, MobileRobot::CONSTRAINTS);
+    // The robot from its wheels: a wheel's slip along its heading, then along its axle.
+    assert_eq!(MobileRobot::CONSTRAINTS, ["no_slip", "no_side_slip"]);
+    assert_eq!(MobileRobotPaper::CONSTRAINTS, ["no_side_slip", "no_slip"]);
     assert_eq!(BallOnTurntable::CONSTRAINTS, ["contact_x", "contact_y"]);
     assert_eq!(NTrailer2::CONSTRAINTS, ["axle0", "axle1", "axle2"]);
     assert_eq!(
@@ -22,7 +23,7 @@ fn the_catalogue_names_its_constraints() {
         ["rear_x", "rear_y", "front_x", "front_y", "front_z"]
     );
     // Index constants, within the constraint rows.
-    assert_eq!((KnifeEdge::BLADE, MobileRobot::NO_SLIP), (0, 1));
+    assert_eq!((KnifeEdge::BLADE, MobileRobot::NO_SIDE_SLIP), (0, 1));
     assert_eq!((NTrailer2::AXLE, NTrailer2::AXLE2), (0, 2));
     assert_eq!(WhippleBicycle::FRONT_Z, 4);
 }

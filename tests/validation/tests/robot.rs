@@ -12,6 +12,8 @@
 //! seeded xorshift, so every run checks the same states. Run with `--nocapture` to see the
 //! measured worst cases.
 
+#[path = "common/robot_by_hand.rs"]
+mod robot_by_hand;
 #[path = "common/robot_closed_form.rs"]
 mod robot_closed_form;
 #[path = "common/robot_projected_lagrange.rs"]
@@ -21,8 +23,10 @@ mod xorshift;
 
 use std::f64::consts::PI;
 
+use hamel::geometry::Mechanism;
 use hamel::models::{MobileRobot, MobileRobotPaper};
 use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory};
+use robot_by_hand::MobileRobotByHand;
 use robot_closed_form::robot_rhs;
 use robot_projected_lagrange::projected_lagrange_rhs;
 use xorshift::XorShift;
@@ -173,6 +177,57 @@ fn worst_rhs_errors(
 }
 
 // ---------------------------------------------------------------------------------------
+// 0. The robot from its two wheels against the robot by hand
+// ---------------------------------------------------------------------------------------
+
+/// The catalogue's robot, stated from its body and its two wheels rolling on the ground,
+/// has the right-hand side and the energy of the robot whose energy, constraints and
+/// quasi-velocities were written by hand (as the catalogue had it), at random states and
+/// torques; the macro found that the second wheel's rows repeat the first's.
+#[test]
+fn the_robot_from_its_two_wheels_is_the_robot_by_hand() {
+    let mut rng = XorShift::new(0x5eed_0007);
+    let (mut worst_rhs, mut worst_energy) = (0.0f64, 0.0f64);
+    for robot in parameter_sets() {
+        let by_hand = MobileRobotByHand::from(&robot);
+        for _ in 0..RANDOM_POINTS {
+            let (x, u) = (random_state(&mut rng), random_inputs(&mut rng));
+            let (geometry, hand) = (rhs(&robot, &x, &u), rhs(&by_hand, &x, &u));
+            let err = normwise_error(&geometry, &hand);
+            assert!(
+                err <= RHS_TOLERANCE,
+                "relative difference {err:e} at x = {x:?}, u = {u:?}\n  from wheels {geometry:?}\n  \
+                 by hand     {hand:?}"
+            );
+            worst_rhs = worst_rhs.max(err);
+            let (e, h) = (
+                robot.energy(0.0, &x).unwrap(),
+                by_hand.energy(0.0, &x).unwrap(),
+            );
+            let err = (e - h).abs() / h.abs().max(1.0);
+            assert!(err <= RHS_TOLERANCE, "energy {e} against {h} at x = {x:?}");
+            worst_energy = worst_energy.max(err);
+        }
+    }
+    println!(
+        "robot from two wheels vs by hand: worst norm-wise relative difference {worst_rhs:.2e} \
+         (right-hand side), {worst_energy:.2e} (energy) over {} states",
+        2 * RANDOM_POINTS
+    );
+    assert_eq!(MobileRobot::BODIES, ["body", "right_wheel", "left_wheel"]);
+    assert_eq!(MobileRobot::CONSTRAINTS, ["no_slip", "no_side_slip"]);
+    let notes = MobileRobot::NOTES;
+    println!("{notes:#?}");
+    assert_eq!(notes.len(), 2, "{notes:?}");
+    assert!(notes[0].contains("contact 1's (`left_wheel`'s) slip along its heading repeats"));
+    assert!(
+        notes[0].contains("`no_slip`")
+            && notes[0].contains("gives 1/2 to contact 0, 1/2 to contact 1")
+    );
+    assert!(notes[1].contains("along its axle") && notes[1].contains("`no_side_slip`"));
+}
+
+// ---------------------------------------------------------------------------------------
 // 1. The closed form of `hamel::docs::design`
 // ---------------------------------------------------------------------------------------
 
@@ -209,26 +264,41 @@ fn generated_accelerations_equal_the_closed_form_on_their_own_scale() {
     println!("closed form, ω̇ block on its own scale: worst {worst:.2e}");
 }
 
+/// γʲ_{l,k} expected of a model, by (j, l − p, k − p).
+type Expected<'a> = dyn Fn(usize, usize, usize) -> f64 + 'a;
+
 /// γ¹₄,₅ = −1, γ¹₅,₄ = +1 (1-based, as in `hamel::docs::design`) and every other γʲ_{l,k} with
 /// l, k > 2 vanishes, at every configuration. `gamma` is indexed [j][l − p][k − p], 0-based,
-/// p = 2.
+/// p = 2. The robot from its wheels has the paper's rows in the other order and sign (a
+/// wheel's slip along its heading, then along its axle: −ω², −ω¹), so its γ² is −γ¹.
 #[test]
 fn gamma_has_only_the_two_entries_of_the_paper() {
     let mut rng = XorShift::new(0x5eed_0003);
     let mut worst = 0.0f64;
-    let expected = |j: usize, l: usize, k: usize| match (j, l, k) {
+    let papers = |j: usize, l: usize, k: usize| match (j, l, k) {
         (0, 1, 2) => -1.0,
         (0, 2, 1) => 1.0,
         _ => 0.0,
     };
+    let wheels = |j: usize, l: usize, k: usize| match j {
+        1 => -papers(0, l, k),
+        _ => 0.0,
+    };
     for robot in parameter_sets() {
         let paper = MobileRobotPaper::from(&robot);
+        let by_hand = MobileRobotByHand::from(&robot);
         for _ in 0..RANDOM_POINTS {
             let q = random_configuration(&mut rng);
-            for (name, gamma) in [
-                ("MobileRobot", robot.gamma(0.0, &q).unwrap()),
-                ("MobileRobotPaper", paper.gamma(0.0, &q).unwrap()),
-            ] {
+            let rows: [(&str, _, &Expected); 3] = [
+                ("MobileRobot", robot.gamma(0.0, &q).unwrap(), &wheels),
+                (
+                    "MobileRobotByHand",
+                    by_hand.gamma(0.0, &q).unwrap(),
+                    &papers,
+                ),
+                ("MobileRobotPaper", paper.gamma(0.0, &q).unwrap(), &papers),
+            ];
+            for (name, gamma, expected) in rows {
                 for (j, gamma_j) in gamma.iter().enumerate() {
                     for (l, row) in gamma_j.iter().enumerate() {
                         for (k, &value) in row.iter().enumerate() {

@@ -126,7 +126,9 @@ impl<'a> Lowerer<'a, '_> {
                     self.inline(env, &name, false, c.args.iter(), c)
                 }
             },
-            [set, name] if self.ctx.helper(set, name).is_some() => {
+            // A set of shared helpers by its name or its path (`Wheels::disk`,
+            // `shapes::Wheels::disk`): the set is known by its type's name.
+            [.., set, name] if self.ctx.helper(set, name).is_some() => {
                 let set = set.to_string();
                 self.inline_helper(env, &set, name, c)
             }

@@ -11,15 +11,15 @@
 //! A body B touching a surface S at P rolls without slipping when the material points of
 //! both at P move alike: v_B + ω_B × (P − r_B) = v_S + ω_S × (P − r_S), along the surface.
 //! That is the velocity of the material point, not Ṗ: the contact point itself moves over
-//! the body as it rolls. The surfaces are horizontal, so the rows are the x and y
-//! components; the contact's height above the surface is a holonomic condition.
+//! the body as it rolls. The rows are the slip's components along two tangents of the
+//! surface at P; the contact's height above the surface is a holonomic condition.
 
 use super::{array, pairs};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::geometry::{
-    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Turn, Vec3, add, apply,
-    apply_transposed, cross, dot, scale, sub,
+    self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Vec3, add, apply,
+    apply_transposed, contact_frame, cross, dot, scale, sub,
 };
 use crate::engine::lower::{Lowerer, Value};
 use crate::system::spec::Spec;
@@ -107,47 +107,31 @@ impl Motion {
         v
     }
 
-    /// The angular velocity ω of a rotation, in the frame it maps to: for a product of turns
-    /// about fixed axes, R = F₁ ⋯ Fₖ, ω = Σᵢ (F₁ ⋯ Fᵢ₋₁) aᵢ θ̇ᵢ; otherwise from Ṙ Rᵀ = [ω]ₓ.
+    /// The angular velocity ω of a rotation, in the frame it maps to
+    /// (`geometry::angular_velocity`), kept for the next time the rotation is met.
     pub fn spin(&mut self, g: &mut Graph, r: &Rotation) -> Vec3 {
         if let Some(w) = self.spins.get(&r.matrix) {
             return *w;
         }
         let moving = g.depends_on(&self.moving);
-        let fixed = |turns: &&Vec<Turn>| {
-            turns
-                .iter()
-                .all(|turn| turn.axis.iter().all(|a| !moving[a.index()]))
-        };
-        let w = match r.turns.as_ref().filter(fixed) {
-            Some(turns) => {
-                let zero = g.zero();
-                let mut omega = [zero; 3];
-                let mut before = geometry::identity(g).matrix;
-                for turn in turns {
-                    let rate = self.rate(g, &[turn.angle])[0];
-                    let axis = apply(g, &before, turn.axis);
-                    let own = scale(g, rate, axis);
-                    omega = add(g, omega, own);
-                    before = geometry::product(g, &before, &turn.matrix);
-                }
-                omega
-            }
-            None => {
-                let entries: Vec<NodeId> = r.matrix.iter().flatten().copied().collect();
-                let d = self.rate(g, &entries);
-                let rate = [[d[0], d[1], d[2]], [d[3], d[4], d[5]], [d[6], d[7], d[8]]];
-                // (Ṙ Rᵀ)_ij = row i of Ṙ · row j of R; ω = (W₂₁, W₀₂, W₁₀).
-                let m = &r.matrix;
-                [
-                    dot(g, rate[2], m[1]),
-                    dot(g, rate[0], m[2]),
-                    dot(g, rate[1], m[0]),
-                ]
-            }
-        };
+        let seeds = &self.seeds;
+        let w = geometry::angular_velocity(g, r, &moving, &mut |g, nodes| {
+            diff::tangent(g, nodes, seeds)
+        });
         self.spins.insert(r.matrix, w);
         w
+    }
+
+    /// Whether a turn is about a fixed axis, or a quaternion's: a rotation its velocities can
+    /// be seen in.
+    fn is_fixed_turn(&self, g: &Graph, turn: &geometry::Turn) -> bool {
+        match &turn.spin {
+            geometry::Spin::Axis { axis, .. } => {
+                let moving = g.depends_on(&self.moving);
+                axis.iter().all(|a| !moving[a.index()])
+            }
+            geometry::Spin::Quaternion(_) => false,
+        }
     }
 
     /// The body angular velocity Ω = Rᵀ ω, in the body's own axes.
@@ -158,7 +142,7 @@ impl Motion {
 
     /// The velocity of the material point of `body` that is at `point`, in the ground frame:
     /// v + ω × (P − r).
-    fn material_velocity(&mut self, g: &mut Graph, body: &Body, point: Vec3) -> Vec3 {
+    pub fn material_velocity(&mut self, g: &mut Graph, body: &Body, point: Vec3) -> Vec3 {
         let velocity = self.velocity(g, &body.centre);
         let omega = self.spin(g, &body.orientation);
         let arm = sub(g, point, body.centre.at);
@@ -184,7 +168,7 @@ pub fn energies<'a>(
     let gravity = gravity(lowerer, spec, t)?;
     let g = &mut *lowerer.graph;
     let mut motion = Motion::new(g, t, q, velocities);
-    let kinetic = kinetic_energy(g, &bodies, &mut motion);
+    let kinetic = kinetic_energy(g, &bodies, &mut motion, spec.heading_frames.get());
     let potential = match gravity {
         Some(field) => potential_energy(g, &bodies, field),
         None => g.zero(),
@@ -210,24 +194,6 @@ pub fn bodies<'a>(
         .collect()
 }
 
-/// The contacts of `#[contacts]` at (t, q), or `None` after a mistake (reported).
-pub fn contacts<'a>(
-    lowerer: &mut Lowerer<'a, '_>,
-    spec: &Spec<'a>,
-    t: NodeId,
-    q: &[NodeId],
-) -> Option<Vec<Contact>> {
-    let f = spec.geometry.contacts.as_ref()?.f;
-    let value = super::lower_value(lowerer, spec, f, t, vec![array(q)])?;
-    items(value, GeoKind::Contact)?
-        .into_iter()
-        .map(|geo| match geo {
-            Geo::Contact(c) => Some(*c),
-            _ => None,
-        })
-        .collect()
-}
-
 /// The gravitational acceleration of `#[gravity]`, if the model has it.
 pub fn gravity<'a>(
     lowerer: &mut Lowerer<'a, '_>,
@@ -244,7 +210,7 @@ pub fn gravity<'a>(
 }
 
 /// The vocabulary values of an array of `kind`.
-fn items(value: Value, kind: GeoKind) -> Option<Vec<Geo>> {
+pub(super) fn items(value: Value, kind: GeoKind) -> Option<Vec<Geo>> {
     match value {
         Value::Array(items) => items
             .into_iter()
@@ -258,13 +224,13 @@ fn items(value: Value, kind: GeoKind) -> Option<Vec<Geo>> {
 }
 
 /// T = Σ ½ m |ṙ|² + ½ Ωᵀ I Ω along the motion.
-pub fn kinetic_energy(g: &mut Graph, bodies: &[Body], motion: &mut Motion) -> NodeId {
+pub fn kinetic_energy(g: &mut Graph, bodies: &[Body], motion: &mut Motion, turned: bool) -> NodeId {
     let half = g.constant(0.5);
     let terms: Vec<NodeId> = bodies
         .iter()
         .map(|body| {
             let velocity = motion.velocity(g, &body.centre);
-            let speed = dot(g, velocity, velocity);
+            let speed = squared_speed(g, body, motion, velocity, turned);
             let translation = g.mul(body.mass, speed);
             let rotation = rotation_form(g, body, motion);
             let both = g.add(translation, rotation);
@@ -272,6 +238,32 @@ pub fn kinetic_energy(g: &mut Graph, bodies: &[Body], motion: &mut Motion) -> No
         })
         .collect();
     g.sum(&terms)
+}
+
+/// |ṙ|², with `turned` from the components of ṙ in the frame of the first turn of the
+/// body's orientation, when that is a turn about a fixed axis (a vehicle's yaw):
+/// |F₁ᵀ ṙ|² = |ṙ|², but the components of F₁ᵀ ṙ are sums in which sin² + cos² of the turn
+/// can meet factor by factor (c(cA − sB) + s(sA + cB) = A), where in |ṙ|² they meet only once
+/// the squares of sums are expanded, which the graph's normal form does not do. The yaw of
+/// the paper's robot and of a rolling disk then drops out of the energy, as it does of the
+/// physics, instead of staying in every term of its derivatives (half the right-hand side's
+/// operations); the bicycle's centres, built from its rear contact, are simpler as they are
+/// (`equations::build` takes the cheaper).
+fn squared_speed(
+    g: &mut Graph,
+    body: &Body,
+    motion: &Motion,
+    velocity: Vec3,
+    turned: bool,
+) -> NodeId {
+    let first = body.orientation.turns.as_ref().and_then(|t| t.first());
+    match first.filter(|t| turned && motion.is_fixed_turn(g, t)) {
+        Some(turn) => {
+            let seen = apply_transposed(g, &turn.matrix, velocity);
+            dot(g, seen, seen)
+        }
+        None => dot(g, velocity, velocity),
+    }
 }
 
 /// Ωᵀ I Ω. For a body symmetric about one of its axes k (a wheel: the other two moments
@@ -348,24 +340,25 @@ pub fn potential_energy(g: &mut Graph, bodies: &[Body], gravity: Vec3) -> NodeId
     g.sum(&terms)
 }
 
-/// Two rows per contact: the x and y components of the slip, the velocity of the rolling
-/// body's material point at the contact relative to the surface's.
+/// Two rows per contact: the slip, the velocity of the rolling body's material point at the
+/// contact relative to the surface's, along the contact frame's two tangents (`contact_frame`:
+/// a wheel's heading and axle, or the surface's x and y axes).
 pub fn rolling_rows(g: &mut Graph, contacts: &[Contact], motion: &mut Motion) -> Vec<NodeId> {
     let mut rows = Vec::with_capacity(2 * contacts.len());
     for c in contacts {
         let body = motion.material_velocity(g, &c.body, c.point);
-        let surface = motion.material_velocity(g, &c.surface, c.point);
+        let surface = motion.material_velocity(g, &c.surface.frame, c.point);
         let slip = sub(g, body, surface);
-        rows.extend([slip[0], slip[1]]);
+        let frame = contact_frame(g, c);
+        rows.extend(frame.tangents.map(|t| dot(g, slip, t)));
     }
     rows
 }
 
-/// Each contact's height above its surface, the horizontal plane through the surface body's
-/// centre (z = 0 for the ground).
+/// Each contact's height above its surface (z for the ground).
 pub fn heights(g: &mut Graph, contacts: &[Contact]) -> Vec<NodeId> {
     contacts
         .iter()
-        .map(|c| g.sub(c.point[2], c.surface.centre.at[2]))
+        .map(|c| contact_frame(g, c).height)
         .collect()
 }

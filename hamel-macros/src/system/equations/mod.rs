@@ -28,6 +28,8 @@
 
 mod bodies;
 mod contacts;
+
+pub use contacts::{ContactReading, read as read_contacts};
 mod gamma;
 mod hamel;
 mod inverse;
@@ -227,15 +229,53 @@ pub(super) struct Vectors<'v> {
     pub forces: &'v [NodeId],
 }
 
+/// Below this many operations that depend on the state, a model stated from bodies is built
+/// twice, its bodies' speeds taken as they are and in the frames of their first turns, and
+/// the cheaper right-hand side kept: the second build costs less than the time it saves a
+/// run. (The Whipple bicycle's takes about 2800, and would double its build.)
+const TRY_BOTH_BELOW: usize = 1500;
+
+/// The equations, from the cheaper of the two ways of taking the bodies' speeds
+/// (`bodies::squared_speed`) where trying both costs little.
+pub fn build_cheaper<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equations> {
+    let plain = build(spec, lowerer)?;
+    if spec.geometry.bodies.is_none() || lowerer.has_errors() {
+        return Some(plain);
+    }
+    let cost = |g: &Graph, eq: &Equations| {
+        let roots: Vec<NodeId> = eq
+            .qd
+            .iter()
+            .chain(&eq.wdot)
+            .chain(&eq.pivots)
+            .copied()
+            .collect();
+        state_operations(g, &roots, &eq.inputs.varying())
+    };
+    let before = cost(lowerer.graph, &plain);
+    if before >= TRY_BOTH_BELOW {
+        return Some(plain);
+    }
+    spec.heading_frames.set(true);
+    let turned = build(spec, lowerer);
+    match turned {
+        Some(turned) if cost(lowerer.graph, &turned) < before => Some(turned),
+        _ => {
+            spec.heading_frames.set(false);
+            Some(plain)
+        }
+    }
+}
+
 pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equations> {
     let (n, p, m) = (spec.dims.n, spec.dims.p, spec.dims.m);
     let g = &mut *lowerer.graph;
     let inputs = Inputs {
-        t: g.new_input("t"),
-        q: fresh(g, "q", n),
+        t: spec.symbols.t,
+        q: spec.symbols.q.clone(),
         w: fresh(g, "w", spec.dims.free()),
         u: fresh(g, "u", m),
-        v: fresh(g, "v", n),
+        v: spec.symbols.v.clone(),
     };
     let omega = fresh(g, "omega", n);
     let (t, q, v) = (inputs.t, inputs.q.as_slice(), inputs.v.as_slice());

@@ -5,7 +5,7 @@
 //! combination of those before it); the holonomic constraints must determine the coordinates
 //! they are said to.
 
-use super::{HolonomicNodes, array, contacts, lower, pairs, subst};
+use super::{HolonomicNodes, array, lower, pairs, subst};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
 use crate::engine::lower::Lowerer;
@@ -41,7 +41,7 @@ pub fn build<'a>(
         holonomic,
     } = written(lowerer, spec, t, q, v)?;
     let mut residual = holonomic;
-    residual.extend(&contacts.heights);
+    residual.extend(&contacts.1);
     let g = &mut *lowerer.graph;
     let (velocity_rows, jacobian) = if residual.is_empty() {
         (Vec::new(), None)
@@ -51,7 +51,7 @@ pub fn build<'a>(
     };
     let all: Vec<NodeId> = constraints
         .iter()
-        .chain(&contacts.rows)
+        .chain(&contacts.0)
         .chain(&velocity_rows)
         .chain(&quasi)
         .copied()
@@ -89,7 +89,9 @@ pub fn build<'a>(
 /// The rows as the role functions give them, before the holonomic ones are differentiated.
 struct Written {
     constraints: Vec<NodeId>,
-    contacts: contacts::ContactRows,
+    /// The contacts' rows kept and their heights that are holonomic constraints, as read with
+    /// the model's shape.
+    contacts: (Vec<NodeId>, Vec<NodeId>),
     quasi: Vec<NodeId>,
     /// f(t, q) of `#[holonomic]`.
     holonomic: Vec<NodeId>,
@@ -118,7 +120,12 @@ fn written<'a>(
         .holonomic
         .as_ref()
         .map(|h| lower(lowerer, spec, h.f, t, vec![array(q)]));
-    let contacts = contacts::build(lowerer, spec, t, q, v);
+    let contacts = spec
+        .geometry
+        .contacts
+        .as_ref()
+        .map(|c| (c.reading.rows.clone(), c.reading.heights.clone()))
+        .unwrap_or_default();
     // B and the equations are only built from rows that are all affine.
     let mut affine = true;
     if let (Some(f), Some(Some(rows))) = (spec.constraints, &constraints) {
@@ -136,7 +143,7 @@ fn written<'a>(
     }
     let written = Written {
         constraints: constraints.unwrap_or(Some(Vec::new()))?,
-        contacts: contacts?,
+        contacts,
         quasi: quasi?,
         holonomic: holonomic.unwrap_or(Some(Vec::new()))?,
     };
@@ -235,13 +242,11 @@ fn named_rows<'a>(spec: &Spec<'a>) -> Vec<rank::Row<'a>> {
     }
     let contacts = spec.geometry.contacts.as_ref();
     if let Some(c) = contacts {
-        rows.extend((0..c.count).flat_map(|index| {
-            ["x", "y"].map(|axis| rank::Row {
-                f: c.f,
-                index,
-                constraint: true,
-                slip: Some(axis),
-            })
+        rows.extend(c.reading.kept.iter().map(|&row| rank::Row {
+            f: c.f,
+            index: row / 2,
+            constraint: true,
+            slip: Some(["x", "y"][row % 2]),
         }));
     }
     if let Some(h) = &spec.holonomic {

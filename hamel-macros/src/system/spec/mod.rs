@@ -16,7 +16,9 @@ mod signatures;
 
 pub use signatures::{argument_name, written_rows};
 
+use super::equations::ContactReading;
 use super::model::{Group, Names, Role, Roles};
+use crate::engine::graph::NodeId;
 use crate::engine::lower::Lowerer;
 use energy::{energy_roles, rows_roles};
 use names::{check_all_names, coordinate_names, speed_names};
@@ -77,13 +79,38 @@ pub struct Geometry<'a> {
     pub contacts: Option<Contacts<'a>>,
 }
 
-/// `#[contacts]`: how many, and the coordinates their heights determine (one per contact
-/// whose height varies with the coordinates, in order).
+/// `#[contacts]`: what they give (the rows kept, the heights that are holonomic
+/// constraints), and the coordinates their heights determine (one per contact whose height
+/// varies with the coordinates, in order).
 pub struct Contacts<'a> {
     pub f: &'a syn::ImplItemFn,
     pub attr: &'a syn::Attribute,
-    pub count: usize,
+    pub reading: ContactReading,
     pub dependent: Vec<usize>,
+}
+
+/// The graph's symbols for the time, the coordinates and the velocities, in which the role
+/// functions are read (the contacts as soon as the coordinates are known: how many rows the
+/// model has depends on them).
+pub struct Symbols {
+    pub t: NodeId,
+    pub q: Vec<NodeId>,
+    pub v: Vec<NodeId>,
+}
+
+impl Symbols {
+    fn new(lowerer: &mut Lowerer<'_, '_>, n: usize) -> Self {
+        let g = &mut *lowerer.graph;
+        let t = g.new_input("t");
+        let mut fresh = |name: &str| {
+            (0..n)
+                .map(|i| g.new_input(format!("{name}[{i}]")))
+                .collect()
+        };
+        let q = fresh("q");
+        let v = fresh("v");
+        Symbols { t, q, v }
+    }
 }
 
 pub struct Spec<'a> {
@@ -111,6 +138,10 @@ pub struct Spec<'a> {
     pub units: Vec<(String, String)>,
     /// The role functions that take the time as a leading argument (by name).
     timed: HashSet<String>,
+    pub symbols: Symbols,
+    /// Whether the bodies' speeds are taken in the frame of their first turns
+    /// (`equations::bodies::squared_speed`): `equations::build_cheaper` tries both.
+    pub heading_frames: std::cell::Cell<bool>,
 }
 
 impl Spec<'_> {
@@ -121,11 +152,15 @@ impl Spec<'_> {
 
     /// The rows of `#[constraints]`.
     pub fn written_constraints(&self) -> usize {
-        self.dims.nonholonomic() - 2 * self.contact_count()
+        self.dims.nonholonomic() - self.contact_rows()
     }
 
-    pub fn contact_count(&self) -> usize {
-        self.geometry.contacts.as_ref().map_or(0, |c| c.count)
+    /// The rolling contacts' rows kept.
+    pub fn contact_rows(&self) -> usize {
+        self.geometry
+            .contacts
+            .as_ref()
+            .map_or(0, |c| c.reading.kept.len())
     }
 
     /// The coordinates the holonomic constraints determine, in the order of their rows: those
@@ -174,7 +209,7 @@ fn fragment(roles: &Roles<'_>, at: &TokenStream) -> syn::Error {
 pub fn check<'a>(
     names: Names,
     roles: &Roles<'a>,
-    lowerer: &mut Lowerer<'_, '_>,
+    lowerer: &mut Lowerer<'a, '_>,
     at: &TokenStream,
 ) -> Option<Spec<'a>> {
     if roles.is_fragment() {
@@ -196,7 +231,8 @@ pub fn check<'a>(
         return None;
     }
     let written_speeds = names.speeds.as_ref().map_or(&[][..], |(_, l)| &l[..]);
-    let shape = model_shape(roles, &coordinates, m, lowerer, &mut ok);
+    let symbols = Symbols::new(lowerer, n);
+    let mut shape = model_shape(roles, &coordinates, m, &symbols, lowerer, &mut ok);
     let (timed, dropped) = check_signatures(
         roles,
         (n, m, shape.p),
@@ -205,13 +241,7 @@ pub fn check<'a>(
         lowerer,
         &mut ok,
     );
-    let holonomic = dependent(
-        roles,
-        &shape,
-        (&coordinates, written_speeds),
-        lowerer,
-        &mut ok,
-    );
+    let holonomic = dependent(&mut shape, (&coordinates, written_speeds), lowerer, &mut ok);
     let speeds = speed_names(names.speeds.clone(), names.garbled, n, shape.p, lowerer);
     let constraint_names = check_all_names(
         &names,
@@ -259,6 +289,8 @@ pub fn check<'a>(
         body_names,
         units,
         timed,
+        symbols,
+        heading_frames: std::cell::Cell::new(false),
     })
 }
 

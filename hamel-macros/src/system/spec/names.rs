@@ -73,8 +73,9 @@ pub(super) fn speed_names(
 /// The constraint rows of a model, for the message about naming them.
 pub(super) struct Rows<'a> {
     pub(super) constraints: Option<&'a syn::ImplItemFn>,
-    /// The rolling contacts: their function, how many, and how many heights are holonomic.
-    pub(super) contacts: Option<(&'a syn::ImplItemFn, usize, usize)>,
+    /// The rolling contacts: their function, how many, how many rows they keep and how many
+    /// heights are holonomic.
+    pub(super) contacts: Option<(&'a syn::ImplItemFn, usize, usize, usize)>,
     /// Every nonholonomic row: the constraints' and two per contact.
     pub(super) nonholonomic: usize,
     pub(super) holonomic: Option<&'a syn::ImplItemFn>,
@@ -94,7 +95,7 @@ pub(super) fn constraint_names(
     let Some(rows) = rows else {
         return Some(list);
     };
-    let heights = rows.contacts.map_or(0, |(_, _, h)| h);
+    let heights = rows.contacts.map_or(0, |(_, _, _, h)| h);
     let p = rows.nonholonomic + rows.k + heights;
     // A list that could not be read is reported already, and its length means nothing.
     if list.len() != p && !names.garbled && rows.contacts.is_some() {
@@ -146,7 +147,7 @@ pub(super) fn constraint_names(
 /// Where the constraint rows of a model with rolling contacts come from, in their order.
 fn row_sources(rows: &Rows<'_>) -> String {
     let mut parts = Vec::new();
-    let contact_rows = rows.contacts.map_or(0, |(_, c, _)| 2 * c);
+    let contact_rows = rows.contacts.map_or(0, |(_, _, kept, _)| kept);
     if let Some(f) = rows.constraints {
         let written = count(rows.nonholonomic - contact_rows, "row");
         parts.push(format!(
@@ -154,11 +155,15 @@ fn row_sources(rows: &Rows<'_>) -> String {
             f.sig.ident
         ));
     }
-    if let Some((f, c, _)) = rows.contacts {
+    if let Some((f, c, kept, _)) = rows.contacts {
+        let left_out = match 2 * c - kept {
+            0 => String::new(),
+            r => format!(", less {} that repeat the others", count(r, "row")),
+        };
         parts.push(format!(
-            "`{}` (`#[contacts]`) gives {} (two per contact: the slip along x and y)",
+            "`{}` (`#[contacts]`) gives {} (two per contact, the slip along the surface{left_out})",
             f.sig.ident,
-            count(2 * c, "row")
+            count(kept, "row")
         ));
     }
     if let Some(h) = rows.holonomic {
@@ -168,7 +173,7 @@ fn row_sources(rows: &Rows<'_>) -> String {
             count(rows.k, "row")
         ));
     }
-    if let Some((f, _, h)) = rows.contacts.filter(|(_, _, h)| *h > 0) {
+    if let Some((f, _, _, h)) = rows.contacts.filter(|(_, _, _, h)| *h > 0) {
         parts.push(format!(
             "then {} of `{}`, one per coordinate in `determines(..)`",
             count(h, "height"),
@@ -326,11 +331,11 @@ pub(super) fn check_all_names(
     lowerer: &mut Lowerer<'_, '_>,
     ok: &mut bool,
 ) -> Option<Vec<syn::Ident>> {
-    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    let (kept, heights) = shape.contact_rows();
     // (A failed `#[holonomic]` leaves the rows uncounted: `p` is `None`.)
     let rows = shape.p.map(|p| Rows {
         constraints: shape.constraints.map(|c| c.f),
-        contacts: shape.contacts.map(|(c, count)| (c.f, count, heights)),
+        contacts: shape.contacts.map(|(c, count)| (c.f, count, kept, heights)),
         nonholonomic: p - shape.k,
         holonomic: shape.holonomic.map(|h| h.f),
         k: shape.k - heights,

@@ -2,11 +2,12 @@
 //! contacts', the holonomic ones' and the contacts' heights (the model's shape, from the
 //! role functions' signatures), and the coordinates the holonomic constraints determine.
 
-use super::signatures::record_expected_signatures;
-use super::{Contacts, Holonomic};
+use super::signatures::{record_expected_signatures, takes_time};
+use super::{Contacts, Holonomic, Symbols};
 use super::{count, error_at_output, fail};
 use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::{Lowerer, Shape};
+use crate::system::equations::{self, ContactReading};
 use crate::system::model::{Role, RoleFn, Roles, names_of};
 use syn::ext::IdentExt;
 
@@ -123,12 +124,13 @@ pub(super) fn dependent_coordinates(
 }
 
 /// The number of nonholonomic constraint rows: those of `#[constraints]` (from its result
-/// type; at least one when the role is there) and two per rolling contact. With the k
-/// holonomic ones they must be fewer than the coordinates. `None` when they cannot be
-/// counted (the mistake is reported).
+/// type; at least one when the role is there) and the rolling contacts' (`contacts`: the
+/// role, how many contacts and how many rows they keep). With the k holonomic ones they must
+/// be fewer than the coordinates. `None` when they cannot be counted (the mistake is
+/// reported).
 pub(super) fn constraint_count(
     constraints: Option<&RoleFn<'_>>,
-    contacts: Option<(&RoleFn<'_>, usize)>,
+    contacts: Option<(&RoleFn<'_>, usize, usize)>,
     k: usize,
     coordinates: &[syn::Ident],
     lowerer: &mut Lowerer<'_, '_>,
@@ -139,11 +141,11 @@ pub(super) fn constraint_count(
         Some(c) => Some(constraint_rows(c, lowerer, ok)?),
         None => None,
     };
-    let rolling = contacts.map_or(0, |(_, c)| 2 * c);
+    let rolling = contacts.map_or(0, |(_, _, rows)| rows);
     let p = written.unwrap_or(0) + rolling;
     let blame = match (constraints, contacts) {
         (Some(c), _) => c.f,
-        (None, Some((c, _))) => c.f,
+        (None, Some((c, _, _))) => c.f,
         (None, None) => return None,
     };
     if p + k >= n {
@@ -153,16 +155,16 @@ pub(super) fn constraint_count(
             String::new()
         };
         let rows = match (written, contacts) {
-            (Some(w), Some((_, c))) => format!(
+            (Some(w), Some((_, c, _))) => format!(
                 "{} and {} ({})",
                 count(w, "constraint"),
                 count(c, "rolling contact"),
-                count(rolling, "row")
+                count(rolling, "independent row")
             ),
-            (None, Some((_, c))) => format!(
+            (None, Some((_, c, _))) => format!(
                 "{} ({})",
                 count(c, "rolling contact"),
-                count(rolling, "row")
+                count(rolling, "independent row")
             ),
             _ => count(p, "constraint"),
         };
@@ -271,54 +273,105 @@ fn rf_attribute(rf: &RoleFn<'_>) -> String {
         .unwrap_or_default()
 }
 
-/// What the role functions' signatures say the model's shape is, once checked.
+/// What the role functions' signatures say the model's shape is, once checked, with what
+/// the contacts give (read as soon as the coordinates are known).
 pub(super) struct ModelShape<'r, 'a> {
     pub(super) constraints: Option<&'r RoleFn<'a>>,
     pub(super) holonomic: Option<&'r RoleFn<'a>>,
     pub(super) contacts: Option<(&'r RoleFn<'a>, usize)>,
     pub(super) bodies: Option<(&'a syn::ImplItemFn, usize)>,
+    /// What the contacts give, when they could be read.
+    pub(super) reading: Option<ContactReading>,
     /// Holonomic constraints: `#[holonomic]`'s and the contacts' heights.
     pub(super) k: usize,
     /// All constraint rows, when they can be counted.
     pub(super) p: Option<usize>,
 }
 
-/// The counts the signatures give: holonomic constraints, contacts, bodies and with them
-/// every constraint row.
+impl ModelShape<'_, '_> {
+    /// The contacts' rows kept, and the heights that are holonomic constraints (as
+    /// `determines(..)` names them when the contacts could not be read).
+    pub(super) fn contact_rows(&self) -> (usize, usize) {
+        match (&self.reading, self.contacts) {
+            (Some(r), _) => (r.kept.len(), r.varying.len()),
+            (None, Some((c, count))) => (2 * count, c.determines.len()),
+            (None, None) => (0, 0),
+        }
+    }
+}
+
+/// The counts the signatures give — holonomic constraints, contacts, bodies — and, the
+/// contacts read, every constraint row.
 pub(super) fn model_shape<'r, 'a>(
     roles: &'r Roles<'a>,
     coordinates: &[syn::Ident],
     m: usize,
-    lowerer: &mut Lowerer<'_, '_>,
+    symbols: &Symbols,
+    lowerer: &mut Lowerer<'a, '_>,
     ok: &mut bool,
 ) -> ModelShape<'r, 'a> {
     let n = coordinates.len();
     let constraints = roles.get(Role::Constraints);
     let holonomic = roles.get(Role::Holonomic);
     let contacts_role = roles.get(Role::Contacts);
-    record_expected_signatures(roles, n, m, lowerer);
-    let heights = contacts_role.map_or(0, |c| c.determines.len());
+    record_expected_signatures(roles, n, m, None, lowerer);
     let counted = holonomic_count(holonomic, lowerer, ok);
-    let k = counted.unwrap_or(0) + heights;
     let contacts = geometry_count(contacts_role, GeoKind::Contact, lowerer, ok);
     let bodies = geometry_count(roles.get(Role::Bodies), GeoKind::Body, lowerer, ok);
     let contacts = contacts_role.zip(contacts);
-    let p = match contacts_role {
-        // A failed `#[contacts]` or `#[holonomic]` leaves the rows uncounted.
-        Some(_) if contacts.is_none() => None,
-        _ if counted.is_none() => None,
-        _ => constraint_count(constraints, contacts, k, coordinates, lowerer, ok).map(|p| p + k),
-    };
-    ModelShape {
+    let bodies = roles
+        .get(Role::Bodies)
+        .zip(bodies)
+        .map(|(b, count)| (b.f, count));
+    let reading = contacts
+        .filter(|(c, _)| readable(c.f, n, lowerer))
+        .and_then(|(c, _)| {
+            let timed = takes_time(Role::Contacts, c.f, n, m, None);
+            let bodies = bodies
+                .filter(|(f, _)| readable(f, n, lowerer))
+                .map(|(f, _)| (f, takes_time(Role::Bodies, f, n, m, None)));
+            equations::read_contacts(lowerer, c, timed, bodies, symbols)
+        });
+    let mut shape = ModelShape {
         constraints,
         holonomic,
         contacts,
-        bodies: roles
-            .get(Role::Bodies)
-            .zip(bodies)
-            .map(|(b, count)| (b.f, count)),
-        k,
-        p,
+        bodies,
+        reading,
+        k: 0,
+        p: None,
+    };
+    let (rolling, heights) = shape.contact_rows();
+    shape.k = counted.unwrap_or(0) + heights;
+    shape.p = match contacts_role {
+        // A failed `#[contacts]` or `#[holonomic]` leaves the rows uncounted.
+        Some(_) if shape.reading.is_none() => None,
+        _ if counted.is_none() => None,
+        _ => {
+            let contacts = contacts.map(|(c, count)| (c, count, rolling));
+            constraint_count(constraints, contacts, shape.k, coordinates, lowerer, ok)
+                .map(|p| p + shape.k)
+        }
+    };
+    if shape.reading.is_some() {
+        // The quasi-velocities' expected count, now that the contacts' rows are known.
+        record_expected_signatures(roles, n, m, shape.p, lowerer);
+    }
+    shape
+}
+
+/// Whether a role of the coordinates alone (`#[bodies]`, `#[contacts]`) can be read: it
+/// takes `q: &[f64; N]`, after the time or not (its other mistakes are reported by the
+/// signature check, and the body's by reading it).
+fn readable(f: &syn::ImplItemFn, n: usize, lowerer: &mut Lowerer<'_, '_>) -> bool {
+    let Some(signature) = lowerer.signature(f) else {
+        return false;
+    };
+    let coordinates = Shape::Array(n, Box::new(Shape::Real));
+    match signature.args.as_slice() {
+        [q] => q.shape == coordinates,
+        [t, q] => t.shape == Shape::Real && q.shape == coordinates,
+        _ => false,
     }
 }
 
@@ -326,13 +379,12 @@ pub(super) fn model_shape<'r, 'a>(
 /// holonomic role and the contacts, or `None` after a mistake (reported).
 #[allow(clippy::type_complexity)]
 pub(super) fn dependent<'a>(
-    roles: &Roles<'a>,
-    shape: &ModelShape<'_, 'a>,
+    shape: &mut ModelShape<'_, 'a>,
     names: (&[syn::Ident], &[syn::Ident]),
     lowerer: &mut Lowerer<'_, '_>,
     ok: &mut bool,
 ) -> Option<(Option<Holonomic<'a>>, Option<Contacts<'a>>)> {
-    let heights = roles.get(Role::Contacts).map_or(0, |c| c.determines.len());
+    let (_, heights) = shape.contact_rows();
     let holonomic = match shape.holonomic {
         Some(h) => {
             let k = shape.k - heights;
@@ -346,15 +398,19 @@ pub(super) fn dependent<'a>(
     };
     let taken = holonomic.as_ref().map_or(&[][..], |h| &h.dependent[..]);
     let contacts = match shape.contacts {
-        Some((c, count)) => {
+        Some((c, _)) => {
             let Some(dependent) = dependent_coordinates(c, None, names, taken, lowerer) else {
+                *ok = false;
+                return None;
+            };
+            let Some(reading) = shape.reading.take() else {
                 *ok = false;
                 return None;
             };
             Some(Contacts {
                 f: c.f,
                 attr: c.attr,
-                count,
+                reading,
                 dependent,
             })
         }

@@ -9,15 +9,16 @@ use quote::ToTokens;
 use std::collections::HashSet;
 use syn::ext::IdentExt;
 
-/// What each role's signature must be, for the messages about unsupported types in it (from
-/// the lengths as written, before they are checked).
+/// What each role's signature must be, for the messages about unsupported types in it: with
+/// `p` the constraint rows once the contacts are read, or from the lengths as written.
 pub(super) fn record_expected_signatures(
     roles: &Roles<'_>,
     n: usize,
     m: usize,
+    p: Option<usize>,
     lowerer: &mut Lowerer<'_, '_>,
 ) {
-    let p_total = written_rows(roles).filter(|&p| p < n);
+    let p_total = p.or_else(|| written_rows(roles)).filter(|&p| p < n);
     for (role, rf) in &roles.by_role {
         let timed = takes_time(*role, rf.f, n, m, p_total);
         let (args, out) = expected(*role, n, m, p_total, timed);
