@@ -1,11 +1,11 @@
 //! The data a scene page carries, as one JSON object: the bodies' looks, the directions, the
-//! ground grid, the camera's reach and, base64-encoded, the samples.
+//! surfaces (a plane with its grid), the camera's reach and, base64-encoded, the samples.
 
 use super::json::{array, f32_base64, f64_base64, number, numbers, object, string};
-use super::look::{Look, Solid};
+use super::look::{Drawn, Look};
 use super::motion::Motion;
 use super::view::Directions;
-use crate::geometry::Vector3;
+use crate::geometry::{Rotation3, Surface, Vector3};
 
 /// A column shown beside the scene: its name, unit and values.
 pub(crate) struct Shown<'t> {
@@ -22,6 +22,10 @@ pub(crate) struct Contents<'a> {
     pub gravity: Option<Vector3>,
     /// The body each contact belongs to, if it is one of the model's.
     pub contact_bodies: &'a [Option<usize>],
+    /// The surfaces the contacts touch, and each contact's (an index into `surfaces`).
+    pub surfaces: &'a [Surface],
+    pub contact_surfaces: &'a [usize],
+    pub warnings: &'a [String],
     pub shown: &'a [Shown<'a>],
     pub time_unit: &'a str,
 }
@@ -32,7 +36,13 @@ pub(crate) fn json(c: &Contents) -> String {
     let contacts: Vec<String> = c
         .contact_bodies
         .iter()
-        .map(|b| object(&[("body", b.map_or("null".into(), |b| number(b as f64)))]))
+        .zip(c.contact_surfaces)
+        .map(|(b, s)| {
+            object(&[
+                ("body", b.map_or("null".into(), |b| number(b as f64))),
+                ("surface", number(*s as f64)),
+            ])
+        })
         .collect();
     let columns: Vec<String> = c
         .shown
@@ -44,17 +54,24 @@ pub(crate) fn json(c: &Contents) -> String {
             ])
         })
         .collect();
-    let warnings: Vec<String> = c
-        .looks
-        .iter()
-        .filter_map(|l| l.warning.as_deref().map(string))
-        .collect();
+    let warnings: Vec<String> = c.warnings.iter().map(|w| string(w)).collect();
     let samples = c.motion.times.len();
     let mut values = Vec::with_capacity(samples * c.shown.len());
     for i in 0..samples {
         values.extend(c.shown.iter().map(|s| s.values[i]));
     }
     let size = largest_size(c.looks);
+    // A model without contacts stands on the ground z = 0.
+    let ground = [Surface::ground()];
+    let surfaces = if c.surfaces.is_empty() {
+        &ground[..]
+    } else {
+        c.surfaces
+    };
+    let surfaces: Vec<String> = surfaces
+        .iter()
+        .map(|s| surface(s, c.motion, size))
+        .collect();
     object(&[
         ("up", numbers(&c.directions.up.to_array())),
         ("forward", numbers(&c.directions.forward.to_array())),
@@ -69,7 +86,7 @@ pub(crate) fn json(c: &Contents) -> String {
         ("warnings", array(&warnings)),
         ("time_unit", string(c.time_unit)),
         ("radius", number(reach(c.looks, c.motion))),
-        ("grid", grid(c.motion, size)),
+        ("surfaces", array(&surfaces)),
         ("times", f64_base64(&c.motion.times)),
         ("poses", f32_base64(&c.motion.poses)),
         ("points", f32_base64(&c.motion.points)),
@@ -88,27 +105,27 @@ fn body(look: &Look) -> String {
     ])
 }
 
-fn solid(s: &Solid) -> String {
+fn solid(s: &Drawn) -> String {
     let kind = |k: &str| ("kind", string(k));
     match s {
-        Solid::Disk { radius, axis } => object(&[
+        Drawn::Disk { radius, axis } => object(&[
             kind("disk"),
             ("radius", number(*radius)),
             ("axis", numbers(&axis.to_array())),
         ]),
-        Solid::Sphere { radius } => object(&[kind("sphere"), ("radius", number(*radius))]),
-        Solid::Marker { radius } => object(&[kind("marker"), ("radius", number(*radius))]),
-        Solid::Ellipsoid { semi_axes, axes } => object(&[
+        Drawn::Sphere { radius } => object(&[kind("sphere"), ("radius", number(*radius))]),
+        Drawn::Marker { radius } => object(&[kind("marker"), ("radius", number(*radius))]),
+        Drawn::Ellipsoid { semi_axes, axes } => object(&[
             kind("ellipsoid"),
             ("semi_axes", numbers(semi_axes)),
             ("rotation", numbers(&rotation(axes))),
         ]),
-        Solid::Box { edges, axes } => object(&[
+        Drawn::Box { edges, axes } => object(&[
             kind("box"),
             ("edges", numbers(edges)),
             ("rotation", numbers(&rotation(axes))),
         ]),
-        Solid::Cylinder {
+        Drawn::Cylinder {
             radius,
             length,
             axis,
@@ -131,7 +148,7 @@ pub(crate) fn largest_size(looks: &[Look]) -> f64 {
     looks
         .iter()
         .map(|l| match l.solid {
-            Solid::Marker { radius } => radius,
+            Drawn::Marker { radius } => radius,
             s => s.half_size().unwrap_or(0.0),
         })
         .fold(0.0, f64::max)
@@ -160,21 +177,61 @@ fn reach(looks: &[Look], motion: &Motion) -> f64 {
     if reach > 0.0 { reach } else { 1.0 }
 }
 
-/// The ground grid under the whole motion: its centre, its side and its step, a round
-/// number at least the largest body's half-size (coarser if the motion would need more than
-/// 100 lines: in software rendering the grid's lines are a fifth of a frame's cost), an even
-/// number of steps so that lines pass through round coordinates.
-fn grid(motion: &Motion, size: f64) -> String {
+/// A surface as the page draws it: a plane with its pose and the grid drawn in it, a sphere
+/// or a bowl with its centre and radius.
+fn surface(s: &Surface, motion: &Motion, size: f64) -> String {
+    match *s {
+        Surface::Plane {
+            origin,
+            orientation,
+        } => object(&[
+            ("kind", string("plane")),
+            ("origin", numbers(&origin.to_array())),
+            ("rotation", numbers(&rotation(&orientation.matrix()))),
+            ("grid", grid(motion, origin, orientation, size)),
+        ]),
+        Surface::Sphere { centre, radius } | Surface::Bowl { centre, radius } => object(&[
+            (
+                "kind",
+                string(if matches!(s, Surface::Bowl { .. }) {
+                    "bowl"
+                } else {
+                    "sphere"
+                }),
+            ),
+            ("centre", numbers(&centre.to_array())),
+            ("radius", number(radius)),
+        ]),
+    }
+}
+
+/// The grid drawn in a plane under the whole motion, in the plane's own x and y: its centre,
+/// its side and its step, a round number at least the largest body's half-size (coarser if
+/// the motion would need more than 100 lines: in software rendering the grid's lines are a
+/// fifth of a frame's cost), an even number of steps so that lines pass through round
+/// coordinates. The motion's extent is its bounding box seen in the plane.
+fn grid(motion: &Motion, origin: Vector3, orientation: Rotation3, size: f64) -> String {
     let size = if size > 0.0 { size } else { 1.0 };
     let margin = 3.0 * size;
-    let span = (motion.high[0] - motion.low[0])
-        .max(motion.high[1] - motion.low[1])
-        .max(0.0)
-        + 2.0 * margin;
+    let (mut low, mut high) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for corner in 0..8 {
+        let pick = |k: usize| {
+            if corner >> k & 1 == 0 {
+                motion.low[k]
+            } else {
+                motion.high[k]
+            }
+        };
+        let local = orientation.transpose() * (Vector3::new(pick(0), pick(1), pick(2)) - origin);
+        for (k, v) in [local.x, local.y].into_iter().enumerate() {
+            (low[k], high[k]) = (low[k].min(v), high[k].max(v));
+        }
+    }
+    let span = (high[0] - low[0]).max(high[1] - low[1]).max(0.0) + 2.0 * margin;
     let step = round_up(size).max(round_up(span / 100.0));
     let steps = (span / step).ceil() as u64;
     let steps = steps + steps % 2;
-    let middle = |k: usize| ((motion.low[k] + motion.high[k]) / (2.0 * step)).round() * step;
+    let middle = |k: usize| ((low[k] + high[k]) / (2.0 * step)).round() * step;
     object(&[
         ("centre", numbers(&[middle(0), middle(1)])),
         ("size", number(steps as f64 * step)),

@@ -6,12 +6,13 @@
 //! over a plane through the centre, the body is a disk of that radius normal to the plane;
 //! if they spread over more than a plane, a sphere. Anything else (a base whose curvature
 //! varies, like the rattleback's, or a contact point fixed in the body) gives no shape, and
-//! the body is drawn from its inertia instead.
+//! the body is drawn from its inertia instead. A body given a [`Shape`] in the model is drawn
+//! as that shape, and this reading is not needed.
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
 use crate::Vector;
-use crate::geometry::{Body, Mechanism, Vector3};
+use crate::geometry::{Body, Mechanism, Shape, Vector3};
 
 /// How far each coordinate is moved: far enough that the contact point travels a visible
 /// fraction of a wheel's rim (a tenth of a radian), so that a flat spread stands out from a
@@ -23,15 +24,6 @@ const DISTANCE_TOLERANCE: f64 = 1e-9;
 /// rounding leaves ~1e-30 in a plane, the perturbations ~1e-3 across one.
 const SPREAD_TOLERANCE: f64 = 1e-12;
 
-/// A body's shape, read off its rolling contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Rolling {
-    /// A thin disk of this radius, normal to `axis` (a unit vector in the body's axes).
-    Disk { radius: f64, axis: Vector3 },
-    /// A sphere of this radius about the centre of mass.
-    Sphere { radius: f64 },
-}
-
 /// For each body of the model, the shape its first contact gives it, if any, read about the
 /// configuration `q` at time `t`.
 pub(crate) fn rolling_shapes<M: Mechanism>(
@@ -39,7 +31,7 @@ pub(crate) fn rolling_shapes<M: Mechanism>(
     t: f64,
     q: &M::Coordinates,
     bodies: usize,
-) -> Vec<Option<Rolling>> {
+) -> Vec<Option<Shape>> {
     // The contact points, in their body's axes, at every configuration: one list per
     // contact, with the index of the body it belongs to.
     let mut points: Vec<(Option<usize>, Vec<Vector3>)> = Vec::new();
@@ -106,7 +98,7 @@ pub(crate) fn owner(body: &Body, bodies: &[Body]) -> Option<usize> {
 }
 
 /// A disk, a sphere or nothing, from the contact points in the body's axes.
-fn classify(local: &[Vector3]) -> Option<Rolling> {
+fn classify(local: &[Vector3]) -> Option<Shape> {
     if local.len() < 4 {
         return None;
     }
@@ -134,11 +126,11 @@ fn classify(local: &[Vector3]) -> Option<Rolling> {
         None
     } else if least <= SPREAD_TOLERANCE * largest {
         let normal = eigen.eigenvectors.column(order[0]);
-        Some(Rolling::Disk {
+        Some(Shape::disk(
             radius,
-            axis: Vector3::new(normal[0], normal[1], normal[2]).normalize(),
-        })
+            Vector3::new(normal[0], normal[1], normal[2]),
+        ))
     } else {
-        Some(Rolling::Sphere { radius })
+        Some(Shape::sphere(radius))
     }
 }

@@ -1,13 +1,12 @@
-//! How each body is drawn: the shape given for it by name, else the disk or sphere its
-//! contact makes it, else the uniform solid of its mass and inertia; its colour, a line
-//! saying what it is drawn as, and a warning when its inertia is no body's.
+//! How each body is drawn: the solid given for it by name, else the body's own shape, else
+//! the disk or sphere its contact makes it, else the uniform solid of its mass and inertia;
+//! its colour, a line saying what it is drawn as, and a warning when its inertia is no body's.
 
 use super::equivalent::{Equivalent, box_edges, ellipsoid_semi_axes, short};
 use super::error::{ErrorKind, SceneError};
-use super::infer::Rolling;
-use super::shape::{Form, Shape};
 use super::snapshot::Snapshot;
-use crate::geometry::{Body, Vector3};
+use super::solid::{Form, Solid};
+use crate::geometry::{Body, Shape, Vector3};
 
 /// The bodies' colours, in order (Tableau 10 without its red and green, which the axes use).
 pub(crate) const PALETTE: [u32; 8] = [
@@ -18,7 +17,7 @@ pub(crate) const WARNING_COLOR: u32 = 0xd62728;
 
 /// A solid in a body's axes, about the point `Look::offset`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Solid {
+pub(crate) enum Drawn {
     /// A thin disk normal to `axis` (a unit vector).
     Disk {
         radius: f64,
@@ -49,16 +48,16 @@ pub(crate) enum Solid {
     },
 }
 
-impl Solid {
+impl Drawn {
     /// Half the solid's largest extent; `None` for a marker, whose size follows the others'.
     pub(crate) fn half_size(&self) -> Option<f64> {
         let largest = |v: &[f64; 3]| v.iter().fold(0.0_f64, |m, &x| m.max(x));
         match self {
-            Solid::Disk { radius, .. } | Solid::Sphere { radius } => Some(*radius),
-            Solid::Ellipsoid { semi_axes, .. } => Some(largest(semi_axes)),
-            Solid::Box { edges, .. } => Some(0.5 * edges.iter().map(|e| e * e).sum::<f64>().sqrt()),
-            Solid::Cylinder { radius, length, .. } => Some(radius.hypot(0.5 * length)),
-            Solid::Marker { .. } => None,
+            Drawn::Disk { radius, .. } | Drawn::Sphere { radius } => Some(*radius),
+            Drawn::Ellipsoid { semi_axes, .. } => Some(largest(semi_axes)),
+            Drawn::Box { edges, .. } => Some(0.5 * edges.iter().map(|e| e * e).sum::<f64>().sqrt()),
+            Drawn::Cylinder { radius, length, .. } => Some(radius.hypot(0.5 * length)),
+            Drawn::Marker { .. } => None,
         }
     }
 }
@@ -67,7 +66,7 @@ impl Solid {
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Look {
     pub name: String,
-    pub solid: Solid,
+    pub solid: Drawn,
     /// The solid's centre, in the body's axes from its centre of mass.
     pub offset: Vector3,
     pub color: u32,
@@ -79,14 +78,18 @@ pub(crate) struct Look {
     pub triad: f64,
 }
 
-/// Every body's look in `snapshot`, with the shapes `given` by name. An unknown name or a
-/// shape that cannot be drawn is an error.
+/// Every body's look in `snapshot`, with the solids `given` by name. An unknown name, or a
+/// solid given or a shape of the model's that cannot be drawn, is an error.
 pub(crate) fn looks(
     snapshot: &Snapshot,
-    given: &[(String, Shape)],
+    given: &[(String, Solid)],
 ) -> Result<Vec<Look>, SceneError> {
     let names = snapshot.names;
-    for (name, shape) in given {
+    let own = names
+        .iter()
+        .zip(&snapshot.bodies)
+        .filter_map(|(name, body)| Some((name.to_string(), Solid::from(body.shape?))));
+    for (name, shape) in given.iter().cloned().chain(own) {
         if !names.contains(&name.as_str()) {
             return Err(ErrorKind::UnknownBody {
                 name: name.clone(),
@@ -108,37 +111,44 @@ pub(crate) fn looks(
         .zip(&snapshot.rolling)
         .enumerate()
         .map(|(i, ((name, body), rolling))| {
-            // The last shape given for a body wins.
-            let shape = given.iter().rev().find(|(n, _)| n == name).map(|(_, s)| s);
-            look(name, body, *rolling, shape, PALETTE[i % PALETTE.len()])
+            // The last solid given for a body wins.
+            let solid = given.iter().rev().find(|(n, _)| n == name).map(|(_, s)| s);
+            look(name, body, *rolling, solid, PALETTE[i % PALETTE.len()])
         })
         .collect();
     size_markers_and_triads(&mut looks);
     Ok(looks)
 }
 
-/// One body's look, before markers and triads are sized.
+/// One body's look, before markers and triads are sized: the solid `given` for it, else its
+/// own shape, else the shape its contact makes it (`rolling`), else its inertia's.
 fn look(
     name: &str,
     body: &Body,
-    rolling: Option<Rolling>,
-    shape: Option<&Shape>,
+    rolling: Option<Shape>,
+    given: Option<&Solid>,
     color: u32,
 ) -> Look {
     let mut warning = None;
-    let (solid, description) = match (shape.map(|s| s.form), rolling) {
-        (Some(form), _) => given(form, name, body, &mut warning),
-        (None, Some(Rolling::Disk { radius, axis })) => (
-            Solid::Disk { radius, axis },
-            format!("disk of radius {}, from its contact", short(radius)),
-        ),
-        (None, Some(Rolling::Sphere { radius })) => (
-            Solid::Sphere { radius },
-            format!("sphere of radius {}, from its contact", short(radius)),
-        ),
-        (None, None) => from_inertia(name, body, false, &mut warning),
+    let (solid, centre, description) = match (given, body.shape, rolling) {
+        (Some(solid), ..) => {
+            let (drawn, description) = as_given(solid.form, name, body, &mut warning);
+            (drawn, solid.centre, description)
+        }
+        (None, Some(shape), _) => {
+            let (drawn, what) = of_shape(&shape);
+            (drawn, shape.centre(), format!("{what}, its shape"))
+        }
+        (None, None, Some(shape)) => {
+            let (drawn, what) = of_shape(&shape);
+            (drawn, shape.centre(), format!("{what}, from its contact"))
+        }
+        (None, None, None) => {
+            let (drawn, description) = from_inertia(name, body, false, &mut warning);
+            (drawn, Vector3::zeros(), description)
+        }
     };
-    let color = match (shape.and_then(|s| s.color), &warning) {
+    let color = match (given.and_then(|s| s.color), &warning) {
         (Some(c), _) => c,
         (None, Some(_)) => WARNING_COLOR,
         (None, None) => color,
@@ -146,11 +156,53 @@ fn look(
     Look {
         name: name.to_string(),
         solid,
-        offset: shape.map_or(Vector3::zeros(), |s| s.offset),
+        offset: centre,
         color,
         description,
         warning,
         triad: 0.0,
+    }
+}
+
+/// One of the model's shapes as drawn, and what it is. A wheel with a tyre is drawn as the
+/// disk of its outer radius.
+fn of_shape(shape: &Shape) -> (Drawn, String) {
+    match *shape {
+        Shape::Disk { axle, radius, .. } => (
+            Drawn::Disk {
+                radius,
+                axis: axle.normalize(),
+            },
+            format!("disk of radius {}", short(radius)),
+        ),
+        Shape::Torus {
+            axle, radius, tube, ..
+        } => (
+            Drawn::Disk {
+                radius: radius + tube,
+                axis: axle.normalize(),
+            },
+            format!(
+                "wheel of radius {} with a tyre of radius {} (drawn as a disk of radius {})",
+                short(radius),
+                short(tube),
+                short(radius + tube)
+            ),
+        ),
+        Shape::Sphere { radius, .. } => (
+            Drawn::Sphere { radius },
+            format!("sphere of radius {}", short(radius)),
+        ),
+        Shape::Ellipsoid { semi_axes, .. } => {
+            let semi_axes = semi_axes.to_array();
+            (
+                Drawn::Ellipsoid {
+                    semi_axes,
+                    axes: IDENTITY,
+                },
+                format!("ellipsoid, semi-axes {}", sizes(&semi_axes)),
+            )
+        }
     }
 }
 
@@ -160,13 +212,13 @@ fn from_inertia(
     body: &Body,
     as_box: bool,
     warning: &mut Option<String>,
-) -> (Solid, String) {
+) -> (Drawn, String) {
     match Equivalent::of(body.mass, &body.inertia) {
-        Equivalent::PointMass => (Solid::Marker { radius: 0.0 }, "point mass".to_string()),
+        Equivalent::PointMass => (Drawn::Marker { radius: 0.0 }, "point mass".to_string()),
         Equivalent::Impossible(reason) => {
             *warning = Some(format!("body `{name}`: {reason}"));
             (
-                Solid::Marker { radius: 0.0 },
+                Drawn::Marker { radius: 0.0 },
                 "marker: its inertia is no body's (see the warning)".to_string(),
             )
         }
@@ -176,7 +228,7 @@ fn from_inertia(
                 "uniform box of its mass and inertia, edges {}",
                 sizes(&edges)
             );
-            (Solid::Box { edges, axes }, text)
+            (Drawn::Box { edges, axes }, text)
         }
         Equivalent::Solid { spans, axes } => {
             let semi_axes = ellipsoid_semi_axes(spans);
@@ -184,54 +236,40 @@ fn from_inertia(
                 "uniform ellipsoid of its mass and inertia, semi-axes {}",
                 sizes(&semi_axes)
             );
-            (Solid::Ellipsoid { semi_axes, axes }, text)
+            (Drawn::Ellipsoid { semi_axes, axes }, text)
         }
     }
 }
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
-/// A shape given by name, as a solid.
-fn given(form: Form, name: &str, body: &Body, warning: &mut Option<String>) -> (Solid, String) {
+/// A solid given by name, as drawn.
+fn as_given(form: Form, name: &str, body: &Body, warning: &mut Option<String>) -> (Drawn, String) {
     match form {
         Form::InertiaBox => from_inertia(name, body, true, warning),
         Form::InertiaEllipsoid => from_inertia(name, body, false, warning),
+        Form::Shape(shape) => {
+            let (drawn, what) = of_shape(&shape);
+            (drawn, format!("{what}, as given"))
+        }
         Form::Box(edges) => (
-            Solid::Box {
+            Drawn::Box {
                 edges,
                 axes: IDENTITY,
             },
             format!("box {}, as given", sizes(&edges)),
         ),
-        Form::Ellipsoid(semi_axes) => (
-            Solid::Ellipsoid {
-                semi_axes,
-                axes: IDENTITY,
-            },
-            format!("ellipsoid, semi-axes {}, as given", sizes(&semi_axes)),
-        ),
         Form::Cylinder(radius, length, axis) => (
-            Solid::Cylinder {
+            Drawn::Cylinder {
                 radius,
                 length,
-                axis: axis.unit(),
+                axis: axis.normalize(),
             },
             format!(
                 "cylinder of radius {} and length {}, as given",
                 short(radius),
                 short(length)
             ),
-        ),
-        Form::Disk(radius, axis) => (
-            Solid::Disk {
-                radius,
-                axis: axis.unit(),
-            },
-            format!("disk of radius {}, as given", short(radius)),
-        ),
-        Form::Sphere(radius) => (
-            Solid::Sphere { radius },
-            format!("sphere of radius {}, as given", short(radius)),
         ),
     }
 }
@@ -250,7 +288,7 @@ fn size_markers_and_triads(looks: &mut [Look]) {
         .fold(0.0_f64, f64::max);
     let largest = if largest > 0.0 { largest } else { 0.5 };
     for look in looks {
-        if let Solid::Marker { radius } = &mut look.solid {
+        if let Drawn::Marker { radius } = &mut look.solid {
             *radius = 0.1 * largest;
         }
         let own = look.solid.half_size().unwrap_or(0.0) + look.offset.norm();

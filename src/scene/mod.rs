@@ -6,7 +6,9 @@
 //! [`Mechanism`](crate::geometry::Mechanism), which `#[hamel_system]` implements for models
 //! with `#[bodies]`):
 //!
-//! * a body that rolls on a contact is the shape its contact runs round: the contact point,
+//! * a body given a [`Shape`](crate::geometry::Shape) in the model (`Body::with_shape`) is
+//!   drawn as that shape (a wheel with a tyre as the disk of its outer radius);
+//! * a body without one that rolls on a contact is the shape its contact runs round: the contact point,
 //!   read in the body's own axes at the configuration and at perturbations of every
 //!   coordinate, stays at one distance from the centre; in a plane through the centre the
 //!   body is a **disk** of that radius (a wheel, drawn in coloured sectors round a dark hub
@@ -19,11 +21,15 @@
 //!   inequality) is drawn as a red marker, and the page, the picture's legend and
 //!   [`Scene::warnings`] say why;
 //! * every body's axes are a triad: x red, y green, z blue;
-//! * [`Shape`] gives a body a shape of your own, by name: a box, a cylinder, a sphere, a
-//!   disk, an ellipsoid, or the equivalent box instead of the ellipsoid.
+//! * [`Solid`] gives a body a solid of your own, by name: any of the model's shapes, a box,
+//!   a cylinder, or the equivalent box instead of the ellipsoid.
 //!
-//! Up is against gravity (`#[gravity]`), or +z for a model without; the ground is the plane
-//! z = 0, drawn as a grid, and each contact leaves its trace on it.
+//! Up is against gravity (`#[gravity]`), or +z for a model without. Each surface the
+//! contacts touch is drawn where the model puts it (as at the first sample): a plane of any
+//! pose as a grid in its own plane, a sphere (or a bowl) as a sphere; a model without
+//! contacts gets the ground z = 0. Each contact leaves its trace. A contact point that is not
+//! on its surface — a tilted plane taken as flat, a sphere of the wrong radius — is a
+//! warning, and the picture shows the gap.
 //!
 //! The page is one HTML file of about 0.8 MB plus the samples (three.js 0.185.1 is embedded,
 //! with its MIT licence; nothing is fetched), which opens from `file://` in any current
@@ -44,7 +50,7 @@
 //! ```
 //! use hamel::models::ChaplyginBall;
 //! use hamel::prelude::*;
-//! use hamel::scene::{Scene, Shape};
+//! use hamel::scene::Scene;
 //!
 //! let ball = ChaplyginBall::default();
 //! let x0 = ball.state_builder().set("beta", 1.0).set("alpha_rate", 3.0).build()?;
@@ -65,6 +71,8 @@
 mod data;
 mod equivalent;
 mod error;
+#[cfg(feature = "plot")]
+mod ground;
 mod html;
 mod infer;
 mod json;
@@ -76,8 +84,8 @@ mod outline;
 mod picture;
 #[allow(clippy::module_inception)]
 mod scene;
-mod shape;
 mod snapshot;
+mod solid;
 mod view;
 mod write;
 
@@ -85,7 +93,7 @@ pub use error::{ErrorKind, SceneError};
 #[cfg(feature = "plot")]
 pub use picture::{PICTURE_SIZE, Picture};
 pub use scene::Scene;
-pub use shape::{Axis, Shape};
+pub use solid::Solid;
 
 #[cfg(test)]
 mod tests;

@@ -137,3 +137,27 @@ pub(crate) fn quaternion(m: &[[f64; 3]; 3]) -> Option<[f64; 4]> {
     let c = q.coords;
     Some([c[0], c[1], c[2], c[3]])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::quaternion;
+    use crate::geometry::{Rotation3, Vector3};
+
+    /// The page turns a body by its quaternion as three.js does (v' = v + 2w (q × v) +
+    /// 2 q × (q × v)): each of the body's axes must land on the orientation's column, as
+    /// `Body::point` places it.
+    #[test]
+    fn the_quaternion_turns_a_bodys_axes_as_its_orientation_does() {
+        let r = Rotation3::about_z(0.7) * Rotation3::about_x(0.4) * Rotation3::about_y(1.3);
+        let [x, y, z, w] = quaternion(&r.matrix()).unwrap();
+        let q = Vector3::new(x, y, z);
+        for axis in [Vector3::x(), Vector3::y(), Vector3::z()] {
+            let turned = axis + 2.0 * w * q.cross(&axis) + 2.0 * q.cross(&q.cross(&axis));
+            assert!(
+                (turned - r * axis).norm() < 1e-14,
+                "{turned} against {}",
+                r * axis
+            );
+        }
+    }
+}

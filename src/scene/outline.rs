@@ -3,7 +3,7 @@
 
 use nalgebra::{Matrix2, Matrix3, SymmetricEigen};
 
-use super::look::{Look, Solid};
+use super::look::{Drawn, Look};
 use super::view::View;
 use crate::geometry::{Body, Rotation3, Vector3};
 
@@ -19,11 +19,11 @@ pub(crate) fn outline(look: &Look, body: &Body, view: &View) -> Vec<Line> {
     let centre = body.point(look.offset);
     let (cx, cy) = view.project(centre);
     match look.solid {
-        Solid::Disk { radius, axis } => vec![ring(view, centre, r * axis, radius)],
-        Solid::Sphere { radius } | Solid::Marker { radius } => {
+        Drawn::Disk { radius, axis } => vec![ring(view, centre, r * axis, radius)],
+        Drawn::Sphere { radius } | Drawn::Marker { radius } => {
             vec![ellipse((cx, cy), Matrix2::identity() * (radius * radius))]
         }
-        Solid::Ellipsoid { semi_axes, axes } => {
+        Drawn::Ellipsoid { semi_axes, axes } => {
             // The silhouette of {x : xᵀ A x ≤ 1} seen along the view is the ellipse
             // {y : yᵀ (P A⁻¹ Pᵀ)⁻¹ y ≤ 1}, P the view's two screen directions.
             let world = matrix(&r) * matrix_of(&axes);
@@ -36,7 +36,7 @@ pub(crate) fn outline(look: &Look, body: &Body, view: &View) -> Vec<Line> {
             ]);
             vec![ellipse((cx, cy), p * inverse * p.transpose())]
         }
-        Solid::Box { edges, axes } => {
+        Drawn::Box { edges, axes } => {
             let world = matrix(&r) * matrix_of(&axes);
             let corner = |signs: [f64; 3]| {
                 let local = nalgebra::Vector3::from_fn(|k, _| 0.5 * signs[k] * edges[k]);
@@ -57,7 +57,7 @@ pub(crate) fn outline(look: &Look, body: &Body, view: &View) -> Vec<Line> {
             }
             lines
         }
-        Solid::Cylinder {
+        Drawn::Cylinder {
             radius,
             length,
             axis,
@@ -137,7 +137,7 @@ mod tests {
     use super::*;
     use crate::scene::view::{Directions, View};
 
-    fn look(solid: Solid) -> Look {
+    fn look(solid: Drawn) -> Look {
         Look {
             name: "b".into(),
             solid,
@@ -166,7 +166,7 @@ mod tests {
     fn an_ellipsoids_silhouette_is_as_wide_as_its_extent_along_the_view() {
         // Semi-axes 3, 2, 1 along the body's x, y, z; the body turned about z by 0.5 rad.
         let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let solid = Solid::Ellipsoid {
+        let solid = Drawn::Ellipsoid {
             semi_axes: [3.0, 2.0, 1.0],
             axes: identity,
         };
@@ -191,7 +191,7 @@ mod tests {
         let (x0, x1, y0, y1) = extent(&outline(&look(solid), &body, &top));
         assert!((x1 - x0) / 2.0 <= 3.0 + 1e-9 && (y1 - y0) / 2.0 <= 3.0 + 1e-9);
         // A disk normal to the body's y axis, seen from the side, is its full circle.
-        let disk = Solid::Disk {
+        let disk = Drawn::Disk {
             radius: 0.5,
             axis: Vector3::y(),
         };
@@ -199,7 +199,7 @@ mod tests {
         let (x0, x1, y0, y1) = extent(&outline(&look(disk), &upright, &side));
         assert!((x1 - x0 - 1.0).abs() < 1e-12 && (y1 - y0 - 1.0).abs() < 1e-12);
         // A box has twelve edges.
-        let cube = Solid::Box {
+        let cube = Drawn::Box {
             edges: [1.0, 2.0, 3.0],
             axes: identity,
         };

@@ -3,22 +3,26 @@
 use std::path::Path;
 
 use super::error::{ErrorKind, SceneError};
+use super::ground::surface_lines;
 use super::look::{Look, looks};
 use super::outline::{Line, outline};
-use super::shape::Shape;
 use super::snapshot::Snapshot;
+use super::solid::Solid;
 use super::view::{Directions, View, direction_name};
 use super::write::write_whole;
-use crate::geometry::{Body, Mechanism, Vector3};
+use crate::geometry::{Body, Mechanism, Surface, Vector3};
 use crate::plot::{Figure, Legend, Panel, Rgb, Series};
 
 /// A model stated from its bodies, drawn at one configuration in three orthographic views
 /// (front, side and top), as SVG or PNG: each body as in a [`Scene`](super::Scene) (the
 /// disk or sphere its contact makes it, else the uniform ellipsoid of its inertia, or a
-/// shape given with [`Picture::shape`]), its axes as a triad (x red, y green, z blue), the
-/// contact points and the ground. One unit is as long across as up each view. A picture
-/// of a model in its reference configuration shows at a glance a sign slip in a body's
-/// position, an inertia in the wrong axes, or a contact point off its body.
+/// solid given with [`Picture::shape`]), its axes as a triad (x red, y green, z blue), the
+/// contact points and the surfaces they touch, where the model puts them (a plane of any
+/// pose as a hatch in its own plane, a sphere as its outline; the ground for a model
+/// without contacts). One unit is as long across as up each view. A picture of a model in
+/// its reference configuration shows at a glance a sign slip in a body's position, an
+/// inertia in the wrong axes, a contact point off its body, or a tilted plane taken as flat
+/// (the bodies off the plane drawn; [`Picture::warnings`] says how far).
 ///
 /// ```
 /// use hamel::models::RollingDisk;
@@ -33,7 +37,7 @@ use crate::plot::{Figure, Legend, Panel, Rgb, Series};
 /// ```
 pub struct Picture {
     model: Snapshot,
-    shapes: Vec<(String, Shape)>,
+    shapes: Vec<(String, Solid)>,
     size: (u32, u32),
 }
 
@@ -59,9 +63,11 @@ impl Picture {
         })
     }
 
-    /// Draws the body called `body` as `shape` (see [`Scene::shape`](super::Scene::shape)).
-    pub fn shape(mut self, body: &str, shape: Shape) -> Self {
-        self.shapes.push((body.to_string(), shape));
+    /// Draws the body called `body` as `shape`, one of the model's
+    /// [`Shape`](crate::geometry::Shape)s or another [`Solid`] (see
+    /// [`Scene::shape`](super::Scene::shape)).
+    pub fn shape(mut self, body: &str, shape: impl Into<Solid>) -> Self {
+        self.shapes.push((body.to_string(), shape.into()));
         self
     }
 
@@ -74,20 +80,45 @@ impl Picture {
     /// What cannot be drawn as the model states it (see [`Scene::warnings`](super::Scene::warnings)).
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
         let looks = looks(&self.model, &self.shapes)?;
-        Ok(looks.into_iter().filter_map(|l| l.warning).collect())
+        let bodies = looks.into_iter().filter_map(|l| l.warning);
+        Ok(bodies.chain(self.model.warnings.iter().cloned()).collect())
     }
 
     /// The three views as a [`Figure`] of three panels, to save or to combine.
     pub fn figure(&self) -> Result<Figure, SceneError> {
         let looks = looks(&self.model, &self.shapes)?;
-        let contacts: Vec<Vector3> = self.model.contacts.iter().map(|(p, _)| *p).collect();
-        let directions = Directions::new(self.model.gravity);
-        let unit = (self.model.unit)("x").map_or(String::new(), |u| format!(" ({u})"));
+        let model = &self.model;
+        let contacts: Vec<Vector3> = model.contacts.iter().map(|(p, _)| *p).collect();
+        let directions = Directions::new(model.gravity);
+        let unit = (model.unit)("x").map_or(String::new(), |u| format!(" ({u})"));
+        let centroid = model
+            .bodies
+            .iter()
+            .fold(Vector3::zeros(), |sum, b| sum + b.centre)
+            / model.bodies.len() as f64;
+        // Where each contact's surface is under it; a model without contacts stands on the
+        // ground z = 0 if up is along z.
+        let mut feet: Vec<Vector3> = contacts
+            .iter()
+            .zip(&model.contact_surfaces)
+            .map(|(&p, &s)| foot(&model.surfaces[s], p))
+            .collect();
+        let mut surfaces = model.surfaces.clone();
+        if surfaces.is_empty() && directions.up.z.abs() == 1.0 {
+            surfaces.push(Surface::ground());
+            feet.push(foot(&Surface::ground(), centroid));
+        }
         let mut figure = Figure::new().columns(3).size(self.size.0, self.size.1);
         for view in View::all(&directions) {
-            let ground = (directions.up.z.abs() == 1.0) && view.name != "top";
-            let bodies = &self.model.bodies;
-            let panel = panel(&view, &looks, bodies, &contacts, ground, &unit);
+            let drawn = Drawing {
+                looks: &looks,
+                bodies: &model.bodies,
+                contacts: &contacts,
+                surfaces: &surfaces,
+                feet: &feet,
+                centroid,
+            };
+            let panel = panel(&view, &drawn, &unit);
             let legend = if view.name == "side" {
                 Legend::Auto
             } else {
@@ -151,16 +182,31 @@ const AXES: [(&str, Rgb); 3] = [
     ("z axes", Rgb(31, 119, 180)),
 ];
 
+/// The point of `surface` nearest `p` (for a sphere, the one on the line to its centre).
+fn foot(surface: &Surface, p: Vector3) -> Vector3 {
+    p - surface.height(p) * surface.normal(p)
+}
+
+/// What each view draws.
+struct Drawing<'a> {
+    looks: &'a [Look],
+    bodies: &'a [Body],
+    contacts: &'a [Vector3],
+    surfaces: &'a [Surface],
+    /// Each contact's foot on its surface: the view holds them, so that a gap shows.
+    feet: &'a [Vector3],
+    centroid: Vector3,
+}
+
 /// One view: a line series per body, one per axis of the triads, the contacts and the
-/// ground, on axes of equal scale that hold everything with a margin.
-fn panel(
-    view: &View,
-    looks: &[Look],
-    bodies: &[Body],
-    contacts: &[Vector3],
-    ground: bool,
-    unit: &str,
-) -> Panel {
+/// surfaces, on axes of equal scale that hold everything but the surfaces with a margin.
+fn panel(view: &View, drawing: &Drawing, unit: &str) -> Panel {
+    let Drawing {
+        looks,
+        bodies,
+        contacts,
+        ..
+    } = *drawing;
     let title = format!(
         "{}, looking along {}",
         view.name,
@@ -197,14 +243,21 @@ fn panel(
         all.extend(x.iter().copied().zip(y.iter().copied()));
         series.push(Series::points("contacts", &x, &y).color(Rgb(0, 0, 0)));
     }
+    all.extend(drawing.feet.iter().map(|&p| view.project(p)));
     let (mut x0, mut x1, mut y0, mut y1) = bounds(&all);
-    if ground {
-        (y0, y1) = (y0.min(0.0), y1.max(0.0));
-    }
     let margin = 0.08 * (x1 - x0).max(y1 - y0).max(1e-9);
     (x0, x1, y0, y1) = (x0 - margin, x1 + margin, y0 - margin, y1 + margin);
-    if ground {
-        series.push(Series::dashed("ground", &[x0, x1], &[0.0, 0.0]).color(Rgb(120, 120, 120)));
+    for (k, surface) in drawing.surfaces.iter().enumerate() {
+        let drawn = surface_lines(surface, view, drawing.centroid, (x0, x1, y0, y1));
+        if !drawn.lines.is_empty() {
+            let name = surface_name(surface, k, drawing.surfaces.len());
+            let (x, y) = broken(&drawn.lines);
+            series.push(if drawn.dashed {
+                Series::dashed(name, &x, &y).color(Rgb(120, 120, 120))
+            } else {
+                Series::line(name, &x, &y).color(Rgb(200, 200, 200))
+            });
+        }
     }
     let mut panel = Panel::new(title)
         .x_label(format!("{}{unit}", direction_name(view.right)))
@@ -218,8 +271,30 @@ fn panel(
     panel
 }
 
+/// A surface's name in the legend: "ground" for the plane z = 0 at rest, else its kind,
+/// numbered when there are several.
+fn surface_name(surface: &Surface, k: usize, count: usize) -> String {
+    let kind = match surface {
+        s if *s == Surface::ground() => "ground",
+        Surface::Plane { .. } => "plane",
+        Surface::Sphere { .. } => "sphere",
+        Surface::Bowl { .. } => "bowl",
+    };
+    if count > 1 {
+        format!("{kind} {}", k + 1)
+    } else {
+        kind.to_string()
+    }
+}
+
 /// One series of several polylines, broken where one ends (a non-finite point breaks a line).
 fn joined(name: &str, lines: &[Line]) -> Series {
+    let (x, y) = broken(lines);
+    Series::line(name, &x, &y)
+}
+
+/// Several polylines as one, with a non-finite point between each two.
+fn broken(lines: &[Line]) -> (Vec<f64>, Vec<f64>) {
     let (mut x, mut y) = (Vec::new(), Vec::new());
     for (i, line) in lines.iter().enumerate() {
         if i > 0 {
@@ -231,7 +306,7 @@ fn joined(name: &str, lines: &[Line]) -> Series {
             y.push(b);
         }
     }
-    Series::line(name, &x, &y)
+    (x, y)
 }
 
 fn bounds(points: &[(f64, f64)]) -> (f64, f64, f64, f64) {

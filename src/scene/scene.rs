@@ -8,8 +8,8 @@ use super::error::{ErrorKind, SceneError};
 use super::html::page;
 use super::look::looks;
 use super::motion::{Motion, configuration, coordinate_columns, sample};
-use super::shape::Shape;
 use super::snapshot::Snapshot;
+use super::solid::Solid;
 use super::view::Directions;
 use super::write::write_whole;
 use crate::Trajectory;
@@ -18,11 +18,13 @@ use crate::geometry::Mechanism;
 /// A trajectory of a model stated from its bodies, as a 3D animation in one HTML file that
 /// opens from disk in any browser, with no network: three.js is embedded in it.
 ///
-/// Each body is drawn from what the model says: a wheel as the disk its contact runs round,
-/// a ball as its sphere, any other body as the uniform ellipsoid of its mass and principal
-/// moments of inertia (so a wrong inertia looks wrong), each with its axes as a triad (x
-/// red, y green, z blue); [`Scene::shape`] gives a body a shape of your own. The ground grid,
-/// gravity's direction and each contact's trace on the ground are drawn too. The page plays,
+/// Each body is drawn from what the model says: as its [`Shape`](crate::geometry::Shape) if
+/// it has one, a wheel as the disk its contact runs round, a ball as its sphere, any other
+/// body as the uniform ellipsoid of its mass and principal moments of inertia (so a wrong
+/// inertia looks wrong), each with its axes as a triad (x red, y green, z blue);
+/// [`Scene::shape`] gives a body a solid of your own. The surfaces the contacts touch (a
+/// plane as a grid in its own plane, a sphere as a sphere; the ground z = 0 for a model
+/// without contacts), gravity's direction and each contact's trace are drawn too. The page plays,
 /// pauses, changes speed (real time by default), has a time slider and an orbit camera, and
 /// shows the time and the columns chosen with [`Scene::show`] beside the scene. Its frames
 /// are the trajectory's samples as computed, nothing interpolated: sample at the frame rate
@@ -31,7 +33,7 @@ use crate::geometry::Mechanism;
 /// ```
 /// use hamel::models::RollingDisk;
 /// use hamel::prelude::*;
-/// use hamel::scene::{Scene, Shape};
+/// use hamel::scene::Scene;
 ///
 /// let disk = RollingDisk::default();
 /// let x0 = disk.state_builder().set("phi", 0.1).set("spin_rate", -20.0).build()?;
@@ -59,7 +61,7 @@ pub struct Scene<'a> {
     motion: Motion,
     shown: Option<Vec<String>>,
     units: Vec<(String, String)>,
-    shapes: Vec<(String, Shape)>,
+    shapes: Vec<(String, Solid)>,
     title: Option<String>,
 }
 
@@ -100,11 +102,12 @@ impl<'a> Scene<'a> {
         self
     }
 
-    /// Draws the body called `body` (one of [`Mechanism::BODIES`]) as `shape`. A name that is
-    /// not a body's, or a shape with a size that is not finite and positive, is an error
-    /// when the page is made.
-    pub fn shape(mut self, body: &str, shape: Shape) -> Self {
-        self.shapes.push((body.to_string(), shape));
+    /// Draws the body called `body` (one of [`Mechanism::BODIES`]) as `shape`: one of the
+    /// model's [`Shape`](crate::geometry::Shape)s or another [`Solid`]. A name that is not a
+    /// body's, or a solid with a size that is not finite and positive, is an error when the
+    /// page is made.
+    pub fn shape(mut self, body: &str, shape: impl Into<Solid>) -> Self {
+        self.shapes.push((body.to_string(), shape.into()));
         self
     }
 
@@ -116,10 +119,13 @@ impl<'a> Scene<'a> {
 
     /// What cannot be drawn as the model states it: a body whose mass and inertia no rigid
     /// body has (inertia not positive definite, principal moments that violate the triangle
-    /// inequality) is drawn as a red marker, and the page lists the reason.
+    /// inequality) is drawn as a red marker, and the page lists the reason; a contact point
+    /// off its surface at the first sample (a surface placed where the bodies do not meet
+    /// it) is listed too.
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
         let looks = looks(&self.first, &self.shapes)?;
-        Ok(looks.into_iter().filter_map(|l| l.warning).collect())
+        let bodies = looks.into_iter().filter_map(|l| l.warning);
+        Ok(bodies.chain(self.first.warnings.iter().cloned()).collect())
     }
 
     /// The page, as one HTML document.
@@ -130,8 +136,13 @@ impl<'a> Scene<'a> {
             self.first.contacts.iter().map(|(_, b)| *b).collect();
         // Up is fixed for the whole scene: against gravity at the first sample.
         let gravity = self.first.gravity;
+        let mut warnings: Vec<String> = looks.iter().filter_map(|l| l.warning.clone()).collect();
+        warnings.extend(self.first.warnings.iter().cloned());
         let data = json(&Contents {
             looks: &looks,
+            surfaces: &self.first.surfaces,
+            contact_surfaces: &self.first.contact_surfaces,
+            warnings: &warnings,
             motion: &self.motion,
             directions: Directions::new(gravity),
             gravity,

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use base64::Engine as _;
 
 use super::*;
-use crate::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Vector3};
+use crate::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Shape, Surface, Vector3};
 use crate::models::KnifeEdge;
 use crate::{DormandPrince, HamelSystem, Simulation, Trajectory, hamel_system};
 
@@ -205,7 +205,7 @@ fn a_wheel_is_its_contact_disk_and_a_rod_its_inertia() {
     let penny = Penny::default();
     let q = [0.1, -0.2, 0.3, 0.25, 1.0];
     let looks = look::looks(&snapshot::Snapshot::of(&penny, 0.0, &q).unwrap(), &[]).unwrap();
-    let look::Solid::Disk { radius, axis } = looks[0].solid else {
+    let look::Drawn::Disk { radius, axis } = looks[0].solid else {
         panic!("the disk is {:?}", looks[0].solid)
     };
     assert!((radius - 0.05).abs() < 1e-15);
@@ -214,7 +214,7 @@ fn a_wheel_is_its_contact_disk_and_a_rod_its_inertia() {
     // The rod: I = m l² / 12 about x and y, none about z: the ellipsoid of the same inertia
     // has semi-axis √(5 · 2 I / (2m)) = l √(5/12) along z (its first principal axis, of the
     // least moment) and none across (drawn a fiftieth as thick).
-    let look::Solid::Ellipsoid { semi_axes, axes } = looks[1].solid else {
+    let look::Drawn::Ellipsoid { semi_axes, axes } = looks[1].solid else {
         panic!("the rod is {:?}", looks[1].solid)
     };
     let length = penny.rod_length * (5.0f64 / 12.0).sqrt();
@@ -272,7 +272,7 @@ fn bad_input_is_an_error_naming_it_and_writes_nothing() {
     );
     let shape = Scene::new(&penny, &run)
         .unwrap()
-        .shape("rod", Shape::box_(0.1, -1.0, 0.1));
+        .shape("rod", Solid::box_(0.1, -1.0, 0.1));
     let err = shape.write_html(&path).unwrap_err();
     assert!(
         err.to_string()
@@ -424,7 +424,7 @@ fn every_catalogue_scene_of_ten_seconds_at_sixty_frames_is_under_two_megabytes()
 #[test]
 fn catalogue_bodies_are_drawn_as_what_they_are() {
     use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
-    fn solids<M: Mechanism>(model: &M) -> Vec<look::Solid> {
+    fn solids<M: Mechanism>(model: &M) -> Vec<look::Drawn> {
         let q = model
             .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
             .unwrap();
@@ -435,8 +435,8 @@ fn catalogue_bodies_are_drawn_as_what_they_are() {
             .map(|l| l.solid)
             .collect()
     }
-    let disk = |solid: &look::Solid, r: f64| {
-        let look::Solid::Disk { radius, axis } = solid else {
+    let disk = |solid: &look::Drawn, r: f64| {
+        let look::Drawn::Disk { radius, axis } = solid else {
             return false;
         };
         (radius - r).abs() < 1e-12 && (axis.y.abs() - 1.0).abs() < 1e-12
@@ -444,21 +444,29 @@ fn catalogue_bodies_are_drawn_as_what_they_are() {
     let bike = solids(&WhippleBicycle::default());
     assert!(disk(&bike[0], 0.3) && disk(&bike[3], 0.35), "{bike:?}");
     assert!(
-        matches!(bike[1], look::Solid::Ellipsoid { .. })
-            && matches!(bike[2], look::Solid::Ellipsoid { .. })
+        matches!(bike[1], look::Drawn::Ellipsoid { .. })
+            && matches!(bike[2], look::Drawn::Ellipsoid { .. })
     );
     assert!(disk(&solids(&RollingDisk::default())[0], 0.05));
     let ball = solids(&ChaplyginBall::default());
     assert!(
-        matches!(ball[0], look::Solid::Sphere { radius } if (radius - 0.1).abs() < 1e-12),
+        matches!(ball[0], look::Drawn::Sphere { radius } if (radius - 0.1).abs() < 1e-12),
         "{ball:?}"
     );
     // The rattleback's base is a paraboloid: its contact point's distance from the centre
     // varies, so it is drawn from its inertia.
     let celt = solids(&Rattleback::default());
-    assert!(matches!(celt[0], look::Solid::Ellipsoid { .. }), "{celt:?}");
-    let robot = solids(&MobileRobot::default());
-    assert!(disk(&robot[1], 0.1) && disk(&robot[2], 0.1), "{robot:?}");
+    assert!(matches!(celt[0], look::Drawn::Ellipsoid { .. }), "{celt:?}");
+    // The robot's wheels are given their shape in the model: drawn as it, not inferred.
+    let robot = MobileRobot::default();
+    let q = robot.assemble(0.0, &[0.0; 5]).unwrap();
+    let looks = look::looks(&snapshot::Snapshot::of(&robot, 0.0, &q).unwrap(), &[]).unwrap();
+    assert!(
+        disk(&looks[1].solid, 0.1) && disk(&looks[2].solid, 0.1),
+        "{looks:?}"
+    );
+    assert_eq!(looks[1].description, "disk of radius 0.1, its shape");
+    assert!(matches!(looks[0].solid, look::Drawn::Ellipsoid { .. }));
 }
 
 /// The catalogue's models with bodies, each in its reference configuration (q = 0, the
@@ -481,6 +489,14 @@ fn catalogue_pictures() -> Vec<(&'static str, String)> {
         ("ChaplyginBall", svg(&ChaplyginBall::default())),
         ("Rattleback", svg(&Rattleback::default())),
         ("MobileRobot", svg(&MobileRobot::default())),
+        (
+            "a disk on an incline",
+            Picture::new(&incline_disk(), 0.0, &ON_THE_INCLINE)
+                .unwrap()
+                .size(1200, 420)
+                .to_svg()
+                .unwrap(),
+        ),
     ]
 }
 
@@ -524,9 +540,9 @@ fn a_body_takes_the_shape_given_by_name() {
         .unwrap()
         .shape(
             "rod",
-            Shape::box_(0.01, 0.02, 0.04).offset(offset).color(0x123456),
+            Solid::box_(0.01, 0.02, 0.04).at(offset).color(0x123456),
         )
-        .shape("disk", Shape::inertia_box())
+        .shape("disk", Solid::inertia_box())
         .to_html()
         .unwrap();
     let data = data_of(&html);
@@ -544,10 +560,10 @@ fn a_body_takes_the_shape_given_by_name() {
     let side = 0.05 * 3f64.sqrt();
     let looks = look::looks(
         &snapshot::Snapshot::of(&penny, 0.0, &[0.0; 5]).unwrap(),
-        &[("disk".into(), Shape::inertia_box())],
+        &[("disk".into(), Solid::inertia_box())],
     )
     .unwrap();
-    let look::Solid::Box { edges, .. } = looks[0].solid else {
+    let look::Drawn::Box { edges, .. } = looks[0].solid else {
         panic!("{:?}", looks[0].solid)
     };
     // Moments ascending: the two diameters first, the axle last.
@@ -558,5 +574,111 @@ fn a_body_takes_the_shape_given_by_name() {
             .zip(expected)
             .all(|(e, x)| (e - x).abs() < 1e-12),
         "{edges:?}"
+    );
+}
+
+/// A disk on a plane inclined by `alpha` about the ground's y axis (as in the validation
+/// suite's `rolling.rs`).
+#[hamel_system]
+#[derive(Clone, Debug, PartialEq)]
+pub struct InclineDisk {
+    pub m: f64,
+    pub r: f64,
+    pub g: f64,
+    pub alpha: f64,
+}
+
+#[hamel_system(
+    coordinates(x, y, psi, phi, theta),
+    speeds(yaw_rate, lean_rate, spin_rate),
+    bodies(disk)
+)]
+impl InclineDisk {
+    #[bodies]
+    fn bodies(&self, q: &[f64; 5]) -> [Body; 1] {
+        let incline = Rotation3::about_y(self.alpha);
+        let heading = incline * Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+        let centre =
+            incline * Vector3::new(q[0], q[1], 0.0) + heading * Vector3::new(0.0, 0.0, self.r);
+        let diameter = self.m * self.r * self.r / 4.0;
+        let inertia = Inertia::principal(diameter, 2.0 * diameter, diameter);
+        let disk = Body::new(self.m, inertia, centre, heading * Rotation3::about_y(q[4]));
+        [disk.with_shape(Shape::disk(self.r, Vector3::y()))]
+    }
+
+    #[gravity]
+    fn gravity(&self) -> Vector3 {
+        Vector3::new(0.0, 0.0, -self.g)
+    }
+
+    #[contacts]
+    fn contacts(&self, q: &[f64; 5]) -> [Contact; 1] {
+        let [disk] = self.bodies(q);
+        let incline = Surface::plane(Vector3::zeros(), Rotation3::about_y(self.alpha));
+        [Contact::rolling(disk, incline)]
+    }
+
+    #[quasi_velocities]
+    fn rates(&self, _q: &[f64; 5], qd: &[f64; 5]) -> [f64; 3] {
+        [qd[2], qd[3], qd[4]]
+    }
+}
+
+/// The disk on an incline of 0.3 rad.
+fn incline_disk() -> InclineDisk {
+    InclineDisk {
+        m: 1.0,
+        r: 0.1,
+        g: 9.81,
+        alpha: 0.3,
+    }
+}
+
+/// 0.4 down the incline's x axis, upright: the contact point 0.4 sin 0.3 = 0.118 below z = 0.
+const ON_THE_INCLINE: [f64; 5] = [0.4, 0.0, 0.0, 0.0, 0.0];
+
+#[test]
+fn a_tilted_plane_is_drawn_in_its_own_plane_and_a_body_placed_as_on_flat_ground_is_a_warning() {
+    let disk = incline_disk();
+    let picture = Picture::new(&disk, 0.0, &ON_THE_INCLINE).unwrap();
+    assert_eq!(picture.warnings().unwrap(), Vec::<String>::new());
+    assert!(picture.to_svg().unwrap().contains("\nplane\n</text>"));
+    // The scene carries the plane's pose: a turn by 0.3 about y, (0, sin 0.15, 0, cos 0.15).
+    let x0 = disk.state_builder().set("spin_rate", -5.0).build().unwrap();
+    let run = Simulation::new(&disk, x0)
+        .end_time(0.05)
+        .sample_interval(0.01)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [])
+        .unwrap();
+    let html = Scene::new(&disk, &run).unwrap().to_html().unwrap();
+    let data = data_of(&html);
+    let (s, c) = 0.15f64.sin_cos();
+    let pose = format!(r#""kind":"plane","origin":[0.0,0.0,0.0],"rotation":[0.0,{s:?},0.0,{c:?}]"#);
+    assert!(data.contains(&pose), "{data:.2000}");
+    assert!(data.contains(r#""contacts":[{"body":0.0,"surface":0.0}]"#));
+
+    // The mistake: the disk placed as on flat ground (its centre r above z = 0) but said to
+    // roll on the incline. Its contact point, the rim's point nearest the plane, is
+    // 0.4 sin 0.3 + 0.1 cos 0.3 − 0.1 = 0.1137 off the plane, and that is a warning. (In a model the macro refuses
+    // it already: the contact's height then varies with x, a holonomic constraint.)
+    let flat = Body::new(
+        1.0,
+        Inertia::principal(1.0, 2.0, 1.0),
+        Vector3::new(0.4, 0.0, 0.1),
+        Rotation3::identity(),
+    )
+    .with_shape(Shape::disk(0.1, Vector3::y()));
+    let incline = Surface::plane(Vector3::zeros(), Rotation3::about_y(0.3));
+    let contact = Contact::rolling(flat, incline);
+    let warning = snapshot::off_surface(0, Some("disk"), &contact, 0.1, 0.0).unwrap();
+    assert!(
+        warning.starts_with("contact point 1 (of body `disk`) is 0.1137")
+            && warning.contains("from its surface at t = 0"),
+        "{warning}"
+    );
+    let right = Contact::rolling(disk.bodies(&ON_THE_INCLINE)[0], incline);
+    assert_eq!(
+        snapshot::off_surface(0, Some("disk"), &right, 0.1, 0.0),
+        None
     );
 }

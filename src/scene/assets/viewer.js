@@ -219,7 +219,45 @@
     return placed;
   }
 
-  // The renderer, the scene with its lights and the ground grid, and the camera.
+  // A surface the contacts touch, where the model puts it: a plane as a grid in its own
+  // plane (three.js draws a grid in its xz plane), a sphere as a sphere, a bowl as the
+  // inside of one, both faint so that what rolls on them shows.
+  function surfaceOf(THREE, surface) {
+    if (surface.kind === 'plane') {
+      const divisions = Math.round(surface.grid.size / surface.grid.step);
+      const grid = new THREE.GridHelper(surface.grid.size, divisions, 0xaaaaaa, 0xd4d4d4);
+      grid.rotation.x = Math.PI / 2;
+      grid.position.set(surface.grid.centre[0], surface.grid.centre[1], 0);
+      const plane = new THREE.Group().add(grid);
+      plane.position.set(...surface.origin);
+      plane.quaternion.set(...surface.rotation);
+      return plane;
+    }
+    if (surface.kind === 'sphere' || surface.kind === 'bowl') {
+      const material = new THREE.MeshLambertMaterial({
+        color: 0xb8b8b8, transparent: true, opacity: surface.kind === 'bowl' ? 0.25 : 0.5,
+        side: surface.kind === 'bowl' ? THREE.BackSide : THREE.FrontSide, depthWrite: false,
+      });
+      const sphere = new THREE.Mesh(new THREE.SphereGeometry(surface.radius, 48, 24), material);
+      const lines = new THREE.LineSegments(new THREE.WireframeGeometry(new THREE.SphereGeometry(surface.radius, 24, 12)),
+        new THREE.LineBasicMaterial({ color: 0x999999, transparent: true, opacity: 0.5 }));
+      const group = new THREE.Group().add(sphere, lines);
+      group.position.set(...surface.centre);
+      return group;
+    }
+    throw new Error('unknown surface ' + surface.kind);
+  }
+
+  // The farthest a surface's drawing reaches from the origin: what the camera must see.
+  function surfaceReach(surface) {
+    const norm = (v) => Math.hypot(...v);
+    if (surface.kind === 'plane') {
+      return norm(surface.origin) + norm(surface.grid.centre) + surface.grid.size;
+    }
+    return norm(surface.centre) + surface.radius;
+  }
+
+  // The renderer, the scene with its lights and the surfaces, and the camera.
   function world(THREE, data, directions) {
     // No multisampling: in software rendering (SwiftShader, a machine without a GPU) it
     // costs a frame of 16.7 ms or more, for smoother edges only (tests/browser/README.md).
@@ -229,18 +267,14 @@
     const scene = new THREE.Scene();
     scene.background = new THREE.Color(0xf4f4f4);
     const reach = data.radius;
-    const camera = new THREE.PerspectiveCamera(35, 1, reach / 100, reach * 1000 + data.grid.size * 4);
+    const far = Math.max(...data.surfaces.map(surfaceReach));
+    const camera = new THREE.PerspectiveCamera(35, 1, reach / 100, reach * 1000 + far * 4);
     camera.up.copy(directions.up);
     const sky = new THREE.HemisphereLight(0xffffff, 0x999999, 2.2);
     sky.position.copy(directions.up);
     const sun = new THREE.DirectionalLight(0xffffff, 1.4);
     sun.position.copy(directions.up.clone().multiplyScalar(3).sub(directions.left).add(directions.forward));
-    // The ground, z = 0: three.js draws its grid in the xz plane.
-    const divisions = Math.round(data.grid.size / data.grid.step);
-    const grid = new THREE.GridHelper(data.grid.size, divisions, 0xaaaaaa, 0xd4d4d4);
-    grid.rotation.x = Math.PI / 2;
-    grid.position.set(data.grid.centre[0], data.grid.centre[1], 0);
-    scene.add(sky, sun, grid);
+    scene.add(sky, sun, ...data.surfaces.map((s) => surfaceOf(THREE, s)));
     return { renderer, scene, camera };
   }
 
