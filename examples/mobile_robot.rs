@@ -18,7 +18,7 @@
 //! Dormand–Prince (the default), RK4, the implicit midpoint rule, Gauss–Legendre with 2 or 3
 //! stages (bounded energy error over long runs) or Radau5 (stiff), see
 //! `hamel::docs::running`. `--animate robot.html` writes the run as a 3D scene of the
-//! chassis and the wheels, to open in a browser (`hamel::scene`).
+//! body and its two wheels, to open in a browser (`hamel::scene`).
 
 use hamel::models::MobileRobot;
 use hamel::{
