@@ -247,16 +247,26 @@ fn panel(view: &View, drawing: &Drawing, unit: &str) -> Panel {
     let (mut x0, mut x1, mut y0, mut y1) = bounds(&all);
     let margin = 0.08 * (x1 - x0).max(y1 - y0).max(1e-9);
     (x0, x1, y0, y1) = (x0 - margin, x1 + margin, y0 - margin, y1 + margin);
+    // Equal scales widen the shorter side to the longer (the views are about square): the
+    // surfaces are cut to that square, so that they reach the frame.
+    let half = 0.5 * (x1 - x0).max(y1 - y0);
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let square = (cx - half, cx + half, cy - half, cy + half);
     for (k, surface) in drawing.surfaces.iter().enumerate() {
-        let drawn = surface_lines(surface, view, drawing.centroid, (x0, x1, y0, y1));
+        let drawn = surface_lines(surface, view, drawing.centroid, square);
         if !drawn.lines.is_empty() {
             let name = surface_name(surface, k, drawing.surfaces.len());
             let (x, y) = broken(&drawn.lines);
-            series.push(if drawn.dashed {
-                Series::dashed(name, &x, &y).color(Rgb(120, 120, 120))
-            } else {
-                Series::line(name, &x, &y).color(Rgb(200, 200, 200))
-            });
+            // Under the bodies, drawn first.
+            series.insert(
+                0,
+                if drawn.dashed {
+                    Series::dashed(name, &x, &y).color(Rgb(120, 120, 120))
+                } else {
+                    // Tan, apart from the axes' grey grid lines.
+                    Series::line(name, &x, &y).color(Rgb(214, 184, 140))
+                },
+            );
         }
     }
     let mut panel = Panel::new(title)
