@@ -15,8 +15,13 @@
 //!    rate dies out; at 2 m/s, below the weave speed, a small lean grows into the weave (a
 //!    simulation that takes more than a second shows a progress bar on a terminal).
 //!
+//! With `--animate bicycle.html` it does none of that, but rides from upright at 3 m/s,
+//! below the weave speed, until the bicycle falls, and writes the ride as a 3D scene to
+//! open in a browser (`hamel::scene`).
+//!
 //! ```text
 //! cargo run --release --example bicycle
+//! cargo run --release --example bicycle -- --animate bicycle.html
 //! ```
 
 use hamel::models::WhippleBicycle;
@@ -26,8 +31,12 @@ use hamel::{Linearization, Mode, ModeBranch, ModeSweep, track_modes};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
+#[path = "support/animate.rs"]
+mod animate;
 #[path = "support/bicycle_units.rs"]
 mod bicycle_units;
+#[path = "support/capsize.rs"]
+mod capsize;
 #[path = "support/progress.rs"]
 mod progress;
 
@@ -312,12 +321,25 @@ fn run() -> Result<(), Error> {
     Ok(())
 }
 
+/// The bicycle capsizing, as a scene at `path`.
+fn animate(path: &std::path::Path) -> Result<(), Error> {
+    let bike = WhippleBicycle::default();
+    let ride = capsize::ride(&bike)?;
+    let end = match ride.event_times("fallen").first() {
+        Some(t) => format!("the roll angle reaches 60° at t = {t:.3} s"),
+        None => format!("still up at t = {} s", ride.times()[ride.len() - 1]),
+    };
+    println!(
+        "from upright at {} m/s with a lean of {} rad: {end}",
+        capsize::SPEED,
+        capsize::LEAN
+    );
+    animate::write(&bike, &ride, &capsize::SHOWN, &[("speed", "m/s")], path)
+}
+
 fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    animate::main(|path| match path {
+        Some(path) => animate(&path),
+        None => run(),
+    })
 }

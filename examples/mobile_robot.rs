@@ -4,6 +4,7 @@
 //! cargo run --release --example mobile_robot                       # defaults
 //! cargo run --release --example mobile_robot -- --alpha 1.0 --tau1 0.2 --t-end 5 --out run.csv
 //! cargo run --release --example mobile_robot -- --integrator gauss2 --step 0.01 --t-end 1000
+//! cargo run --release --example mobile_robot -- --animate robot.html
 //! cargo run --release --example mobile_robot -- --help
 //! ```
 //!
@@ -16,7 +17,8 @@
 //! more than a second shows a progress bar on a terminal. `--integrator` picks the method:
 //! Dormand–Prince (the default), RK4, the implicit midpoint rule, Gauss–Legendre with 2 or 3
 //! stages (bounded energy error over long runs) or Radau5 (stiff), see
-//! `hamel::docs::running`.
+//! `hamel::docs::running`. `--animate robot.html` writes the run as a 3D scene of the
+//! body and its two wheels, to open in a browser (`hamel::scene`).
 
 use hamel::models::MobileRobot;
 use hamel::{
@@ -27,6 +29,10 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+// The command line below reads `--animate` itself: `animate::requested` goes unused here.
+#[allow(dead_code)]
+#[path = "support/animate.rs"]
+mod animate;
 #[path = "support/progress.rs"]
 mod progress;
 
@@ -43,6 +49,8 @@ struct Settings {
     /// The step of the fixed-step methods.
     step: f64,
     out: String,
+    /// The 3D scene's file, if one is asked for.
+    animate: Option<String>,
 }
 
 /// The integrators `--integrator` offers.
@@ -108,6 +116,7 @@ impl Default for Settings {
             method: Method::DormandPrince,
             step: 0.01,
             out: "mobile_robot.csv".into(),
+            animate: None,
         }
     }
 }
@@ -135,6 +144,7 @@ fn help() -> String {
          --atol     absolute tolerance (dopri5, radau5) [{}]\n  \
          --step     step, s (rk4, midpoint, gauss2, gauss3) [{}]\n  \
          --out      CSV file, the figure beside it as .svg [{}]\n  \
+         --animate  also write the run as a 3D scene, an HTML file to open in a browser\n  \
          --help     this text\n",
         d.torques[0],
         d.torques[1],
@@ -175,6 +185,10 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
                 ));
             }
             s.out = raw.clone();
+            continue;
+        }
+        if name == "animate" {
+            s.animate = Some(raw.clone());
             continue;
         }
         if name == "integrator" {
@@ -273,6 +287,10 @@ fn run(s: &Settings) -> Result<(), hamel::Error> {
             "wrote {} (the path, the pitch alpha and the energy drift)",
             path.display()
         );
+    }
+    if let Some(path) = &s.animate {
+        let shown = ["x", "y", "alpha", "w4", "w5", "energy"];
+        animate::write(robot, &trajectory, &shown, &[], Path::new(path))?;
     }
     Ok(())
 }

@@ -15,6 +15,8 @@
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
 //! [`plot`] (feature `plot`, on by default) draws trajectories and analyses as SVG or PNG.
+//! [`scene`] animates a model's bodies in 3D in the browser, and draws them at one
+//! configuration in front, side and top views.
 //!
 //! # How a model becomes a simulator
 //!
@@ -67,6 +69,7 @@ pub mod parquet;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod prelude;
+pub mod scene;
 #[cfg(feature = "study")]
 pub mod study;
 

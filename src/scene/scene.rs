@@ -1,0 +1,202 @@
+//! [`Scene`]: a trajectory of a model with bodies, animated in one self-contained HTML page.
+
+use std::path::Path;
+
+use super::data::{Contents, Shown, json};
+use super::equivalent::short;
+use super::error::{ErrorKind, SceneError};
+use super::html::page;
+use super::look::looks;
+use super::motion::{Motion, configuration, coordinate_columns, sample};
+use super::snapshot::Snapshot;
+use super::solid::Solid;
+use super::view::Directions;
+use super::write::write_whole;
+use crate::Trajectory;
+use crate::geometry::Mechanism;
+
+/// A trajectory of a model stated from its bodies, as a 3D animation in one HTML file that
+/// opens from disk in any browser, with no network: three.js is embedded in it.
+///
+/// Each body is drawn from what the model says: as its [`Shape`](crate::geometry::Shape) if
+/// it has one, a wheel as the disk its contact runs round, a ball as its sphere, any other
+/// body as the uniform ellipsoid of its mass and principal moments of inertia (so a wrong
+/// inertia looks wrong), each with its axes as a triad (x red, y green, z blue);
+/// [`Scene::shape`] gives a body a solid of your own. The surfaces the contacts touch (a
+/// plane as a grid in its own plane, a sphere as a sphere; the ground z = 0 for a model
+/// without contacts), gravity's direction and each contact's trace are drawn too. The page plays,
+/// pauses, changes speed (real time by default), has a time slider and an orbit camera, and
+/// shows the time and the columns chosen with [`Scene::show`] beside the scene. Its frames
+/// are the trajectory's samples as computed, nothing interpolated: sample at the frame rate
+/// you want to watch (`Simulation::sample_interval(1.0 / 60.0)`).
+///
+/// ```
+/// use hamel::models::RollingDisk;
+/// use hamel::prelude::*;
+/// use hamel::scene::Scene;
+///
+/// let disk = RollingDisk::default();
+/// let x0 = disk.state_builder().set("phi", 0.1).set("spin_rate", -20.0).build()?;
+/// let run = Simulation::new(&disk, x0)
+///     .end_time(1.0)
+///     .sample_interval(1.0 / 60.0)
+///     .run_constant(&DormandPrince::new(1e-8, 1e-10), [])?;
+/// let scene = Scene::new(&disk, &run)?.show(["phi", "spin_rate"]).title("a rolling disk");
+/// let html = scene.to_html()?;
+/// assert!(html.starts_with("<!doctype html>") && html.contains("a rolling disk"));
+/// # let dir = std::env::temp_dir().join(format!("hamel-doc-scene-{}", std::process::id()));
+/// # std::fs::create_dir_all(&dir).unwrap();
+/// # let path = dir.join("disk.html");
+/// scene.write_html(&path)?;
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok::<(), hamel::Error>(())
+/// ```
+///
+/// A model without bodies has no scene: `Scene::new` does not compile for it (it needs
+/// [`Mechanism`], which `#[hamel_system]` implements for models with `#[bodies]`).
+pub struct Scene<'a> {
+    trajectory: &'a Trajectory,
+    /// The model at the first sample.
+    first: Snapshot,
+    motion: Motion,
+    shown: Option<Vec<String>>,
+    units: Vec<(String, String)>,
+    shapes: Vec<(String, Solid)>,
+    title: Option<String>,
+}
+
+impl<'a> Scene<'a> {
+    /// The scene of `trajectory`, a run of `model`. The trajectory must have a column for
+    /// each of the model's coordinates and at least one sample; every body's pose is read
+    /// here, at every sample, and must be finite.
+    pub fn new<M: Mechanism>(model: &M, trajectory: &'a Trajectory) -> Result<Self, SceneError> {
+        let columns = coordinate_columns::<M>(trajectory)?;
+        let times = trajectory.times();
+        let q: M::Coordinates = configuration(&columns, 0);
+        Ok(Scene {
+            trajectory,
+            first: Snapshot::of(model, times[0], &q)?,
+            motion: sample(model, times, &columns)?,
+            shown: None,
+            units: Vec::new(),
+            shapes: Vec::new(),
+            title: None,
+        })
+    }
+
+    /// The columns shown beside the scene, with their units, at each sample (by default the
+    /// model's coordinates). Names not in the trajectory are an error when the page is made.
+    pub fn show<I, S>(mut self, columns: I) -> Self
+    where
+        I: IntoIterator<Item = S>,
+        S: Into<String>,
+    {
+        self.shown = Some(columns.into_iter().map(Into::into).collect());
+        self
+    }
+
+    /// Shows the column `column` with the unit `unit` (for an output column of the
+    /// simulation, or in place of the model's own unit).
+    pub fn unit(mut self, column: &str, unit: &str) -> Self {
+        self.units.push((column.to_string(), unit.to_string()));
+        self
+    }
+
+    /// Draws the body called `body` (one of [`Mechanism::BODIES`]) as `shape`: one of the
+    /// model's [`Shape`](crate::geometry::Shape)s or another [`Solid`]. A name that is not a
+    /// body's, or a solid with a size that is not finite and positive, is an error when the
+    /// page is made.
+    pub fn shape(mut self, body: &str, shape: impl Into<Solid>) -> Self {
+        self.shapes.push((body.to_string(), shape.into()));
+        self
+    }
+
+    /// The page's title (by default the model's type and the time span).
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+
+    /// What cannot be drawn as the model states it: a body whose mass and inertia no rigid
+    /// body has (inertia not positive definite, principal moments that violate the triangle
+    /// inequality) is drawn as a red marker, and the page lists the reason; a contact point
+    /// off its surface at the first sample (a surface placed where the bodies do not meet
+    /// it) is listed too.
+    pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
+        let looks = looks(&self.first, &self.shapes)?;
+        let bodies = looks.into_iter().filter_map(|l| l.warning);
+        Ok(bodies.chain(self.first.warnings.iter().cloned()).collect())
+    }
+
+    /// The page, as one HTML document.
+    pub fn to_html(&self) -> Result<String, SceneError> {
+        let shown = self.shown_columns()?;
+        let looks = looks(&self.first, &self.shapes)?;
+        let contact_bodies: Vec<Option<usize>> =
+            self.first.contacts.iter().map(|(_, b)| *b).collect();
+        // Up is fixed for the whole scene: against gravity at the first sample.
+        let gravity = self.first.gravity;
+        let mut warnings: Vec<String> = looks.iter().filter_map(|l| l.warning.clone()).collect();
+        warnings.extend(self.first.warnings.iter().cloned());
+        let data = json(&Contents {
+            looks: &looks,
+            surfaces: &self.first.surfaces,
+            contact_surfaces: &self.first.contact_surfaces,
+            warnings: &warnings,
+            motion: &self.motion,
+            directions: Directions::new(gravity),
+            gravity,
+            contact_bodies: &contact_bodies,
+            shown: &shown,
+            time_unit: (self.first.unit)("t").unwrap_or("s"),
+        });
+        Ok(page(&self.page_title(), &data))
+    }
+
+    /// Writes the page to `path`, whole or not at all: nothing is written if the page
+    /// cannot be made, and a failure to write leaves no partial file.
+    pub fn write_html(&self, path: impl AsRef<Path>) -> Result<(), SceneError> {
+        let path = path.as_ref();
+        let html = self.to_html().map_err(|e| e.at(path))?;
+        write_whole(path, html.as_bytes())
+    }
+
+    fn shown_columns(&self) -> Result<Vec<Shown<'_>>, SceneError> {
+        let names: Vec<&str> = match &self.shown {
+            Some(names) => names.iter().map(String::as_str).collect(),
+            None => self.first.coordinates.to_vec(),
+        };
+        names
+            .into_iter()
+            .map(|name| {
+                let found = self.trajectory.names().iter().find(|n| n.as_str() == name);
+                let (name, values) = found
+                    .and_then(|n| Some((n.as_str(), self.trajectory.column(n)?)))
+                    .ok_or_else(|| ErrorKind::UnknownColumn {
+                        name: name.to_string(),
+                        known: self.trajectory.names().join(", "),
+                    })?;
+                let given = self.units.iter().rev().find(|(c, _)| c == name);
+                let unit = given
+                    .map(|(_, u)| u.as_str())
+                    .or_else(|| (self.first.unit)(name));
+                Ok(Shown { name, unit, values })
+            })
+            .collect()
+    }
+
+    fn page_title(&self) -> String {
+        if let Some(title) = &self.title {
+            return title.clone();
+        }
+        let times = &self.motion.times;
+        let unit = (self.first.unit)("t").unwrap_or("s");
+        let (first, last) = (times[0], times[times.len() - 1]);
+        format!(
+            "{}, t = {} … {} {unit}",
+            self.first.model,
+            short(first),
+            short(last)
+        )
+    }
+}
