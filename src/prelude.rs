@@ -13,7 +13,7 @@ pub use crate::{
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
-    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
+    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian, outputs,
     potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
 // The geometry vocabulary a model's roles are written in, and the rates along the motion.

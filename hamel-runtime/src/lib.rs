@@ -3,6 +3,7 @@
 
 mod assembly;
 mod builder;
+pub mod control;
 mod crossing;
 mod driver;
 pub mod ensemble;
@@ -30,6 +31,7 @@ mod vector;
 
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
+pub use control::{ControlAffine, ControlAffineForm, Controller};
 pub use crossing::{SingularCrossing, transformation_determinant};
 pub use ensemble::{
     CaseError, Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table,
