@@ -45,6 +45,9 @@ pub use integrate::{
 pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
+/// The linear algebra crate of linearizations and controller design (`DMatrix` weights for
+/// [`control::Lqr`]), so that a program uses the same version.
+pub use nalgebra;
 pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use recorder::Output;
