@@ -63,7 +63,7 @@ impl Default for MobileRobot {
     constraints(no_slip, no_side_slip),
     bodies(body, right_wheel, left_wheel),
     outputs(px, py),
-    control(order = 2, brackets = 2),
+    control(order = 2, brackets = 3),
     units(
         t = "s",
         x = "m",
