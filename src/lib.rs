@@ -79,7 +79,7 @@ pub use hamel_macros::{differentiate, hamel_system, helpers};
 // The role attributes: `#[hamel_system]` reads them, so these run only when one is misplaced,
 // to say where it belongs.
 pub use hamel_macros::{
-    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
+    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian, outputs,
     potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
 pub use hamel_runtime::*;

@@ -6,14 +6,14 @@ pub use crate::{
 };
 // What the guides' runs use beside them: events, streaming, progress, why a run stopped,
 // its summary, linearizations and their modes (followed along a parameter), the generated
-// code's singularities, studies.
+// code's singularities, studies, control from the model.
 pub use crate::{
-    CsvSink, Ensemble, Event, Linearization, Mode, ModeBranch, Outputs, Progress, Singularity,
-    Sink, Stopped, Summary, Table, track_modes,
+    ControlAffine, CsvSink, Ensemble, Event, Linearization, Mode, ModeBranch, Outputs, Progress,
+    Singularity, Sink, Stopped, Summary, Table, track_modes,
 };
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
-    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian,
+    bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian, outputs,
     potential_energy, quasi_lagrangian, quasi_velocities, velocities,
 };
 // The geometry vocabulary a model's roles are written in, and the rates along the motion.

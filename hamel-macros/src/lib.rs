@@ -185,3 +185,13 @@ pub fn helpers(attr: TokenStream, item: TokenStream) -> TokenStream {
 pub fn __hamel_with_helpers(input: TokenStream) -> TokenStream {
     guarded(|| system::expand_with_helpers(input.into())).into()
 }
+
+/// Marks the outputs y = h(t, q) (or h(t, q, speeds)) whose Lie derivatives the macro
+/// generates for control (`hamel::ControlAffine`), in the model's impl block with
+/// `#[hamel_system]`, which reads and removes the attribute:
+/// `fn(&self, q: &[f64; N]) -> [f64; R]`. Anywhere else it is an error that says where it
+/// belongs.
+#[proc_macro_attribute]
+pub fn outputs(_attr: TokenStream, item: TokenStream) -> TokenStream {
+    stray_role::expand("outputs", item.into()).into()
+}

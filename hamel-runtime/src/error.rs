@@ -718,6 +718,76 @@ pub enum Error {
     )]
     UnphysicalBody { body: String, reason: String },
 
+    /// No input acts on an output within the order of Lie derivatives the model generates
+    /// (`control(order = k)`): every L_{g_j} L_f^i h of the output, i < k, is zero at the
+    /// state, so its relative degree is larger than k, or not defined there.
+    #[error(
+        "no input acts on the output `{output}` through its first {order} derivatives along the \
+         motion at t = {}: every L_g L_f^i h of it, i < {order}, is zero here, so its relative \
+         degree exceeds {order} (generate more with `control(order = ..)`) or is not defined at \
+         this state; state: {state}",
+        Num(*t)
+    )]
+    RelativeDegree {
+        output: String,
+        order: usize,
+        t: f64,
+        state: NamedValues,
+    },
+
+    /// The decoupling matrix A(x) = (L_{g_j} L_f^{r_i − 1} h_i) is singular to rounding: the
+    /// outputs cannot be steered independently at this state, and the exact linearization
+    /// u = A⁻¹(v − b) does not exist there.
+    #[error(
+        "the decoupling matrix L_g L_f^(r-1) h is singular at t = {}: its singular values are \
+         {} (ratio {} of the smallest to the largest, at most {} counts as singular), so the \
+         outputs cannot be steered independently here; choose other outputs or keep the motion \
+         away from this state; state: {state}",
+        Num(*t), Error::list(singular_values), Num(Error::ratio(singular_values)), Num(*tolerance)
+    )]
+    SingularDecoupling {
+        t: f64,
+        state: NamedValues,
+        /// The decoupling matrix's singular values, largest first.
+        singular_values: Vec<f64>,
+        /// The ratio of the smallest to the largest below which it counts as singular.
+        tolerance: f64,
+    },
+
+    /// The algebraic Riccati equation has no stabilizing solution (or none was found to
+    /// rounding): (A, B) is not stabilizable, or (Q, A) has a mode on the imaginary axis that
+    /// Q does not see.
+    #[error(
+        "the Riccati equation A'P + PA - PBR^-1B'P + Q = 0 has no stabilizing solution: {reason}"
+    )]
+    NoStabilizingSolution {
+        /// What was found instead.
+        reason: String,
+    },
+
+    /// A weight matrix of a linear-quadratic design is not what the design needs.
+    #[error("the weight matrix {matrix} {reason}")]
+    InvalidWeights {
+        /// "Q" or "R".
+        matrix: &'static str,
+        /// What is wrong with it, and how to fix it.
+        reason: String,
+    },
+
+    /// A reference trajectory for an output gives another number of values than the output
+    /// needs: the value and its derivatives up to the output's relative degree.
+    #[error(
+        "the reference for the output `{output}` gives {given} values at t = {}; it needs \
+         {expected}: the output's value and its derivatives up to its relative degree, {}",
+        Num(*t), expected - 1
+    )]
+    InvalidReference {
+        output: String,
+        expected: usize,
+        given: usize,
+        t: f64,
+    },
+
     /// The right-hand side met a value that is not a finite number in the matrices it
     /// factors: the reduced mass matrix (`speed` names the first speed whose pivot or diagonal
     /// entry is not finite) or A(q) (`speed` is `None`).
@@ -730,6 +800,26 @@ pub enum Error {
 }
 
 impl Error {
+    /// Values for a message: `3.2, 1.5e-14`.
+    fn list(values: &[f64]) -> String {
+        values
+            .iter()
+            .map(|v| Num(*v).to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The smallest over the largest of some non-negative values (0 when they are all 0).
+    fn ratio(values: &[f64]) -> f64 {
+        let largest = values.iter().fold(0.0f64, |m, v| m.max(*v));
+        let smallest = values.iter().fold(f64::INFINITY, |m, v| m.min(*v));
+        if largest > 0.0 {
+            smallest / largest
+        } else {
+            0.0
+        }
+    }
+
     /// The message of [`Error::Table`], for `Display`.
     fn table_message(file: &str, line: usize, column: &str, problem: &str) -> String {
         if column.is_empty() {

@@ -74,6 +74,11 @@ impl Error {
             Error::NonFiniteEvent { .. } => "non_finite_event",
             Error::IndefiniteMassMatrix { .. } => "indefinite_mass_matrix",
             Error::NonFiniteDynamics { .. } => "non_finite_dynamics",
+            Error::RelativeDegree { .. } => "relative_degree",
+            Error::SingularDecoupling { .. } => "singular_decoupling",
+            Error::NoStabilizingSolution { .. } => "no_stabilizing_solution",
+            Error::InvalidWeights { .. } => "invalid_weights",
+            Error::InvalidReference { .. } => "invalid_reference",
         }
     }
 }

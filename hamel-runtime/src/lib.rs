@@ -3,6 +3,7 @@
 
 mod assembly;
 mod builder;
+pub mod control;
 mod crossing;
 mod driver;
 pub mod ensemble;
@@ -30,6 +31,7 @@ mod vector;
 
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
+pub use control::{ControlAffine, ControlAffineForm, Controller};
 pub use crossing::{SingularCrossing, transformation_determinant};
 pub use ensemble::{
     CaseError, Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table,
@@ -43,6 +45,9 @@ pub use integrate::{
 pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
+/// The linear algebra crate of linearizations and controller design (`DMatrix` weights for
+/// [`control::Lqr`]), so that a program uses the same version.
+pub use nalgebra;
 pub use named::NamedValues;
 pub use opcount::OpCounts;
 pub use recorder::Output;

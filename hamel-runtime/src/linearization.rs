@@ -415,6 +415,36 @@ impl Linearization {
         })
     }
 
+    /// The linearization with the inputs `keep` alone (in that order), the others held at
+    /// their operating values: B's columns for them. A controller that uses some of a
+    /// model's inputs is designed on this (the bicycle's steer torque without its roll
+    /// torque).
+    ///
+    /// Errors: [`Error::UnknownName`] listing the inputs, [`Error::DuplicateName`].
+    pub fn with_inputs(&self, keep: &[&str]) -> Result<Linearization, Error> {
+        let mut kept = Vec::with_capacity(keep.len());
+        for name in keep {
+            let j = index_of(&self.inputs, "input", name)?;
+            if kept.contains(&j) {
+                return Err(Error::DuplicateName {
+                    kind: "input",
+                    name: (*name).to_string(),
+                    context: "list each input to keep once",
+                });
+            }
+            kept.push(j);
+        }
+        Ok(Linearization {
+            inputs: kept.iter().map(|&j| self.inputs[j].clone()).collect(),
+            b: self.b.select_columns(&kept),
+            point: self.point.as_ref().map(|p| OperatingPoint {
+                inputs: NamedValues(kept.iter().map(|&j| p.inputs.0[j].clone()).collect()),
+                ..p.clone()
+            }),
+            ..self.clone()
+        })
+    }
+
     /// D with δx_E = D δx for the dependent states E of the constraint rows `rows`, from
     /// (∂f/∂x_E) δx_E + (∂f/∂x_rest) δx_rest = 0 (D's columns for E are zero). Each row is
     /// scaled by its largest derivative so that the LU's pivots compare with 1.

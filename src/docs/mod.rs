@@ -10,6 +10,9 @@
 //! * [`studies`] — studies of any model: a study's command line in a few lines (grids,
 //!   shards, merge, resume, job arrays), honest tables, and stability along a parameter
 //!   (modes tracked, crossings, stable ranges); the bicycle's and the rattleback's studies.
+//! * [`control`] — control from the model: the control-affine form, outputs and their Lie
+//!   derivatives, Lie brackets and the accessibility rank, exact input–output linearization,
+//!   LQR with its Riccati equation, and controllers as a run's input function.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
@@ -29,6 +32,9 @@ pub mod running {}
 #[doc = include_str!("../../examples/rattleback_study.rs")]
 #[doc = "```"]
 pub mod studies {}
+
+#[doc = include_str!("control.md")]
+pub mod control {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}

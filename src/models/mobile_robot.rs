@@ -62,6 +62,8 @@ impl Default for MobileRobot {
     inputs(tau1, tau2),
     constraints(no_slip, no_side_slip),
     bodies(body, right_wheel, left_wheel),
+    outputs(px, py),
+    control(order = 2, brackets = 3),
     units(
         t = "s",
         x = "m",
@@ -131,6 +133,15 @@ impl MobileRobot {
         let (s, c) = (self.r * (q[3] - q[4]) / self.b).sin_cos();
         let yaw_rate = self.r / self.b * (qd[3] - qd[4]);
         [qd[2], qd[0] * c + qd[1] * s, yaw_rate]
+    }
+
+    /// The look-ahead point, 0.3 m ahead of the axle's centre along the heading: the point
+    /// `robot_tracking` steers (the axle's centre itself has a singular decoupling matrix:
+    /// it cannot move sideways).
+    #[outputs]
+    pub fn look_ahead(&self, q: &[f64; 5]) -> [f64; 2] {
+        let (s, c) = (self.r * (q[3] - q[4]) / self.b).sin_cos();
+        [q[0] + 0.3 * c, q[1] + 0.3 * s]
     }
 
     /// The motor torques act between the body and each wheel, on the relative angles φᵢ.

@@ -130,6 +130,8 @@ impl Default for WhippleBicycle {
     inputs(roll_torque, steer_torque),
     constraints(rear_x, rear_y, front_x, front_y, front_z),
     bodies(rear_wheel, rear_frame, front_frame, front_wheel),
+    outputs(roll, steer),
+    control(order = 2),
     units(
         t = "s",
         x = "m",
@@ -218,6 +220,13 @@ impl WhippleBicycle {
     }
 
     /// The roll torque acts on the roll coordinate, the steer torque on the steer angle.
+    /// The roll and steer angles, whose Lie derivatives the control guide reads the
+    /// bicycle's relative degrees from (`hamel::docs::control`).
+    #[outputs]
+    fn lean_and_steer(&self, q: &[f64; 8]) -> [f64; 2] {
+        [q[3], q[5]]
+    }
+
     #[forces]
     fn torques(&self, _t: f64, _q: &[f64; 8], _qd: &[f64; 8], u: &[f64; 2]) -> [f64; 8] {
         [0.0, 0.0, 0.0, u[0], 0.0, u[1], 0.0, 0.0]

@@ -35,6 +35,8 @@ pub struct Sketch {
     /// The bodies' names, for a model with `#[bodies]`: as given, or as many defaults as
     /// the function's result has bodies.
     bodies: Option<Vec<String>>,
+    /// What control code the model asks for (`#[outputs]`, `control(..)`), as written.
+    control: Option<super::control::emit::StandIn>,
 }
 
 impl Sketch {
@@ -82,6 +84,7 @@ impl Sketch {
             }
         });
         Sketch {
+            control: control_sketch(names, roles),
             bodies,
             index_consts,
             dims,
@@ -94,6 +97,40 @@ impl Sketch {
             fragment: roles.is_fragment(),
         }
     }
+}
+
+/// The control code asked for, as written: the outputs' names (or as many defaults as the
+/// function's result has values), the order (2 by default with outputs) and the number of
+/// brackets to the depth asked for.
+fn control_sketch(names: &Names, roles: &Roles<'_>) -> Option<super::control::emit::StandIn> {
+    let outputs_fn = roles.get(Role::Outputs);
+    if outputs_fn.is_none() && names.control.is_none() && names.outputs.is_none() {
+        return None;
+    }
+    let outputs: Vec<String> = match (&names.outputs, outputs_fn) {
+        (Some((_, given)), _) => given.iter().map(|i| i.unraw().to_string()).collect(),
+        (None, Some(f)) => (0..written_length(&f.f.sig.output).unwrap_or(0))
+            .map(|i| format!("y{i}"))
+            .collect(),
+        (None, None) => Vec::new(),
+    };
+    let key = names.control.as_ref();
+    let order = match key.and_then(|k| k.order) {
+        Some((k, _)) if !outputs.is_empty() => k.min(super::spec::control::MOST_ORDER),
+        None if !outputs.is_empty() => 2,
+        _ => 0,
+    };
+    let depth = key
+        .and_then(|k| k.brackets)
+        .map_or(0, |(d, _)| d.min(super::spec::control::MOST_DEPTH));
+    let generators = names.inputs.len() + 1;
+    let brackets = super::spec::control::bracket_count(generators, depth)
+        .min(super::spec::control::MOST_BRACKETS);
+    Some(super::control::emit::StandIn {
+        outputs,
+        order,
+        brackets,
+    })
 }
 
 /// n from the coordinates' names or else from the length of `q` in a role's signature; p
@@ -183,7 +220,11 @@ pub fn fallback(
         .dims
         .zip(sketch.bodies.as_ref())
         .map(|((n, _, _), names)| super::mechanism::mechanism_impl(imp, n, names, None));
-    quote!(#stripped #inherent #system #mechanism #error)
+    let control = sketch
+        .dims
+        .zip(sketch.control.as_ref())
+        .map(|((n, p, m), request)| super::control::emit::stand_in(imp, 2 * n - p, m, request));
+    quote!(#stripped #inherent #system #control #mechanism #error)
 }
 
 fn lit(i: usize) -> Literal {

@@ -27,7 +27,7 @@ const PIVOT_TOLERANCE: f64 = 1e-13;
 /// What a method reads: `x: &State` (coordinates then speeds) and `u`, or `q` alone, or `q`
 /// and `qd`. Every method has `t`.
 #[derive(Clone, Copy, PartialEq)]
-enum Source {
+pub(super) enum Source {
     State,
     Coordinates,
     Velocities,
@@ -36,29 +36,29 @@ enum Source {
 /// Which checks must pass before a method's results are used: the pivots of the LU of A
 /// (when B is computed from A), and those of the LDLᵀ of the mass matrix.
 #[derive(Clone, Copy)]
-struct Checks {
+pub(super) struct Checks {
     transformation: bool,
     mass: bool,
 }
 
-const NONE: Checks = Checks {
+pub(super) const NONE: Checks = Checks {
     transformation: false,
     mass: false,
 };
-const TRANSFORMATION: Checks = Checks {
+pub(super) const TRANSFORMATION: Checks = Checks {
     transformation: true,
     mass: false,
 };
-const ALL: Checks = Checks {
+pub(super) const ALL: Checks = Checks {
     transformation: true,
     mass: true,
 };
 
-struct Context<'g> {
-    graph: &'g Graph,
-    eq: &'g Equations,
-    externals: &'g [External],
-    n: usize,
+pub(super) struct Context<'g> {
+    pub(super) graph: &'g Graph,
+    pub(super) eq: &'g Equations,
+    pub(super) externals: &'g [External],
+    pub(super) n: usize,
 }
 
 impl<'g> Context<'g> {
@@ -105,7 +105,7 @@ impl<'g> Context<'g> {
 
     /// Code computing `roots`, then the checks asked for: a singular transformation or mass
     /// matrix returns an error before any result is used.
-    fn emit(
+    pub(super) fn emit(
         &self,
         source: Source,
         scalar: Scalar,
@@ -239,7 +239,7 @@ impl<'g> Context<'g> {
     }
 
     /// An `f64` method body returning `Ok(value)` after the checks.
-    fn method(
+    pub(super) fn method(
         &self,
         source: Source,
         roots: &[NodeId],
@@ -257,7 +257,7 @@ impl<'g> Context<'g> {
     }
 
     /// An `f64` method body returning an array of `nodes` (no checks: no solve involved).
-    fn plain(&self, source: Source, nodes: &[NodeId]) -> syn::Result<TokenStream> {
+    pub(super) fn plain(&self, source: Source, nodes: &[NodeId]) -> syn::Result<TokenStream> {
         let (code, _) = self.emit(source, Scalar::F64, nodes, NONE)?;
         let stmts = &code.stmts;
         let value = vector(&code, nodes);
@@ -268,7 +268,7 @@ impl<'g> Context<'g> {
     }
 }
 
-fn vector(code: &Code, nodes: &[NodeId]) -> TokenStream {
+pub(super) fn vector(code: &Code, nodes: &[NodeId]) -> TokenStream {
     let items = nodes.iter().map(|&id| code.value(id));
     quote!([#(#items),*])
 }
@@ -282,7 +282,7 @@ pub struct Read<'r> {
 
 pub fn generate(
     spec: &Spec<'_>,
-    eq: &Equations,
+    (eq, control): (&Equations, Option<&super::control::ControlNodes>),
     graph: &Graph,
     read: &Read<'_>,
     imp: &syn::ItemImpl,
@@ -324,6 +324,10 @@ pub fn generate(
         TokenStream::new()
     };
     let system = interface::trait_impl(&header, &bodies);
+    let control = match control {
+        Some(nodes) => Some(super::control::emit::trait_impl(&cx, imp, nodes)?),
+        None => None,
+    };
     let notes = super::notes::notes(spec, &header.constraints);
     let mechanism = mechanism(spec, imp, &notes);
     let ty = &imp.self_ty;
@@ -338,6 +342,7 @@ pub fn generate(
         }
 
         #system
+        #control
         #mechanism
     })
 }

@@ -7,6 +7,7 @@
 //! solve), `linearity`, `generate` (the Rust that comes out), `fallback` (what comes out
 //! instead when the model has mistakes), `parameters` (the struct).
 
+mod control;
 mod equations;
 mod fallback;
 mod generate;
@@ -124,6 +125,10 @@ fn expand_impl(
     let equations = spec
         .as_ref()
         .and_then(|s| equations::build_cheaper(s, &mut lowerer));
+    let control = match (&spec, &equations) {
+        (Some(s), Some(eq)) if !lowerer.has_errors() => control::build(s, eq, &mut lowerer),
+        _ => None,
+    };
     if lowerer.has_errors() {
         check_unreached_bodies(&roles, &mut lowerer);
     }
@@ -154,8 +159,14 @@ fn expand_impl(
         externals: &externals,
         arrays: &arrays,
     };
-    generate::generate(&spec, &equations, &graph, &read, &stripped)
-        .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
+    generate::generate(
+        &spec,
+        (&equations, control.as_ref()),
+        &graph,
+        &read,
+        &stripped,
+    )
+    .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
 }
 
 /// `#[hamel_system]` on a trait impl (`impl HamelSystem for Model`): the error, and the block

@@ -35,10 +35,13 @@ pub enum Role {
     /// Where bodies roll without slipping: constraint rows from the velocity of the material
     /// point at each contact, and the contacts' heights as holonomic constraints
     Contacts,
+    /// y = h(t, q) or h(t, q, speeds), outputs for control (optional): their Lie derivatives
+    /// are generated (`control(order = ..)`)
+    Outputs,
 }
 
 impl Role {
-    pub const ALL: [Role; 12] = [
+    pub const ALL: [Role; 13] = [
         Role::Lagrangian,
         Role::KineticEnergy,
         Role::PotentialEnergy,
@@ -51,6 +54,7 @@ impl Role {
         Role::Bodies,
         Role::Gravity,
         Role::Contacts,
+        Role::Outputs,
     ];
 
     pub fn attribute(self) -> &'static str {
@@ -67,6 +71,7 @@ impl Role {
             Role::Bodies => "bodies",
             Role::Gravity => "gravity",
             Role::Contacts => "contacts",
+            Role::Outputs => "outputs",
         }
     }
 
@@ -107,6 +112,7 @@ impl Role {
             Role::Bodies => "fn(&self, q: &[f64; N]) -> [Body; B]",
             Role::Gravity => "fn(&self) -> Vector3",
             Role::Contacts => "fn(&self, q: &[f64; N]) -> [Contact; C]",
+            Role::Outputs => "fn(&self, q: &[f64; N]) -> [f64; R]",
         }
     }
 }
@@ -146,12 +152,28 @@ pub struct Names {
     pub bodies: Option<(Span, Vec<syn::Ident>)>,
     /// `units(x = "m", theta = "rad")`: named quantities with their units.
     pub units: Vec<(syn::Ident, syn::LitStr)>,
+    /// `outputs(px, py)`: the names of the outputs of `#[outputs]`.
+    pub outputs: Option<(Span, Vec<syn::Ident>)>,
+    /// `control(order = 2, brackets = 3)`: what control code to generate.
+    pub control: Option<ControlKey>,
+}
+
+/// `control(order = 2, brackets = 3)` as written: the highest order k of the outputs' Lie
+/// derivatives L_f^k h, and the depth of the iterated Lie brackets of the drift and the input
+/// fields. Either may be left out.
+#[derive(Clone)]
+pub struct ControlKey {
+    /// The key with its list, for errors about the request as a whole.
+    pub written: TokenStream,
+    pub order: Option<(usize, Span)>,
+    pub brackets: Option<(usize, Span)>,
 }
 
 pub const NAME_KEYS: &str = "`coordinates(..)`, `speeds(..)`, `inputs(..)`, `constraints(..)`, \
-                             `bodies(..)`, `units(..)` and `helpers(..)`";
+                             `bodies(..)`, `units(..)`, `helpers(..)`, `outputs(..)` and \
+                             `control(..)`";
 
-const KEYS: [&str; 8] = [
+const KEYS: [&str; 10] = [
     "coordinates",
     "speeds",
     "quasi_velocities",
@@ -160,6 +182,8 @@ const KEYS: [&str; 8] = [
     "bodies",
     "units",
     "helpers",
+    "outputs",
+    "control",
 ];
 
 /// Parse the attribute's arguments, collecting every mistake.
@@ -190,6 +214,14 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
             }
             return Ok(());
         }
+        if meta.path.is_ident("control") {
+            let key = parse_control(&meta, errors)?;
+            if names.control.is_some() {
+                errors.push(meta.error("`control` is given twice"));
+            }
+            names.control = Some(key);
+            return Ok(());
+        }
         let span = meta.path.span();
         let (list, groups, written) = parse_list(&meta, errors, &mut names.garbled)?;
         // An unknown key is read as the key it most likely meant, so that this one mistake
@@ -211,6 +243,7 @@ pub fn parse_names(attr: TokenStream, errors: &mut Vec<syn::Error>) -> Names {
                 &mut names.constraints
             }
             "bodies" => &mut names.bodies,
+            "outputs" => &mut names.outputs,
             _ => {
                 names.groups[2] = groups;
                 names.inputs = list;
@@ -252,6 +285,72 @@ fn parse_unit(
         }) => Ok((ident, unit)),
         other => Err(syn::Error::new_spanned(other, HOW)),
     })
+}
+
+/// `control(order = 2, brackets = 3)`: each entry a known name and a small whole number.
+/// A mistake in an entry is reported and the others are read on.
+fn parse_control(
+    meta: &syn::meta::ParseNestedMeta<'_>,
+    errors: &mut Vec<syn::Error>,
+) -> syn::Result<ControlKey> {
+    const HOW: &str = "write `control(order = 2, brackets = 3)`: `order` is the highest k of the \
+                       outputs' Lie derivatives L_f^k h, `brackets` the depth of the iterated Lie \
+                       brackets of the drift and the input fields; each is optional";
+    let path = &meta.path;
+    let group = meta.input.fork().parse::<proc_macro2::Group>().ok();
+    let mut key = ControlKey {
+        written: quote::quote!(#path #group),
+        order: None,
+        brackets: None,
+    };
+    if !meta.input.peek(syn::token::Paren) {
+        if meta.input.peek(syn::Token![=]) {
+            let _: syn::Token![=] = meta.input.parse()?;
+            let _: syn::Expr = meta.input.parse()?;
+        }
+        errors.push(syn::Error::new_spanned(&key.written, HOW));
+        return Ok(key);
+    }
+    let empty = group.as_ref().is_some_and(|g| g.stream().is_empty());
+    if empty {
+        meta.input.parse::<proc_macro2::Group>()?;
+        return Ok(key);
+    }
+    let result = meta.parse_nested_meta(|inner| {
+        let slot = if inner.path.is_ident("order") {
+            &mut key.order
+        } else if inner.path.is_ident("brackets") {
+            &mut key.brackets
+        } else {
+            return Err(inner.error(format!(
+                "unknown entry `{}`: {HOW}",
+                inner.path.to_token_stream()
+            )));
+        };
+        if !inner.input.peek(syn::Token![=]) {
+            return Err(inner.error(HOW));
+        }
+        let value: syn::Expr = inner.value()?.parse()?;
+        let read = match &value {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(i),
+                ..
+            }) => i.base10_parse::<usize>().ok(),
+            _ => None,
+        };
+        match read {
+            Some(k) => *slot = Some((k, value.span())),
+            None => errors.push(syn::Error::new_spanned(
+                &value,
+                format!("expected a whole number: {HOW}"),
+            )),
+        }
+        Ok(())
+    });
+    if let Err(e) = result {
+        errors.push(e);
+    }
+    Ok(key)
 }
 
 /// The names of one key, `coordinates(x, y, theta)`, and the key with its list as written.

@@ -8,6 +8,7 @@
 //! give, and the coordinates those determine), `labels` (the bodies' names and the units,
 //! for display).
 
+pub mod control;
 mod energy;
 mod labels;
 mod names;
@@ -142,6 +143,8 @@ pub struct Spec<'a> {
     /// Whether the bodies' speeds are taken in the frame of their first turns
     /// (`equations::bodies::squared_speed`): `equations::build_cheaper` tries both.
     pub heading_frames: std::cell::Cell<bool>,
+    /// The control code the model asks for (`#[outputs]`, `control(..)`), if any.
+    pub control: Option<control::ControlRequest<'a>>,
 }
 
 impl Spec<'_> {
@@ -251,6 +254,7 @@ pub fn check<'a>(
         lowerer,
         &mut ok,
     );
+    let control = control::request(&names, roles, &dropped, (n, m, shape.p), lowerer);
     let body_names = labels::body_names(&names, shape.bodies, lowerer);
     let units = labels::units(&names, [&coordinates, &speeds, &names.inputs], lowerer);
     if !ok {
@@ -291,6 +295,7 @@ pub fn check<'a>(
         timed,
         symbols,
         heading_frames: std::cell::Cell::new(false),
+        control,
     })
 }
 

@@ -21,7 +21,7 @@ pub(super) fn record_expected_signatures(
     let p_total = p.or_else(|| written_rows(roles)).filter(|&p| p < n);
     for (role, rf) in &roles.by_role {
         let timed = takes_time(*role, rf.f, n, m, p_total);
-        let (args, out) = expected(*role, n, m, p_total, timed);
+        let (args, out) = expected_of(*role, rf.f, (n, m, p_total), timed);
         let name = rf.f.sig.ident.to_string();
         lowerer
             .signature_hints
@@ -69,7 +69,7 @@ pub(super) fn check_signatures(
         let fits = check_signature(
             *role,
             rf,
-            &expected(*role, n, m, p, takes),
+            &expected_of(*role, rf.f, (n, m, p), takes),
             lowerer,
             (coordinates, inputs),
             p,
@@ -80,7 +80,7 @@ pub(super) fn check_signatures(
         if !fits {
             lowerer.mark_faulty(rf.f.sig.ident.to_string());
             match role {
-                Role::Velocities | Role::Forces => dropped.push(*role),
+                Role::Velocities | Role::Forces | Role::Outputs => dropped.push(*role),
                 _ => *ok = false,
             }
         }
@@ -101,23 +101,50 @@ pub(super) fn takes_time(
     if role == Role::Forces {
         return true;
     }
-    let typed: Vec<&syn::PatType> = f
-        .sig
+    let typed: Vec<&syn::PatType> = typed_arguments(f);
+    // One argument too many, and one of them is the time: named `t`, or a scalar `f64`.
+    let is_time = |pt: &&syn::PatType| {
+        argument_name(&pt.pat).is_some_and(|name| name == "t")
+            || matches!(&*pt.ty, syn::Type::Path(ty) if ty.path.is_ident("f64"))
+    };
+    // The outputs take one or two arguments besides the time: the time is the first.
+    if role == Role::Outputs {
+        return typed.first().is_some_and(is_time);
+    }
+    role.may_take_time()
+        && typed.len() == expected(role, n, m, p, false).0.len() + 1
+        && typed.iter().any(is_time)
+}
+
+/// The arguments after `&self`, as written.
+fn typed_arguments(f: &syn::ImplItemFn) -> Vec<&syn::PatType> {
+    f.sig
         .inputs
         .iter()
         .filter_map(|a| match a {
             syn::FnArg::Typed(pt) => Some(pt),
             syn::FnArg::Receiver(_) => None,
         })
-        .collect();
-    // One argument too many, and one of them is the time: named `t`, or a scalar `f64`.
-    let is_time = |pt: &&syn::PatType| {
-        argument_name(&pt.pat).is_some_and(|name| name == "t")
-            || matches!(&*pt.ty, syn::Type::Path(ty) if ty.path.is_ident("f64"))
-    };
-    role.may_take_time()
-        && typed.len() == expected(role, n, m, p, false).0.len() + 1
-        && typed.iter().any(is_time)
+        .collect()
+}
+
+/// [`expected`] for the function `f` as written: the outputs read the configuration alone,
+/// `h(q)`, or the speeds too, `h(q, speeds)`, as the function's arguments say.
+pub(super) fn expected_of(
+    role: Role,
+    f: &syn::ImplItemFn,
+    (n, m, p): (usize, usize, Option<usize>),
+    timed: bool,
+) -> (Vec<(&'static str, Shape)>, Option<Shape>) {
+    let (mut args, out) = expected(role, n, m, p, timed);
+    let besides_time = typed_arguments(f).len() - usize::from(timed);
+    if role == Role::Outputs && besides_time == 2 {
+        let free = p.map_or(Shape::Real, |p| {
+            Shape::Array(n.saturating_sub(p), Box::new(Shape::Real))
+        });
+        args.push(("speeds", free));
+    }
+    (args, out)
 }
 
 /// What a role's function must take and return (`p`: the number of constraint rows, the
@@ -140,7 +167,7 @@ pub(super) fn expected(
         Role::Constraints => (vec![q, qd], None),
         Role::QuasiVelocities => (vec![q, qd], p.map(|p| real_array(n - p))),
         Role::Velocities => (vec![q, w], Some(real_array(n))),
-        Role::Holonomic | Role::Bodies | Role::Contacts => (vec![q], None),
+        Role::Holonomic | Role::Bodies | Role::Contacts | Role::Outputs => (vec![q], None),
         Role::Gravity => (vec![], Some(Shape::Geo(GeoKind::Vector))),
         Role::Forces => {
             return (
@@ -202,6 +229,9 @@ pub(super) fn check_signature(
                 Shape::Array(..) if *name == "u" => {
                     format!("one per input ({})", names_of(inputs))
                 }
+                Shape::Array(..) if *name == "speeds" => {
+                    "one per free quasi-velocity (the state's speeds)".to_string()
+                }
                 Shape::Array(..) => format!("one per coordinate ({})", names_of(coordinates)),
                 _ => "the time".to_string(),
             };
@@ -249,6 +279,10 @@ fn why_these_arguments(role: Role) -> &'static str {
         }
         Role::Gravity => " (or with a leading `t: f64`): gravity is a vector of the parameters",
         Role::Forces => "",
+        Role::Outputs => {
+            " (or with a leading `t: f64`), or `fn(&self, q: &[f64; N], speeds: &[f64; N - P]) \
+             -> [f64; R]` for outputs of the speeds too"
+        }
         _ => " (or with a leading `t: f64`)",
     }
 }
@@ -345,6 +379,7 @@ pub(super) fn render(role: Role, args: &[(&str, Shape)], output: Option<&Shape>)
         Role::Holonomic => "[f64; K]",
         Role::Bodies => "[Body; B]",
         Role::Contacts => "[Contact; C]",
+        Role::Outputs => "[f64; R]",
         _ => "[f64; P]",
     };
     let out = output.map_or_else(
