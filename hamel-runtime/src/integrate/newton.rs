@@ -15,7 +15,9 @@
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::collocation::Tableau;
-use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
+use super::singular::{
+    SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot, smallest_pivot,
+};
 use super::{Ode, Stats};
 use crate::error::{Error, Num};
 use crate::vector::Vector;
@@ -441,7 +443,7 @@ pub(crate) fn factor_checked(
 ) -> Option<(f64, f64)> {
     let largest = matrix.amax();
     let lu = matrix.lu();
-    let pivot = relative_pivot(lu.u().diagonal().amin(), largest);
+    let pivot = relative_pivot(smallest_pivot(&lu), largest);
     if pivot <= SUSPICIOUS_PIVOT {
         if let Some(mode) = growing_mode(jacobian, h, &mus()) {
             *slot = None;

@@ -15,7 +15,9 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, LU, Matrix3};
 
 use super::collocation::Tableau;
 use super::newton::{Convergence, Criterion, Outcome, stage_slopes};
-use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
+use super::singular::{
+    SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot, smallest_pivot,
+};
 use super::{Ode, Stats};
 use crate::error::Error;
 use crate::vector::Vector;
@@ -160,13 +162,7 @@ impl TransformedStages {
         let complex_largest = complex.iter().map(|c| c.norm()).fold(0.0, f64::max);
         let real = real.lu();
         let complex = complex.lu();
-        let smallest_real = real.u().diagonal().amin();
-        let smallest_complex = complex
-            .u()
-            .diagonal()
-            .iter()
-            .map(|c| c.norm())
-            .fold(f64::INFINITY, f64::min);
+        let (smallest_real, smallest_complex) = (smallest_pivot(&real), smallest_pivot(&complex));
         let suspicious = relative_pivot(smallest_real, real_largest) <= SUSPICIOUS_PIVOT
             || relative_pivot(smallest_complex, complex_largest) <= SUSPICIOUS_PIVOT;
         if suspicious {
