@@ -102,18 +102,33 @@ fn null_vector(m: &nalgebra::Matrix3<Complex<f64>>, lambda: Complex<f64>) -> [Co
     .expect("three candidates")
 }
 
-/// The two factored matrices of a step size and Jacobian, and the iteration's workspace.
+/// The two factored matrices of a step size and Jacobian, and the iteration's workspace;
+/// the matrices' storage allocated with the first factorization and reused by every one
+/// after it.
 pub(crate) struct TransformedStages {
     n: usize,
     controlled: usize,
     pub transformation: Transformation,
-    /// LU of γ/h I − J (the error estimate's matrix too) and of (α + iβ)/h I − J, with the
-    /// h and the Jacobian (by its count) they are for.
-    real: Option<LU<f64, Dyn, Dyn>>,
-    complex: Option<LU<Complex<f64>, Dyn, Dyn>>,
+    /// The LU factors of the current matrices, or of the last ones formed (whose storage the
+    /// next factorization takes back): valid for the h and Jacobian in `formed`, if any.
+    factors: Option<Factors>,
+    /// The h and the Jacobian (by its count) the factors are for: none before the first
+    /// factorization and after a singular one.
     formed: Option<(f64, usize)>,
     /// RADAU5's FACCON, carried from step to step.
     faccon: f64,
+}
+
+/// LU of γ/h I − J (the error estimate's matrix too) and of (α + iβ)/h I − J.
+struct Factors {
+    real: LU<f64, Dyn, Dyn>,
+    complex: LU<Complex<f64>, Dyn, Dyn>,
+}
+
+/// The largest entries of the two matrices, for the singularity test's relative pivot.
+struct Largest {
+    real: f64,
+    complex: f64,
 }
 
 impl TransformedStages {
@@ -122,8 +137,7 @@ impl TransformedStages {
             n,
             controlled: controlled.clamp(1, n.max(1)),
             transformation: Transformation::new(tableau),
-            real: None,
-            complex: None,
+            factors: None,
             formed: None,
             faccon: 1.0,
         }
@@ -131,7 +145,10 @@ impl TransformedStages {
 
     /// The LU of γ/h I − J for the current factorization (the error estimate's).
     pub fn real_lu(&self) -> &LU<f64, Dyn, Dyn> {
-        self.real.as_ref().expect("factored before use")
+        match (&self.factors, self.formed) {
+            (Some(factors), Some(_)) => &factors.real,
+            _ => unreachable!("factored before use"),
+        }
     }
 
     /// Factors both matrices for step h and the Jacobian `jacobian` (number `id` of the
@@ -148,34 +165,77 @@ impl TransformedStages {
             return None;
         }
         let n = self.n;
-        let tr = &self.transformation;
-        let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
-        let real = DMatrix::from_fn(n, n, |r, c| {
-            (if r == c { g } else { 0.0 }) - jacobian[(r, c)]
-        });
-        let complex = DMatrix::from_fn(n, n, |r, c| {
-            (if r == c { s } else { Complex::new(0.0, 0.0) }) - jacobian[(r, c)]
-        });
+        // The last factors' storage, taken back: a square LU unpacks into its own buffer
+        // (L's fill is overwritten below), so no factorization after the first allocates a
+        // matrix.
+        let (mut real, mut complex) = match self.factors.take() {
+            Some(Factors { real, complex }) => (real.l_unpack(), complex.l_unpack()),
+            None => (DMatrix::zeros(n, n), DMatrix::zeros(n, n)),
+        };
+        let largest = self.form(jacobian, h, &mut real, &mut complex);
         stats.factorizations += 1;
         self.formed = None;
-        let real_largest = real.amax();
-        let complex_largest = complex.iter().map(|c| c.norm()).fold(0.0, f64::max);
-        let real = real.lu();
-        let complex = complex.lu();
-        let (smallest_real, smallest_complex) = (smallest_pivot(&real), smallest_pivot(&complex));
-        let suspicious = relative_pivot(smallest_real, real_largest) <= SUSPICIOUS_PIVOT
-            || relative_pivot(smallest_complex, complex_largest) <= SUSPICIOUS_PIVOT;
+        let factors = Factors {
+            real: real.lu(),
+            complex: complex.lu(),
+        };
+        let suspicious = relative_pivot(smallest_pivot(&factors.real), largest.real)
+            <= SUSPICIOUS_PIVOT
+            || relative_pivot(smallest_pivot(&factors.complex), largest.complex)
+                <= SUSPICIOUS_PIVOT;
+        self.factors = Some(factors);
         if suspicious {
             if let Some(mode) = growing_mode(jacobian, h, &method_eigenvalues(&tableau.a)) {
-                self.real = None;
-                self.complex = None;
                 return Some(mode);
             }
         }
-        self.real = Some(real);
-        self.complex = Some(complex);
         self.formed = Some((h, id));
         None
+    }
+
+    /// Fills `real` with γ/h I − J and `complex` with (α + iβ)/h I − J, and returns their
+    /// largest entries in modulus. Off the diagonal both hold −J (the complex entries with a
+    /// zero imaginary part, whose modulus is |J| exactly), so only the n diagonal entries of
+    /// the complex matrix need a modulus of their own.
+    fn form(
+        &self,
+        jacobian: &DMatrix<f64>,
+        h: f64,
+        real: &mut DMatrix<f64>,
+        complex: &mut DMatrix<Complex<f64>>,
+    ) -> Largest {
+        let tr = &self.transformation;
+        let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
+        let zero = Complex::new(0.0, 0.0);
+        let mut off_diagonal = 0.0f64;
+        let mut largest = Largest {
+            real: 0.0,
+            complex: 0.0,
+        };
+        // Column by column (the matrices' storage order), as slices: no index checks.
+        let columns = jacobian
+            .as_slice()
+            .chunks_exact(self.n)
+            .zip(real.as_mut_slice().chunks_exact_mut(self.n))
+            .zip(complex.as_mut_slice().chunks_exact_mut(self.n));
+        for (c, ((jacobian, real), complex)) in columns.enumerate() {
+            let entries = jacobian.iter().zip(real).zip(complex);
+            for (r, ((&j, real), complex)) in entries.enumerate() {
+                if r == c {
+                    let (d, z) = (g - j, s - j);
+                    (*real, *complex) = (d, z);
+                    largest.real = largest.real.max(d.abs());
+                    largest.complex = largest.complex.max(z.norm());
+                } else {
+                    // As `0.0 - j` and `zero - j` write them (not −j: the sign of a zero).
+                    (*real, *complex) = (0.0 - j, zero - j);
+                    off_diagonal = off_diagonal.max(j.abs());
+                }
+            }
+        }
+        largest.real = largest.real.max(off_diagonal);
+        largest.complex = largest.complex.max(off_diagonal);
+        largest
     }
 
     /// Solves the stage equations of the step h from (t, y) from the starting values `z`,
@@ -211,7 +271,14 @@ impl TransformedStages {
                 let r3 = gt[2].as_ref()[p] - (b * w2 + a * w3);
                 complex[p] = Complex::new(r2, r3);
             }
-            let (Some(lu_real), Some(lu_complex)) = (&self.real, &self.complex) else {
+            let (
+                Some(Factors {
+                    real: lu_real,
+                    complex: lu_complex,
+                }),
+                Some(_),
+            ) = (&self.factors, self.formed)
+            else {
                 unreachable!("the matrices are factored before the iteration");
             };
             let solved = lu_real.solve_mut(&mut real) && lu_complex.solve_mut(&mut complex);
