@@ -102,9 +102,8 @@ fn null_vector(m: &nalgebra::Matrix3<Complex<f64>>, lambda: Complex<f64>) -> [Co
     .expect("three candidates")
 }
 
-/// The two factored matrices of a step size and Jacobian, and the iteration's workspace;
-/// the matrices' storage allocated with the first factorization and reused by every one
-/// after it.
+/// The two factored matrices of a step size and Jacobian, and the iteration's workspace,
+/// allocated with the first factorization and reused by every one after it.
 pub(crate) struct TransformedStages {
     n: usize,
     controlled: usize,
@@ -115,6 +114,9 @@ pub(crate) struct TransformedStages {
     /// The h and the Jacobian (by its count) the factors are for: none before the first
     /// factorization and after a singular one.
     formed: Option<(f64, usize)>,
+    /// The right-hand sides of the two systems, solved in place: ΔW₁, and ΔW₂ + iΔW₃.
+    real_rhs: DVector<f64>,
+    complex_rhs: DVector<Complex<f64>>,
     /// RADAU5's FACCON, carried from step to step.
     faccon: f64,
 }
@@ -139,6 +141,8 @@ impl TransformedStages {
             transformation: Transformation::new(tableau),
             factors: None,
             formed: None,
+            real_rhs: DVector::zeros(n),
+            complex_rhs: DVector::zeros(n),
             faccon: 1.0,
         }
     }
@@ -257,39 +261,19 @@ impl TransformedStages {
         let mut w = transform(&tr.t_inv, z);
         let mut f = [O::State::zeros(); 3];
         let mut convergence = Convergence::new(criterion, &mut self.faccon);
-        let (g, a, b) = (tr.gamma / h, tr.alpha / h, tr.beta / h);
-        let mut real = DVector::<f64>::zeros(n);
-        let mut complex = DVector::<Complex<f64>>::zeros(n);
         for k in 1..=convergence.max_iterations() {
             stage_slopes(ode, &tableau.c, (t, y, h), z, &mut f, stats)?;
-            // G = (T⁻¹ ⊗ I) F; the right-hand sides −(Λ/h ⊗ I) W + G.
+            // G = (T⁻¹ ⊗ I) F.
             let gt = transform(&tr.t_inv, &f);
-            for p in 0..n {
-                let (w1, w2, w3) = (w[0].as_ref()[p], w[1].as_ref()[p], w[2].as_ref()[p]);
-                real[p] = gt[0].as_ref()[p] - g * w1;
-                let r2 = gt[1].as_ref()[p] - (a * w2 - b * w3);
-                let r3 = gt[2].as_ref()[p] - (b * w2 + a * w3);
-                complex[p] = Complex::new(r2, r3);
-            }
-            let (
-                Some(Factors {
-                    real: lu_real,
-                    complex: lu_complex,
-                }),
-                Some(_),
-            ) = (&self.factors, self.formed)
-            else {
-                unreachable!("the matrices are factored before the iteration");
-            };
-            let solved = lu_real.solve_mut(&mut real) && lu_complex.solve_mut(&mut complex);
-            let increment = self.scaled_norm(&real, &complex, scale);
+            let solved = self.solve_corrections(&w, &gt, h);
+            let increment = self.scaled_norm(scale);
             if let Some(failed) = convergence.judge(k, increment, solved, &mut self.faccon) {
                 return Ok(failed);
             }
             for p in 0..n {
-                w[0].as_mut()[p] += real[p];
-                w[1].as_mut()[p] += complex[p].re;
-                w[2].as_mut()[p] += complex[p].im;
+                w[0].as_mut()[p] += self.real_rhs[p];
+                w[1].as_mut()[p] += self.complex_rhs[p].re;
+                w[2].as_mut()[p] += self.complex_rhs[p].im;
             }
             *z = transform(&tr.t, &w);
             if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
@@ -299,14 +283,30 @@ impl TransformedStages {
         Ok(convergence.exhausted())
     }
 
+    /// The corrections ΔW₁ and ΔW₂ + iΔW₃ of the step h from the iterate `w` and
+    /// G = (T⁻¹ ⊗ I) F, in `real_rhs` and `complex_rhs`: the two systems solved with the
+    /// right-hand sides −(Λ/h ⊗ I) W + G. Whether the solves succeeded.
+    fn solve_corrections<V: Vector>(&mut self, w: &[V; 3], gt: &[V; 3], h: f64) -> bool {
+        let tr = &self.transformation;
+        let (g, a, b) = (tr.gamma / h, tr.alpha / h, tr.beta / h);
+        let (real, complex) = (&mut self.real_rhs, &mut self.complex_rhs);
+        for p in 0..self.n {
+            let (w1, w2, w3) = (w[0].as_ref()[p], w[1].as_ref()[p], w[2].as_ref()[p]);
+            real[p] = gt[0].as_ref()[p] - g * w1;
+            let r2 = gt[1].as_ref()[p] - (a * w2 - b * w3);
+            let r3 = gt[2].as_ref()[p] - (b * w2 + a * w3);
+            complex[p] = Complex::new(r2, r3);
+        }
+        let (Some(factors), Some(_)) = (&self.factors, self.formed) else {
+            unreachable!("the matrices are factored before the iteration");
+        };
+        factors.real.solve_mut(real) && factors.complex.solve_mut(complex)
+    }
+
     /// RADAU5's norm of a correction: √(mean((ΔWᵢ / scale)²)) over the three stages and the
     /// controlled components.
-    fn scaled_norm(
-        &self,
-        real: &DVector<f64>,
-        complex: &DVector<Complex<f64>>,
-        scale: &[f64],
-    ) -> f64 {
+    fn scaled_norm(&self, scale: &[f64]) -> f64 {
+        let (real, complex) = (&self.real_rhs, &self.complex_rhs);
         let len = self.controlled;
         let sum: f64 = (0..len)
             .map(|p| {
