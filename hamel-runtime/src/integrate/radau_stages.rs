@@ -333,6 +333,141 @@ fn transform<V: Vector>(m: &[[f64; 3]; 3], x: &[V; 3]) -> [V; 3] {
 mod tests {
     use super::*;
 
+    /// A Jacobian with entries of every sign and size, zeros of both signs among them.
+    fn mixed_jacobian(n: usize) -> DMatrix<f64> {
+        DMatrix::from_fn(n, n, |r, c| match (r * n + c) % 5 {
+            0 => 0.0,
+            1 => -0.0,
+            k => (k as f64 - 3.5) * 10f64.powi((r as i32 - c as i32) * 3) / (1.0 + c as f64),
+        })
+    }
+
+    #[test]
+    fn the_matrices_are_formed_as_written_and_their_largest_entries_exactly() {
+        let tableau = Tableau::radau_iia();
+        let n = 6;
+        let stages = TransformedStages::new(n, n, &tableau);
+        let jacobian = mixed_jacobian(n);
+        // At 1e-20 the diagonal of the complex matrix is its largest entry (|(α + iβ)/h|
+        // ≈ 4e20 over |J| ≤ 1e15), at the others an entry of J is.
+        for h in [1e-20, 1e-9, 0.3, 7e4] {
+            let (mut real, mut complex) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+            let largest = stages.form(&jacobian, h, &mut real, &mut complex);
+            // The definitions: each entry as written, the largest by a modulus of each.
+            let tr = &stages.transformation;
+            let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
+            let zero = Complex::new(0.0, 0.0);
+            let expected_real = DMatrix::from_fn(n, n, |r, c| {
+                (if r == c { g } else { 0.0 }) - jacobian[(r, c)]
+            });
+            let expected_complex = DMatrix::from_fn(n, n, |r, c| {
+                (if r == c { s } else { zero }) - jacobian[(r, c)]
+            });
+            let bits = |v: f64| v.to_bits();
+            assert_eq!(real.map(bits), expected_real.map(bits), "h = {h}");
+            assert_eq!(
+                complex.map(|z| bits(z.re)),
+                expected_complex.map(|z| bits(z.re))
+            );
+            assert_eq!(
+                complex.map(|z| bits(z.im)),
+                expected_complex.map(|z| bits(z.im))
+            );
+            assert_eq!(bits(largest.real), bits(expected_real.amax()), "h = {h}");
+            let complex_largest = expected_complex
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max);
+            assert_eq!(bits(largest.complex), bits(complex_largest), "h = {h}");
+        }
+    }
+
+    /// The test binary's allocator: the system's, noting the largest block each thread asks
+    /// for, so that a test can tell that a call allocated no matrix (a block freed and
+    /// allocated again would have the same address, which a comparison of buffers would miss).
+    #[global_allocator]
+    static ALLOCATOR: NotingLargest = NotingLargest;
+
+    struct NotingLargest;
+
+    std::thread_local! {
+        static LARGEST_BLOCK: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    }
+
+    fn note(size: usize) {
+        // `try_with`: allocations while the thread's storage is torn down go unnoted.
+        let _ = LARGEST_BLOCK.try_with(|largest| largest.set(largest.get().max(size)));
+    }
+
+    // SAFETY: every call is forwarded to the system allocator unchanged.
+    unsafe impl std::alloc::GlobalAlloc for NotingLargest {
+        unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+            note(layout.size());
+            unsafe { std::alloc::System.alloc(layout) }
+        }
+        unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
+            note(layout.size());
+            unsafe { std::alloc::System.alloc_zeroed(layout) }
+        }
+        unsafe fn realloc(
+            &self,
+            ptr: *mut u8,
+            layout: std::alloc::Layout,
+            new_size: usize,
+        ) -> *mut u8 {
+            note(new_size);
+            unsafe { std::alloc::System.realloc(ptr, layout, new_size) }
+        }
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+            unsafe { std::alloc::System.dealloc(ptr, layout) }
+        }
+    }
+
+    #[test]
+    fn refactoring_reuses_the_matrices_storage() {
+        let tableau = Tableau::radau_iia();
+        let n = 6;
+        let mut stages = TransformedStages::new(n, n, &tableau);
+        // Well conditioned (a step's matrices with a suspicious pivot would be examined for a
+        // growing mode, which allocates).
+        let jacobian = DMatrix::from_fn(n, n, |r, c| ((r * n + c) % 7) as f64 - 3.0)
+            - DMatrix::identity(n, n) * 1e3;
+        let mut stats = Stats::default();
+        let mut factor = |stages: &mut TransformedStages, key| {
+            assert_eq!(stages.factor(&jacobian, key, &tableau, &mut stats), None);
+        };
+        factor(&mut stages, (0.1, 1));
+        // A new h, a new Jacobian, and the same h and Jacobian again (nothing to do): no
+        // block as large as a matrix allocated (an LU's row permutation, of n pairs, is).
+        LARGEST_BLOCK.with(|largest| largest.set(0));
+        for key in [(0.2, 1), (0.2, 2), (0.2, 2)] {
+            factor(&mut stages, key);
+        }
+        let largest = LARGEST_BLOCK.with(|largest| largest.get());
+        assert!(
+            largest < n * n * size_of::<f64>(),
+            "a block of {largest} bytes"
+        );
+        assert_eq!(stats.factorizations, 3);
+        // And the factors are those of the matrices for the last h, to the last bit: no
+        // stale entry of the buffers' earlier contents survives.
+        let (mut real, mut complex) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+        stages.form(&jacobian, 0.2, &mut real, &mut complex);
+        let factors = stages.factors.as_ref().expect("factored");
+        let bits = |v: f64| v.to_bits();
+        assert_eq!(
+            factors.real.lu_internal().map(bits),
+            real.lu().lu_internal().map(bits)
+        );
+        let fresh = complex.lu();
+        for part in [|z: Complex<f64>| z.re, |z: Complex<f64>| z.im] {
+            assert_eq!(
+                factors.complex.lu_internal().map(|z| bits(part(z))),
+                fresh.lu_internal().map(|z| bits(part(z)))
+            );
+        }
+    }
+
     // RADAU5's constants below with the digits its source gives.
     #[allow(clippy::excessive_precision)]
     #[test]
