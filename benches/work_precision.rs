@@ -15,7 +15,10 @@
 //!   figure per problem, error against wall time, into `benches/work_precision/<problem>.svg`.
 //!
 //! Without a mode (`cargo bench -p hamel-benches --bench work_precision`) it prints hamel's
-//! table alone, from three rounds, and writes nothing.
+//! table alone, from three rounds, and writes nothing. `once PROBLEM` runs each tolerance
+//! once, untimed, and prints the rows as CSV (wall time NaN): a fixed amount of work, for an
+//! instruction count (`valgrind --tool=callgrind <binary> once POLLU`; a round's batches
+//! depend on the clock) and for checking that a change keeps every count and error.
 
 #[allow(dead_code)]
 #[path = "../tests/validation/tests/common/stiff_problems.rs"]
@@ -79,6 +82,12 @@ fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
 /// One round on `problem`: a batch at every tolerance, after an untimed warm-up run (the
 /// first run in a process pays for cold caches).
 fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
+    rows(problem, round, true)
+}
+
+/// The rows of `problem` at every tolerance: timed (a warm-up run, then a batch at each) or
+/// not (one run at each, the wall time NaN).
+fn rows(problem: &str, round: usize, timed: bool) -> Result<Vec<Row>, String> {
     let (_, new) = PROBLEMS
         .iter()
         .find(|(name, _)| *name == problem)
@@ -87,11 +96,17 @@ fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
             format!("no problem {problem:?}: one of {names:?}")
         })?;
     let mut run = new();
-    run(TOLERANCES[0]);
+    if timed {
+        run(TOLERANCES[0]);
+    }
     Ok(TOLERANCES
         .iter()
         .map(|&rtol| {
-            let ((stats, error), wall) = batch(|| run(rtol));
+            let ((stats, error), wall) = if timed {
+                batch(|| run(rtol))
+            } else {
+                (run(rtol), f64::NAN)
+            };
             Row {
                 round,
                 problem: problem.into(),
@@ -247,6 +262,9 @@ fn main() {
             .map_err(|_| format!("the round is a number, not {number:?}"))
             .and_then(|number| round(problem, number))
             .map(|rows| compare::append_csv(&rows, &compare::data_dir().join("hamel.csv"))),
+        ["once", problem] => {
+            rows(problem, 0, false).map(|rows| print!("{}", compare::csv_text(&rows, true)))
+        }
         ["report"] => {
             let mut rows = Vec::new();
             for solver in ["hamel", "scipy", "diffsol"] {
@@ -265,7 +283,7 @@ fn main() {
             .flat_map(|number| PROBLEMS.iter().map(move |(name, _)| round(name, number)))
             .collect::<Result<Vec<Vec<Row>>, String>>()
             .map(|rows| compare::report(&rows.concat(), false)),
-        _ => Err("usage: work_precision [round R PROBLEM | report]".into()),
+        _ => Err("usage: work_precision [round R PROBLEM | once PROBLEM | report]".into()),
     };
     if let Err(message) = result {
         eprintln!("work_precision: {message}");

@@ -54,8 +54,19 @@ fn figure_dir() -> PathBuf {
 
 /// Appends `rows` to the CSV at `path`, with the header if the file is new.
 pub fn append_csv(rows: &[Row], path: &Path) {
+    let text = csv_text(rows, !path.exists());
+    std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .and_then(|mut file| file.write_all(text.as_bytes()))
+        .expect("append to the CSV");
+}
+
+/// `rows` as CSV lines, after the header if `header`.
+pub fn csv_text(rows: &[Row], header: bool) -> String {
     let mut text = String::new();
-    if !path.exists() {
+    if header {
         text = format!("{HEADER}\n");
     }
     for r in rows {
@@ -75,12 +86,7 @@ pub fn append_csv(rows: &[Row], path: &Path) {
             r.wall
         );
     }
-    std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .and_then(|mut file| file.write_all(text.as_bytes()))
-        .expect("append to the CSV");
+    text
 }
 
 /// The rows of a CSV that `append_csv`, `scipy_stiff.py` or the diffsol crate wrote (none if

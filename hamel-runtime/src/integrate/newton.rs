@@ -12,10 +12,12 @@
 //! McLachlan & Razakarivony, *BIT* 48 (2008)), and RADAU5's test on the predicted remaining
 //! error, for the stiff method whose error control needs no more than the tolerance.
 
-use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
+use nalgebra::{Complex, DMatrix, DMatrixView, DVector, Dyn, LU};
 
 use super::collocation::Tableau;
-use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
+use super::singular::{
+    SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot, smallest_pivot,
+};
 use super::{Ode, Stats};
 use crate::error::{Error, Num};
 use crate::vector::Vector;
@@ -316,11 +318,9 @@ impl Newton {
                 at: format!("at t = {}, in the state {names}", Num(t)),
             });
         }
-        for i in 0..n {
-            for j in 0..n {
-                self.jacobian[(i, j)] = self.rows[i * n + j];
-            }
-        }
+        // `rows` read column-major is Jᵀ: its transpose, copied without a temporary.
+        self.jacobian
+            .tr_copy_from(&DMatrixView::from_slice(&self.rows, n, n));
         self.evaluated = true;
         self.fresh = true;
         self.lu = None;
@@ -441,7 +441,7 @@ pub(crate) fn factor_checked(
 ) -> Option<(f64, f64)> {
     let largest = matrix.amax();
     let lu = matrix.lu();
-    let pivot = relative_pivot(lu.u().diagonal().amin(), largest);
+    let pivot = relative_pivot(smallest_pivot(&lu), largest);
     if pivot <= SUSPICIOUS_PIVOT {
         if let Some(mode) = growing_mode(jacobian, h, &mus()) {
             *slot = None;

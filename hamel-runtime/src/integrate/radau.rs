@@ -16,7 +16,7 @@
 //! colours into a matrix by repeated calls, each of which would cost a whole dual-number
 //! Jacobian here. The scheme is written on nalgebra's LU instead.
 
-use nalgebra::DVector;
+use nalgebra::DVectorViewMut;
 
 use super::collocation::{Collocation, Tableau, extrapolate};
 use super::initial_step::{Target, initial_step};
@@ -590,33 +590,36 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// once more through an evaluation at y + the estimate, which filters the stiff
     /// components.
     fn error(&mut self, z: &[O::State; 3]) -> Result<f64, Error> {
-        let n = O::State::LEN;
         let (t, y, h) = (self.t, self.y, self.h);
         let lu = self.stages.real_lu();
-        let mut f2 = DVector::<f64>::zeros(n);
+        // On the stack, solved in place through a view: the estimate allocates nothing.
+        let solve = |v: &mut O::State| {
+            lu.solve_mut(&mut DVectorViewMut::from_slice(v.as_mut(), O::State::LEN));
+        };
+        let mut f2 = O::State::zeros();
         for (i, zi) in z.iter().enumerate() {
-            for (k, v) in zi.as_ref().iter().enumerate() {
-                f2[k] += self.estimate.dd[i] / h * v;
+            for (f, v) in f2.as_mut().iter_mut().zip(zi.as_ref()) {
+                *f += self.estimate.dd[i] / h * v;
             }
         }
-        let mut cont = f2.clone();
-        for (k, v) in self.f0.as_ref().iter().enumerate() {
-            cont[k] += v;
+        let mut cont = f2;
+        for (c, v) in cont.as_mut().iter_mut().zip(self.f0.as_ref()) {
+            *c += v;
         }
-        lu.solve_mut(&mut cont);
+        solve(&mut cont);
         let mut err = self.error_norm(&cont);
         if err >= 1.0 && (self.first || self.reject) {
             let mut shifted = y;
-            for (k, v) in shifted.as_mut().iter_mut().enumerate() {
-                *v += cont[k];
+            for (v, c) in shifted.as_mut().iter_mut().zip(cont.as_ref()) {
+                *v += c;
             }
             let mut f1 = O::State::zeros();
             self.ode.rhs(t, &shifted, &mut f1)?;
             self.stats.evaluations += 1;
-            for (k, v) in f1.as_ref().iter().enumerate() {
-                cont[k] = v + f2[k];
+            for ((c, v), f) in cont.as_mut().iter_mut().zip(f1.as_ref()).zip(f2.as_ref()) {
+                *c = v + f;
             }
-            lu.solve_mut(&mut cont);
+            solve(&mut cont);
             err = self.error_norm(&cont);
         }
         // A NaN estimate (a stage where f overflowed) rejects the step.
@@ -624,10 +627,12 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     }
 
     /// √(mean((eᵢ/scᵢ)²)) over the controlled components, at least 10⁻¹⁰ (RADAU5).
-    fn error_norm(&self, e: &DVector<f64>) -> f64 {
+    fn error_norm(&self, e: &O::State) -> f64 {
         let len = self.ode.controlled_components().min(O::State::LEN).max(1);
         let scale = self.scale(&self.y);
-        let sum: f64 = (0..len).map(|k| (e[k] / scale.as_ref()[k]).powi(2)).sum();
+        let sum: f64 = (0..len)
+            .map(|k| (e.as_ref()[k] / scale.as_ref()[k]).powi(2))
+            .sum();
         (sum / len as f64).sqrt().max(1e-10)
     }
 

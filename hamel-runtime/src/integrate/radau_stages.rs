@@ -15,7 +15,9 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, LU, Matrix3};
 
 use super::collocation::Tableau;
 use super::newton::{Convergence, Criterion, Outcome, stage_slopes};
-use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
+use super::singular::{
+    SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot, smallest_pivot,
+};
 use super::{Ode, Stats};
 use crate::error::Error;
 use crate::vector::Vector;
@@ -100,18 +102,35 @@ fn null_vector(m: &nalgebra::Matrix3<Complex<f64>>, lambda: Complex<f64>) -> [Co
     .expect("three candidates")
 }
 
-/// The two factored matrices of a step size and Jacobian, and the iteration's workspace.
+/// The two factored matrices of a step size and Jacobian, and the iteration's workspace,
+/// allocated with the first factorization and reused by every one after it.
 pub(crate) struct TransformedStages {
     n: usize,
     controlled: usize,
     pub transformation: Transformation,
-    /// LU of γ/h I − J (the error estimate's matrix too) and of (α + iβ)/h I − J, with the
-    /// h and the Jacobian (by its count) they are for.
-    real: Option<LU<f64, Dyn, Dyn>>,
-    complex: Option<LU<Complex<f64>, Dyn, Dyn>>,
+    /// The LU factors of the current matrices, or of the last ones formed (whose storage the
+    /// next factorization takes back): valid for the h and Jacobian in `formed`, if any.
+    factors: Option<Factors>,
+    /// The h and the Jacobian (by its count) the factors are for: none before the first
+    /// factorization and after a singular one.
     formed: Option<(f64, usize)>,
+    /// The right-hand sides of the two systems, solved in place: ΔW₁, and ΔW₂ + iΔW₃.
+    real_rhs: DVector<f64>,
+    complex_rhs: DVector<Complex<f64>>,
     /// RADAU5's FACCON, carried from step to step.
     faccon: f64,
+}
+
+/// LU of γ/h I − J (the error estimate's matrix too) and of (α + iβ)/h I − J.
+struct Factors {
+    real: LU<f64, Dyn, Dyn>,
+    complex: LU<Complex<f64>, Dyn, Dyn>,
+}
+
+/// The largest entries of the two matrices, for the singularity test's relative pivot.
+struct Largest {
+    real: f64,
+    complex: f64,
 }
 
 impl TransformedStages {
@@ -120,16 +139,20 @@ impl TransformedStages {
             n,
             controlled: controlled.clamp(1, n.max(1)),
             transformation: Transformation::new(tableau),
-            real: None,
-            complex: None,
+            factors: None,
             formed: None,
+            real_rhs: DVector::zeros(n),
+            complex_rhs: DVector::zeros(n),
             faccon: 1.0,
         }
     }
 
     /// The LU of γ/h I − J for the current factorization (the error estimate's).
     pub fn real_lu(&self) -> &LU<f64, Dyn, Dyn> {
-        self.real.as_ref().expect("factored before use")
+        match (&self.factors, self.formed) {
+            (Some(factors), Some(_)) => &factors.real,
+            _ => unreachable!("factored before use"),
+        }
     }
 
     /// Factors both matrices for step h and the Jacobian `jacobian` (number `id` of the
@@ -146,40 +169,77 @@ impl TransformedStages {
             return None;
         }
         let n = self.n;
-        let tr = &self.transformation;
-        let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
-        let real = DMatrix::from_fn(n, n, |r, c| {
-            (if r == c { g } else { 0.0 }) - jacobian[(r, c)]
-        });
-        let complex = DMatrix::from_fn(n, n, |r, c| {
-            (if r == c { s } else { Complex::new(0.0, 0.0) }) - jacobian[(r, c)]
-        });
+        // The last factors' storage, taken back: a square LU unpacks into its own buffer
+        // (L's fill is overwritten below), so no factorization after the first allocates a
+        // matrix.
+        let (mut real, mut complex) = match self.factors.take() {
+            Some(Factors { real, complex }) => (real.l_unpack(), complex.l_unpack()),
+            None => (DMatrix::zeros(n, n), DMatrix::zeros(n, n)),
+        };
+        let largest = self.form(jacobian, h, &mut real, &mut complex);
         stats.factorizations += 1;
         self.formed = None;
-        let real_largest = real.amax();
-        let complex_largest = complex.iter().map(|c| c.norm()).fold(0.0, f64::max);
-        let real = real.lu();
-        let complex = complex.lu();
-        let smallest_real = real.u().diagonal().amin();
-        let smallest_complex = complex
-            .u()
-            .diagonal()
-            .iter()
-            .map(|c| c.norm())
-            .fold(f64::INFINITY, f64::min);
-        let suspicious = relative_pivot(smallest_real, real_largest) <= SUSPICIOUS_PIVOT
-            || relative_pivot(smallest_complex, complex_largest) <= SUSPICIOUS_PIVOT;
+        let factors = Factors {
+            real: real.lu(),
+            complex: complex.lu(),
+        };
+        let suspicious = relative_pivot(smallest_pivot(&factors.real), largest.real)
+            <= SUSPICIOUS_PIVOT
+            || relative_pivot(smallest_pivot(&factors.complex), largest.complex)
+                <= SUSPICIOUS_PIVOT;
+        self.factors = Some(factors);
         if suspicious {
             if let Some(mode) = growing_mode(jacobian, h, &method_eigenvalues(&tableau.a)) {
-                self.real = None;
-                self.complex = None;
                 return Some(mode);
             }
         }
-        self.real = Some(real);
-        self.complex = Some(complex);
         self.formed = Some((h, id));
         None
+    }
+
+    /// Fills `real` with γ/h I − J and `complex` with (α + iβ)/h I − J, and returns their
+    /// largest entries in modulus. Off the diagonal both hold −J (the complex entries with a
+    /// zero imaginary part, whose modulus is |J| exactly), so only the n diagonal entries of
+    /// the complex matrix need a modulus of their own.
+    fn form(
+        &self,
+        jacobian: &DMatrix<f64>,
+        h: f64,
+        real: &mut DMatrix<f64>,
+        complex: &mut DMatrix<Complex<f64>>,
+    ) -> Largest {
+        let tr = &self.transformation;
+        let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
+        let zero = Complex::new(0.0, 0.0);
+        let mut off_diagonal = 0.0f64;
+        let mut largest = Largest {
+            real: 0.0,
+            complex: 0.0,
+        };
+        // Column by column (the matrices' storage order), as slices: no index checks.
+        let columns = jacobian
+            .as_slice()
+            .chunks_exact(self.n)
+            .zip(real.as_mut_slice().chunks_exact_mut(self.n))
+            .zip(complex.as_mut_slice().chunks_exact_mut(self.n));
+        for (c, ((jacobian, real), complex)) in columns.enumerate() {
+            let entries = jacobian.iter().zip(real).zip(complex);
+            for (r, ((&j, real), complex)) in entries.enumerate() {
+                if r == c {
+                    let (d, z) = (g - j, s - j);
+                    (*real, *complex) = (d, z);
+                    largest.real = largest.real.max(d.abs());
+                    largest.complex = largest.complex.max(z.norm());
+                } else {
+                    // As `0.0 - j` and `zero - j` write them (not −j: the sign of a zero).
+                    (*real, *complex) = (0.0 - j, zero - j);
+                    off_diagonal = off_diagonal.max(j.abs());
+                }
+            }
+        }
+        largest.real = largest.real.max(off_diagonal);
+        largest.complex = largest.complex.max(off_diagonal);
+        largest
     }
 
     /// Solves the stage equations of the step h from (t, y) from the starting values `z`,
@@ -201,32 +261,19 @@ impl TransformedStages {
         let mut w = transform(&tr.t_inv, z);
         let mut f = [O::State::zeros(); 3];
         let mut convergence = Convergence::new(criterion, &mut self.faccon);
-        let (g, a, b) = (tr.gamma / h, tr.alpha / h, tr.beta / h);
-        let mut real = DVector::<f64>::zeros(n);
-        let mut complex = DVector::<Complex<f64>>::zeros(n);
         for k in 1..=convergence.max_iterations() {
             stage_slopes(ode, &tableau.c, (t, y, h), z, &mut f, stats)?;
-            // G = (T⁻¹ ⊗ I) F; the right-hand sides −(Λ/h ⊗ I) W + G.
+            // G = (T⁻¹ ⊗ I) F.
             let gt = transform(&tr.t_inv, &f);
-            for p in 0..n {
-                let (w1, w2, w3) = (w[0].as_ref()[p], w[1].as_ref()[p], w[2].as_ref()[p]);
-                real[p] = gt[0].as_ref()[p] - g * w1;
-                let r2 = gt[1].as_ref()[p] - (a * w2 - b * w3);
-                let r3 = gt[2].as_ref()[p] - (b * w2 + a * w3);
-                complex[p] = Complex::new(r2, r3);
-            }
-            let (Some(lu_real), Some(lu_complex)) = (&self.real, &self.complex) else {
-                unreachable!("the matrices are factored before the iteration");
-            };
-            let solved = lu_real.solve_mut(&mut real) && lu_complex.solve_mut(&mut complex);
-            let increment = self.scaled_norm(&real, &complex, scale);
+            let solved = self.solve_corrections(&w, &gt, h);
+            let increment = self.scaled_norm(scale);
             if let Some(failed) = convergence.judge(k, increment, solved, &mut self.faccon) {
                 return Ok(failed);
             }
             for p in 0..n {
-                w[0].as_mut()[p] += real[p];
-                w[1].as_mut()[p] += complex[p].re;
-                w[2].as_mut()[p] += complex[p].im;
+                w[0].as_mut()[p] += self.real_rhs[p];
+                w[1].as_mut()[p] += self.complex_rhs[p].re;
+                w[2].as_mut()[p] += self.complex_rhs[p].im;
             }
             *z = transform(&tr.t, &w);
             if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
@@ -236,14 +283,30 @@ impl TransformedStages {
         Ok(convergence.exhausted())
     }
 
+    /// The corrections ΔW₁ and ΔW₂ + iΔW₃ of the step h from the iterate `w` and
+    /// G = (T⁻¹ ⊗ I) F, in `real_rhs` and `complex_rhs`: the two systems solved with the
+    /// right-hand sides −(Λ/h ⊗ I) W + G. Whether the solves succeeded.
+    fn solve_corrections<V: Vector>(&mut self, w: &[V; 3], gt: &[V; 3], h: f64) -> bool {
+        let tr = &self.transformation;
+        let (g, a, b) = (tr.gamma / h, tr.alpha / h, tr.beta / h);
+        let (real, complex) = (&mut self.real_rhs, &mut self.complex_rhs);
+        for p in 0..self.n {
+            let (w1, w2, w3) = (w[0].as_ref()[p], w[1].as_ref()[p], w[2].as_ref()[p]);
+            real[p] = gt[0].as_ref()[p] - g * w1;
+            let r2 = gt[1].as_ref()[p] - (a * w2 - b * w3);
+            let r3 = gt[2].as_ref()[p] - (b * w2 + a * w3);
+            complex[p] = Complex::new(r2, r3);
+        }
+        let (Some(factors), Some(_)) = (&self.factors, self.formed) else {
+            unreachable!("the matrices are factored before the iteration");
+        };
+        factors.real.solve_mut(real) && factors.complex.solve_mut(complex)
+    }
+
     /// RADAU5's norm of a correction: √(mean((ΔWᵢ / scale)²)) over the three stages and the
     /// controlled components.
-    fn scaled_norm(
-        &self,
-        real: &DVector<f64>,
-        complex: &DVector<Complex<f64>>,
-        scale: &[f64],
-    ) -> f64 {
+    fn scaled_norm(&self, scale: &[f64]) -> f64 {
+        let (real, complex) = (&self.real_rhs, &self.complex_rhs);
         let len = self.controlled;
         let sum: f64 = (0..len)
             .map(|p| {
@@ -269,6 +332,141 @@ fn transform<V: Vector>(m: &[[f64; 3]; 3], x: &[V; 3]) -> [V; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A Jacobian with entries of every sign and size, zeros of both signs among them.
+    fn mixed_jacobian(n: usize) -> DMatrix<f64> {
+        DMatrix::from_fn(n, n, |r, c| match (r * n + c) % 5 {
+            0 => 0.0,
+            1 => -0.0,
+            k => (k as f64 - 3.5) * 10f64.powi((r as i32 - c as i32) * 3) / (1.0 + c as f64),
+        })
+    }
+
+    #[test]
+    fn the_matrices_are_formed_as_written_and_their_largest_entries_exactly() {
+        let tableau = Tableau::radau_iia();
+        let n = 6;
+        let stages = TransformedStages::new(n, n, &tableau);
+        let jacobian = mixed_jacobian(n);
+        // At 1e-20 the diagonal of the complex matrix is its largest entry (|(α + iβ)/h|
+        // ≈ 4e20 over |J| ≤ 1e15), at the others an entry of J is.
+        for h in [1e-20, 1e-9, 0.3, 7e4] {
+            let (mut real, mut complex) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+            let largest = stages.form(&jacobian, h, &mut real, &mut complex);
+            // The definitions: each entry as written, the largest by a modulus of each.
+            let tr = &stages.transformation;
+            let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
+            let zero = Complex::new(0.0, 0.0);
+            let expected_real = DMatrix::from_fn(n, n, |r, c| {
+                (if r == c { g } else { 0.0 }) - jacobian[(r, c)]
+            });
+            let expected_complex = DMatrix::from_fn(n, n, |r, c| {
+                (if r == c { s } else { zero }) - jacobian[(r, c)]
+            });
+            let bits = |v: f64| v.to_bits();
+            assert_eq!(real.map(bits), expected_real.map(bits), "h = {h}");
+            assert_eq!(
+                complex.map(|z| bits(z.re)),
+                expected_complex.map(|z| bits(z.re))
+            );
+            assert_eq!(
+                complex.map(|z| bits(z.im)),
+                expected_complex.map(|z| bits(z.im))
+            );
+            assert_eq!(bits(largest.real), bits(expected_real.amax()), "h = {h}");
+            let complex_largest = expected_complex
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max);
+            assert_eq!(bits(largest.complex), bits(complex_largest), "h = {h}");
+        }
+    }
+
+    /// The test binary's allocator: the system's, noting the largest block each thread asks
+    /// for, so that a test can tell that a call allocated no matrix (a block freed and
+    /// allocated again would have the same address, which a comparison of buffers would miss).
+    #[global_allocator]
+    static ALLOCATOR: NotingLargest = NotingLargest;
+
+    struct NotingLargest;
+
+    std::thread_local! {
+        static LARGEST_BLOCK: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    }
+
+    fn note(size: usize) {
+        // `try_with`: allocations while the thread's storage is torn down go unnoted.
+        let _ = LARGEST_BLOCK.try_with(|largest| largest.set(largest.get().max(size)));
+    }
+
+    // SAFETY: every call is forwarded to the system allocator unchanged.
+    unsafe impl std::alloc::GlobalAlloc for NotingLargest {
+        unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+            note(layout.size());
+            unsafe { std::alloc::System.alloc(layout) }
+        }
+        unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
+            note(layout.size());
+            unsafe { std::alloc::System.alloc_zeroed(layout) }
+        }
+        unsafe fn realloc(
+            &self,
+            ptr: *mut u8,
+            layout: std::alloc::Layout,
+            new_size: usize,
+        ) -> *mut u8 {
+            note(new_size);
+            unsafe { std::alloc::System.realloc(ptr, layout, new_size) }
+        }
+        unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+            unsafe { std::alloc::System.dealloc(ptr, layout) }
+        }
+    }
+
+    #[test]
+    fn refactoring_reuses_the_matrices_storage() {
+        let tableau = Tableau::radau_iia();
+        let n = 6;
+        let mut stages = TransformedStages::new(n, n, &tableau);
+        // Well conditioned (a step's matrices with a suspicious pivot would be examined for a
+        // growing mode, which allocates).
+        let jacobian = DMatrix::from_fn(n, n, |r, c| ((r * n + c) % 7) as f64 - 3.0)
+            - DMatrix::identity(n, n) * 1e3;
+        let mut stats = Stats::default();
+        let mut factor = |stages: &mut TransformedStages, key| {
+            assert_eq!(stages.factor(&jacobian, key, &tableau, &mut stats), None);
+        };
+        factor(&mut stages, (0.1, 1));
+        // A new h, a new Jacobian, and the same h and Jacobian again (nothing to do): no
+        // block as large as a matrix allocated (an LU's row permutation, of n pairs, is).
+        LARGEST_BLOCK.with(|largest| largest.set(0));
+        for key in [(0.2, 1), (0.2, 2), (0.2, 2)] {
+            factor(&mut stages, key);
+        }
+        let largest = LARGEST_BLOCK.with(|largest| largest.get());
+        assert!(
+            largest < n * n * size_of::<f64>(),
+            "a block of {largest} bytes"
+        );
+        assert_eq!(stats.factorizations, 3);
+        // And the factors are those of the matrices for the last h, to the last bit: no
+        // stale entry of the buffers' earlier contents survives.
+        let (mut real, mut complex) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+        stages.form(&jacobian, 0.2, &mut real, &mut complex);
+        let factors = stages.factors.as_ref().expect("factored");
+        let bits = |v: f64| v.to_bits();
+        assert_eq!(
+            factors.real.lu_internal().map(bits),
+            real.lu().lu_internal().map(bits)
+        );
+        let fresh = complex.lu();
+        for part in [|z: Complex<f64>| z.re, |z: Complex<f64>| z.im] {
+            assert_eq!(
+                factors.complex.lu_internal().map(|z| bits(part(z))),
+                fresh.lu_internal().map(|z| bits(part(z)))
+            );
+        }
+    }
 
     // RADAU5's constants below with the digits its source gives.
     #[allow(clippy::excessive_precision)]

@@ -15,7 +15,7 @@
 //! suspicion; the verdict is taken on the eigenvalues λ of J, which no scaling of the state or
 //! of h changes: singular when some 1 − hμλ is small.
 
-use nalgebra::{Complex, DMatrix};
+use nalgebra::{Complex, ComplexField, DMatrix, Dyn, LU};
 
 /// How close to 0 some |1 − hμλ| must be, relative to 1 (the identity's eigenvalue), for
 /// the matrix to be singular: its LU is then no better than rounding.
@@ -32,6 +32,19 @@ pub(crate) fn relative_pivot(smallest: f64, largest: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The smallest pivot of an LU factorization in modulus: U's diagonal, read in place in the
+/// packed factors (`LU::u` would copy U to read it; `lu_internal` is nalgebra's accessor for
+/// them, hidden from its docs). Infinite for an empty matrix, whose largest entry is 0.
+pub(crate) fn smallest_pivot<T>(lu: &LU<T, Dyn, Dyn>) -> f64
+where
+    T: ComplexField<RealField = f64>,
+{
+    let factors = lu.lu_internal();
+    (0..factors.nrows())
+        .map(|i| factors[(i, i)].clone().modulus())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The eigenvalue λ = (Re, Im) of `jacobian` that makes I − h·μ·J singular for one of the
