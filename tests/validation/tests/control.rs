@@ -148,12 +148,12 @@ fn bicycle_state(bike: &WhippleBicycle, rng: &mut XorShift) -> [f64; 11] {
 }
 
 #[test]
-fn bicycle_lie_derivatives_match_nested_duals() {
+fn bicycle_lie_derivatives_and_brackets_match_nested_duals() {
     let bike = WhippleBicycle::default();
     let mut rng = XorShift::new(2007);
     let f = Drift::<_, 2>(&bike);
     let g = |j| InputField::<_, 2>(&bike, j);
-    let mut worst = [0.0f64; 3];
+    let mut worst = [0.0f64; 4];
     for _ in 0..100 {
         let x = bicycle_state(&bike, &mut rng);
         let form = bike.control_affine(0.0, &x).unwrap();
@@ -181,10 +181,26 @@ fn bicycle_lie_derivatives_match_nested_duals() {
         worst[2] = worst[2].max(relative(&computed, &reference));
         // The angles are coordinates: the torques reach them through the accelerations only.
         assert_eq!(lie.decoupling().unwrap().relative_degrees, [2, 2]);
+        // The brackets one deep, all the catalogue's bicycle generates.
+        let brackets = bike.lie_brackets(0.0, &x).unwrap();
+        assert_eq!(brackets.labels().len(), 3);
+        let (mut computed, mut reference) = (Vec::new(), Vec::new());
+        let mut check = |label: &str, value: [f64; 11]| {
+            computed.extend(brackets.bracket(label).unwrap().iter());
+            reference.extend(value);
+        };
+        check("[f, g_roll_torque]", Bracket(&f, g(0)).eval(&x));
+        check("[f, g_steer_torque]", Bracket(&f, g(1)).eval(&x));
+        check(
+            "[g_roll_torque, g_steer_torque]",
+            Bracket(g(0), g(1)).eval(&x),
+        );
+        worst[3] = worst[3].max(relative(&computed, &reference));
     }
     println!(
-        "bicycle, worst relative differences: fields {:.1e}, L_f^2 h {:.1e}, L_g L_f h {:.1e}",
-        worst[0], worst[1], worst[2]
+        "bicycle, worst relative differences: fields {:.1e}, L_f^2 h {:.1e}, L_g L_f h {:.1e}, \
+         brackets {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
     );
     assert!(worst.iter().all(|w| *w <= LIE_TOLERANCE), "{worst:?}");
 }
