@@ -251,6 +251,8 @@ impl Skate {
 
 /// The same knife edge steered by the torque alone: its speed along the blade is an
 /// integral of the motion whatever the input, so the accessibility rank is at most 4 of 5.
+/// Its outputs, the heading and the turn rate, are two for one input, and the heading's
+/// relative degree (2) exceeds the order generated (1).
 #[hamel::hamel_system]
 pub struct SteeredSkate {
     pub m: f64,
@@ -261,7 +263,8 @@ pub struct SteeredSkate {
     coordinates(x, y, phi),
     speeds(v, omega),
     inputs(torque),
-    control(brackets = 3)
+    outputs(heading, turn_rate),
+    control(order = 1, brackets = 3)
 )]
 impl SteeredSkate {
     #[kinetic_energy]
@@ -277,6 +280,11 @@ impl SteeredSkate {
     #[quasi_velocities]
     fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
         [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+
+    #[outputs]
+    fn heading_and_turn_rate(&self, q: &[f64; 3], speeds: &[f64; 2]) -> [f64; 2] {
+        [q[2], speeds[1]]
     }
 
     #[forces]
@@ -402,6 +410,49 @@ fn singular_decoupling_is_an_error_naming_the_state() {
     let message = e.to_string();
     assert!(
         message.contains("t = 0.5") && message.contains("phi = 0.3"),
+        "{message}"
+    );
+    println!("{message}");
+}
+
+#[test]
+fn relative_degree_beyond_the_generated_order_is_an_error_naming_the_output() {
+    let steered = SteeredSkate { m: 2.0, j: 0.3 };
+    let lie = steered
+        .lie_derivatives(0.5, &[0.1, 0.2, 0.3, 0.5, 0.7])
+        .unwrap();
+    // J ω̇ = τ: the turn rate has relative degree 1, L_g ω = 1/J.
+    let rate = lie.along_input("torque", "turn_rate", 0).unwrap();
+    assert!((rate - 1.0 / 0.3).abs() <= 1e-15 * rate, "{rate}");
+    // The heading's L_g φ vanishes: its degree is 2, beyond `control(order = 1)`.
+    assert_eq!(lie.along_input("torque", "heading", 0).unwrap(), 0.0);
+    let e = lie.decoupling().unwrap_err();
+    assert!(
+        matches!(&e, hamel::Error::RelativeDegree { output, order: 1, .. } if output == "heading"),
+        "{e}"
+    );
+    let message = e.to_string();
+    assert!(
+        message.contains("control(order = ..)")
+            && message.contains("t = 0.5")
+            && message.contains("phi = 0.3"),
+        "{message}"
+    );
+    println!("{message}");
+}
+
+#[test]
+fn exact_linearization_of_a_non_square_system_is_an_error() {
+    let steered = SteeredSkate { m: 2.0, j: 0.3 };
+    let reference = |_t: f64| vec![vec![0.0; 3], vec![0.0; 2]];
+    let e = match hamel::control::ExactLinearization::new(&steered, 5.0, reference) {
+        Ok(_) => panic!("two outputs and one input were taken for a square system"),
+        Err(e) => e,
+    };
+    assert!(matches!(e, hamel::Error::DimensionMismatch { .. }), "{e}");
+    let message = e.to_string();
+    assert!(
+        message.contains("2 outputs (heading, turn_rate) and 1 inputs (torque)"),
         "{message}"
     );
     println!("{message}");
