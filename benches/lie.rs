@@ -11,6 +11,10 @@
 //! cargo bench -p hamel-benches --bench lie
 //! HAMEL_BENCH_ROUNDS=51 cargo bench -p hamel-benches --bench lie   # quicker
 //! ```
+//!
+//! With `HAMEL_LIE_VALUES=FILE` it also writes the states and the generated values to FILE,
+//! one state a line (x, then L_f^k h, then L_g L_f^k h in the order of `lie_values`): what
+//! `benches/adolc_lie.sh` checks ADOL-C's Lie drivers against.
 
 use hamel::models::MobileRobot;
 use hamel::{ControlAffine, HamelSystem};
@@ -21,6 +25,9 @@ use std::hint::black_box;
 fn main() {
     let robot = MobileRobot::default();
     let samples = robot_samples();
+    if let Some(path) = std::env::var_os("HAMEL_LIE_VALUES") {
+        write_values(&robot, &samples, std::path::Path::new(&path));
+    }
     let mut rhs = || {
         let mut dx = [0.0; 8];
         for (x, u) in &samples {
@@ -54,5 +61,30 @@ fn main() {
         f.median,
         f.p10,
         f.p90
+    );
+}
+
+/// Each state and its generated Lie derivatives, one line each, every number to the last
+/// bit (Rust's shortest representation that reads back exactly).
+fn write_values(robot: &MobileRobot, samples: &[([f64; 8], [f64; 2])], path: &std::path::Path) {
+    let mut text = String::new();
+    for (x, _) in samples {
+        let (lie, along) = robot
+            .lie_values(0.0, x)
+            .unwrap_or_else(|e| panic!("lie_values at {x:?}: {e}"));
+        let numbers: Vec<String> = x
+            .iter()
+            .chain(&lie)
+            .chain(&along)
+            .map(|v| format!("{v:e}"))
+            .collect();
+        text.push_str(&numbers.join(" "));
+        text.push('\n');
+    }
+    std::fs::write(path, text).unwrap_or_else(|e| panic!("writing {}: {e}", path.display()));
+    println!(
+        "wrote {} states and their Lie derivatives to {}",
+        samples.len(),
+        path.display()
     );
 }

@@ -131,7 +131,7 @@ impl Default for WhippleBicycle {
     constraints(rear_x, rear_y, front_x, front_y, front_z),
     bodies(rear_wheel, rear_frame, front_frame, front_wheel),
     outputs(roll, steer),
-    control(order = 2),
+    control(order = 2, brackets = 1),
     units(
         t = "s",
         x = "m",
@@ -219,14 +219,17 @@ impl WhippleBicycle {
         [qd[3], qd[5], qd[6]]
     }
 
-    /// The roll torque acts on the roll coordinate, the steer torque on the steer angle.
     /// The roll and steer angles, whose Lie derivatives the control guide reads the
-    /// bicycle's relative degrees from (`hamel::docs::control`).
+    /// bicycle's relative degrees from (`hamel::docs::control`). The brackets are one deep
+    /// only ([f, g_j] and [g_roll_torque, g_steer_torque]): each further level is a tangent
+    /// sweep of the whole right-hand side per bracket, and depth 2 would add about 3.5 s of
+    /// CPU to every debug build of this library (`benches/control_build_cost.sh`).
     #[outputs]
     fn lean_and_steer(&self, q: &[f64; 8]) -> [f64; 2] {
         [q[3], q[5]]
     }
 
+    /// The roll torque acts on the roll coordinate, the steer torque on the steer angle.
     #[forces]
     fn torques(&self, _t: f64, _q: &[f64; 8], _qd: &[f64; 8], u: &[f64; 2]) -> [f64; 8] {
         [0.0, 0.0, 0.0, u[0], 0.0, u[1], 0.0, 0.0]

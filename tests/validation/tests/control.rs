@@ -148,12 +148,12 @@ fn bicycle_state(bike: &WhippleBicycle, rng: &mut XorShift) -> [f64; 11] {
 }
 
 #[test]
-fn bicycle_lie_derivatives_match_nested_duals() {
+fn bicycle_lie_derivatives_and_brackets_match_nested_duals() {
     let bike = WhippleBicycle::default();
     let mut rng = XorShift::new(2007);
     let f = Drift::<_, 2>(&bike);
     let g = |j| InputField::<_, 2>(&bike, j);
-    let mut worst = [0.0f64; 3];
+    let mut worst = [0.0f64; 4];
     for _ in 0..100 {
         let x = bicycle_state(&bike, &mut rng);
         let form = bike.control_affine(0.0, &x).unwrap();
@@ -181,10 +181,26 @@ fn bicycle_lie_derivatives_match_nested_duals() {
         worst[2] = worst[2].max(relative(&computed, &reference));
         // The angles are coordinates: the torques reach them through the accelerations only.
         assert_eq!(lie.decoupling().unwrap().relative_degrees, [2, 2]);
+        // The brackets one deep, all the catalogue's bicycle generates.
+        let brackets = bike.lie_brackets(0.0, &x).unwrap();
+        assert_eq!(brackets.labels().len(), 3);
+        let (mut computed, mut reference) = (Vec::new(), Vec::new());
+        let mut check = |label: &str, value: [f64; 11]| {
+            computed.extend(brackets.bracket(label).unwrap().iter());
+            reference.extend(value);
+        };
+        check("[f, g_roll_torque]", Bracket(&f, g(0)).eval(&x));
+        check("[f, g_steer_torque]", Bracket(&f, g(1)).eval(&x));
+        check(
+            "[g_roll_torque, g_steer_torque]",
+            Bracket(g(0), g(1)).eval(&x),
+        );
+        worst[3] = worst[3].max(relative(&computed, &reference));
     }
     println!(
-        "bicycle, worst relative differences: fields {:.1e}, L_f^2 h {:.1e}, L_g L_f h {:.1e}",
-        worst[0], worst[1], worst[2]
+        "bicycle, worst relative differences: fields {:.1e}, L_f^2 h {:.1e}, L_g L_f h {:.1e}, \
+         brackets {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
     );
     assert!(worst.iter().all(|w| *w <= LIE_TOLERANCE), "{worst:?}");
 }
@@ -235,6 +251,8 @@ impl Skate {
 
 /// The same knife edge steered by the torque alone: its speed along the blade is an
 /// integral of the motion whatever the input, so the accessibility rank is at most 4 of 5.
+/// Its outputs, the heading and the turn rate, are two for one input, and the heading's
+/// relative degree (2) exceeds the order generated (1).
 #[hamel::hamel_system]
 pub struct SteeredSkate {
     pub m: f64,
@@ -245,7 +263,8 @@ pub struct SteeredSkate {
     coordinates(x, y, phi),
     speeds(v, omega),
     inputs(torque),
-    control(brackets = 3)
+    outputs(heading, turn_rate),
+    control(order = 1, brackets = 3)
 )]
 impl SteeredSkate {
     #[kinetic_energy]
@@ -261,6 +280,11 @@ impl SteeredSkate {
     #[quasi_velocities]
     fn speeds(&self, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 2] {
         [qd[0] * q[2].cos() + qd[1] * q[2].sin(), qd[2]]
+    }
+
+    #[outputs]
+    fn heading_and_turn_rate(&self, q: &[f64; 3], speeds: &[f64; 2]) -> [f64; 2] {
+        [q[2], speeds[1]]
     }
 
     #[forces]
@@ -386,6 +410,49 @@ fn singular_decoupling_is_an_error_naming_the_state() {
     let message = e.to_string();
     assert!(
         message.contains("t = 0.5") && message.contains("phi = 0.3"),
+        "{message}"
+    );
+    println!("{message}");
+}
+
+#[test]
+fn relative_degree_beyond_the_generated_order_is_an_error_naming_the_output() {
+    let steered = SteeredSkate { m: 2.0, j: 0.3 };
+    let lie = steered
+        .lie_derivatives(0.5, &[0.1, 0.2, 0.3, 0.5, 0.7])
+        .unwrap();
+    // J ω̇ = τ: the turn rate has relative degree 1, L_g ω = 1/J.
+    let rate = lie.along_input("torque", "turn_rate", 0).unwrap();
+    assert!((rate - 1.0 / 0.3).abs() <= 1e-15 * rate, "{rate}");
+    // The heading's L_g φ vanishes: its degree is 2, beyond `control(order = 1)`.
+    assert_eq!(lie.along_input("torque", "heading", 0).unwrap(), 0.0);
+    let e = lie.decoupling().unwrap_err();
+    assert!(
+        matches!(&e, hamel::Error::RelativeDegree { output, order: 1, .. } if output == "heading"),
+        "{e}"
+    );
+    let message = e.to_string();
+    assert!(
+        message.contains("control(order = ..)")
+            && message.contains("t = 0.5")
+            && message.contains("phi = 0.3"),
+        "{message}"
+    );
+    println!("{message}");
+}
+
+#[test]
+fn exact_linearization_of_a_non_square_system_is_an_error() {
+    let steered = SteeredSkate { m: 2.0, j: 0.3 };
+    let reference = |_t: f64| vec![vec![0.0; 3], vec![0.0; 2]];
+    let e = match hamel::control::ExactLinearization::new(&steered, 5.0, reference) {
+        Ok(_) => panic!("two outputs and one input were taken for a square system"),
+        Err(e) => e,
+    };
+    assert!(matches!(e, hamel::Error::DimensionMismatch { .. }), "{e}");
+    let message = e.to_string();
+    assert!(
+        message.contains("2 outputs (heading, turn_rate) and 1 inputs (torque)"),
         "{message}"
     );
     println!("{message}");

@@ -169,8 +169,9 @@ fn outputs<'a>(
             lowerer.push_error(syn::Error::new(
                 *span,
                 format!(
-                    "{} named for {count} outputs: `{}` returns {count} values; name one per \
-                     value, in order",
+                    "`outputs({})` names {} and `{}` returns {count} values: name one output \
+                     per value, in order",
+                    names_of(list),
                     list.len(),
                     f.sig.ident
                 ),
