@@ -40,7 +40,8 @@ impl Directions {
 }
 
 /// One of the three orthographic views: the screen's right and up directions in the world,
-/// and what the view is called.
+/// and what the view is called. (Only `Picture` draws views, so only with `plot`.)
+#[cfg(feature = "plot")]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct View {
     pub name: &'static str,
@@ -48,6 +49,7 @@ pub(crate) struct View {
     pub up: Vector3,
 }
 
+#[cfg(feature = "plot")]
 impl View {
     /// Front, side and top, in that order.
     pub(crate) fn all(d: &Directions) -> [View; 3] {
@@ -82,6 +84,7 @@ impl View {
 }
 
 /// A direction's name for an axis label: `x`, `−z`, or its components.
+#[cfg(feature = "plot")]
 pub(crate) fn direction_name(v: Vector3) -> String {
     let axes = [
         ("x", Vector3::x()),
