@@ -141,16 +141,19 @@ pub(crate) fn draw<DB: DrawingBackend>(
     area.draw(&Rectangle::new([at, corner], BLACK.mix(0.4)))
         .map_err(drawing)?;
     let text = font(sizes.ticks).pos(Pos::new(HPos::Left, VPos::Center));
-    let thickness = sizes.line as i32;
     for (i, s) in series.iter().enumerate() {
         let middle = at.1 + m.pad + m.row * i as i32 + m.row / 2;
         let left = at.0 + m.pad;
         let color = RGBColor(s.color.0, s.color.1, s.color.2);
-        // The sample's bars, in 24ths of its width, `thickness` pixels tall.
-        let top = middle - thickness / 2;
+        // The sample's bars, in 24ths of its width, stroked as the series' lines are: a
+        // rectangle's height is one pixel less in SVG than in a bitmap, none at all for
+        // one-pixel lines.
         let bar = |from: i32, to: i32| {
             let (x0, x1) = (left + from * m.sample / 24, left + to * m.sample / 24);
-            Rectangle::new([(x0, top), (x1, top + thickness - 1)], color.filled())
+            PathElement::new(
+                vec![(x0, middle), (x1, middle)],
+                color.stroke_width(sizes.line),
+            )
         };
         match s.style {
             Style::Line => area.draw(&bar(0, 24)),
