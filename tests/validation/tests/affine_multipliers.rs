@@ -31,16 +31,11 @@
 //! time in the reference, to show that every explicit time derivative changes the result
 //! by far more than the tolerance. Run with `--nocapture` for the figures.
 
-#[path = "common/affine_multipliers.rs"]
-mod affine_multipliers;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
-use affine_multipliers::{Mechanism, Real, Reference, reference};
+use crate::common::affine_multipliers::{Mechanism, Real, Reference, reference};
+use crate::common::xorshift::XorShift;
 use hamel::models::{BallOnTurntable, NTrailer2};
 use hamel::{HamelSystem, Vector, hamel_system};
 use std::f64::consts::PI;
-use xorshift::XorShift;
 
 /// Two formulations of the same equations differ by rounding: a few hundred ulps of each
 /// quantity's scale, amplified by the conditioning of the solves.

@@ -17,12 +17,9 @@ use hamel::{
     DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity, hamel_system,
 };
 
-#[path = "bad_input/near_singular_mass.rs"]
 mod near_singular_mass;
-#[path = "common/robot_by_hand.rs"]
-mod robot_by_hand;
 
-use robot_by_hand::MobileRobotByHand;
+use crate::common::robot_by_hand::MobileRobotByHand;
 
 /// The message of an error after checking that it contains every `part`.
 #[track_caller]

@@ -16,16 +16,12 @@
 //! The Table 2 values below were transcribed from the paper (as in D. L. Peterson's
 //! gyrostat implementation's test, which hand-codes every published eigenvalue).
 
-#[path = "common/whipple_by_hand.rs"]
-mod whipple_by_hand;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::whipple_by_hand::WhippleByHand;
+use crate::common::xorshift::XorShift;
 use hamel::models::WhippleBicycle;
 use hamel::roots::brent;
 use hamel::{Error, HamelSystem, Linearization, ModeSweep};
 use nalgebra::Complex;
-use whipple_by_hand::WhippleByHand;
 
 /// Both bicycles: their states, inputs and names are the same.
 trait Bicycle: HamelSystem<State = [f64; 11], Inputs = [f64; 2]> {}
@@ -424,7 +420,7 @@ fn a_bicycle_that_falls_over_stops_at_a_degenerate_configuration() {
 fn the_bicycle_from_bodies_is_the_bicycle_by_hand() {
     let bike = WhippleBicycle::default();
     let hand = WhippleByHand::from(&bike);
-    let mut rng = xorshift::XorShift::new(17);
+    let mut rng = XorShift::new(17);
     let mut worst = 0.0f64;
     for _ in 0..200 {
         let mut x = [0.0; 11];

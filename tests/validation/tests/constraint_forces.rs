@@ -23,25 +23,14 @@
 //! Every tolerance is stated where it is asserted, with why; run with `--nocapture` for the
 //! measured worst cases.
 
-// Shared with other tests, which use the parts this one does not.
-#[allow(dead_code)]
-#[path = "common/affine_multipliers.rs"]
-mod affine_multipliers;
-#[path = "common/robot_closed_form.rs"]
-mod robot_closed_form;
-#[allow(dead_code)]
-#[path = "common/robot_projected_lagrange.rs"]
-mod robot_projected_lagrange;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
 use std::f64::consts::PI;
 
-use affine_multipliers::{Mechanism, Real, reference};
+use crate::common::affine_multipliers::{Mechanism, Real, reference};
+use crate::common::robot_closed_form::robot_rhs;
+use crate::common::robot_projected_lagrange;
+use crate::common::xorshift::XorShift;
 use hamel::models::{BallOnTurntable, ChaplyginSleigh, KnifeEdge, MobileRobot, MobileRobotPaper};
 use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory, hamel_system};
-use robot_closed_form::robot_rhs;
-use xorshift::XorShift;
 
 /// Random states per parameter set.
 const RANDOM_POINTS: usize = 200;

@@ -4,15 +4,11 @@
 //! `rhs_generic` (`support/nested.rs`) — at 100 seeded random states of the robot and the
 //! bicycle.
 
-#[path = "support/nested.rs"]
-mod nested;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
+use crate::generic_rhs;
+use crate::support::nested::{Bracket, Drift, InputField, Lie, Map, Number};
 use hamel::models::{MobileRobot, WhippleBicycle};
 use hamel::{ControlAffine, HamelSystem};
-use nested::{Bracket, Drift, InputField, Lie, Map, Number};
-use xorshift::XorShift;
 
 /// Two computations of the same derivatives in different orders of operations: rounding
 /// only, relative to the largest component.

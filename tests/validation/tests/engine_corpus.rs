@@ -16,14 +16,12 @@
 //! robot (`hamel::docs::design`, "Worked example") and a 20-link pendulum chain; the last two
 //! also get the cheap-gradient check on the generated operation counts.
 
-mod support;
-
+use crate::support::dual::D;
+use crate::support::harness::{Case, POINTS, Report, Rng, run_case};
+use crate::support::shapes::{Arg, flat};
 use std::f64::consts;
 use std::f64::consts::FRAC_PI_4;
 use std::time::Instant;
-use support::dual::D;
-use support::harness::{Case, POINTS, Report, Rng, run_case};
-use support::shapes::{Arg, flat};
 
 /// Gravity: a module-level constant that bodies read by its bare name.
 const G: f64 = 9.81;
@@ -1074,10 +1072,8 @@ fn robot_matches_the_worked_example() {
 /// expressions thousands of levels deep). Both once crashed the compiler. They are compiled
 /// into this test binary, with the dev profile's full debuginfo (the configuration that
 /// crashed): a regression fails the suite's build, and the values must equal rustc's own.
-#[path = "support/at_scale/deep_expression.rs"]
-mod deep_expression;
-#[path = "support/at_scale/long_let_sequence.rs"]
-mod long_let_sequence;
+use crate::support::at_scale::deep_expression;
+use crate::support::at_scale::long_let_sequence;
 
 #[test]
 fn emitted_code_compiles_at_scale() {

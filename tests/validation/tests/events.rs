@@ -19,17 +19,14 @@
 //! edge's at 1e-8 and measures 1e-10 over longer runs); the location part with the default
 //! `EVENT_TOLERANCE` (1e-12 of a step) is ≤ 1e-13.
 
-#[path = "common/planar_closed_forms.rs"]
-mod planar_closed_forms;
-
 use std::f64::consts::PI;
 
+use crate::common::planar_closed_forms::{KnifeStart, SleighMotion};
 use hamel::models::{ChaplyginSleigh, KnifeEdge};
 use hamel::{
     DormandPrince, EVENT_TOLERANCE, Event, EventRecord, HamelSystem, Rk4, Simulation, Stopped,
     Trajectory,
 };
-use planar_closed_forms::{KnifeStart, SleighMotion};
 
 /// The bound on |t_e − t*| for every event time (absolute, seconds).
 const EVENT_TIME_TOL: f64 = 1e-10;

@@ -13,15 +13,12 @@
 //! * `hamel::geometry` against nalgebra: elementary rotations, rotation about an axis, Euler
 //!   angles, composition, transposition, rotated vectors, cross and dot products.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
 use hamel::geometry::{Rotation3, Vector3};
 use hamel::models::{ChaplyginBall, Rattleback, RollingDisk};
 use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory};
 use nalgebra as na;
 use std::f64::consts::PI;
-use xorshift::XorShift;
 
 fn run<S: HamelSystem<Inputs = [f64; 0]>>(model: &S, x0: S::State, seconds: f64) -> Trajectory {
     Simulation::new(model, x0)

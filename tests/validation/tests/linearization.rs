@@ -3,12 +3,9 @@
 //! models' closed-form equations, central finite differences of the right-hand side at
 //! random states, and the closed-form pitch dynamics of the paper's robot at rest.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
 use hamel::models::{ChaplyginSleigh, KnifeEdge, MobileRobot, WhippleBicycle};
 use hamel::{Error, HamelSystem, Linearization};
-use xorshift::XorShift;
 
 /// The largest |a − b| over the entries of a linearization's A against a reference matrix.
 fn worst_against(lin: &Linearization, reference: &[[f64; 5]; 5]) -> f64 {

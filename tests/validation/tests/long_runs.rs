@@ -15,29 +15,14 @@
 //!    row by row; `Simulation::stream` into a `CsvSink` against `Trajectory::write_csv`.
 //! 4. The implicit integrators (`long_runs/implicit.rs`, which lists what it checks).
 //! 5. Radau5 on the standard stiff test set (`long_runs/stiff_set.rs`).
-
-#[allow(dead_code)]
-#[path = "common/planar_closed_forms.rs"]
-mod planar_closed_forms;
-
-#[path = "common/disk_closed_forms.rs"]
-mod disk_closed_forms;
-
 // The implicit integrators on the catalogue's models: orders, symmetry, bounded energy, the
 // vertical disk's closed form, stiffness.
-#[path = "long_runs/implicit.rs"]
 mod implicit;
 
-#[allow(dead_code)]
-#[path = "common/stiff_problems.rs"]
-mod stiff_problems;
-
 // A singular mass matrix at the end of a curved ridge names the speed whose inertia diverges.
-#[path = "long_runs/ridge_skate.rs"]
 mod ridge_skate;
 
 // Radau5 on the standard stiff test set.
-#[path = "long_runs/stiff_set.rs"]
 mod stiff_set;
 
 use std::cell::RefCell;
@@ -46,12 +31,12 @@ use std::sync::mpsc;
 use std::thread;
 use std::time::{Duration, Instant};
 
+use crate::common::planar_closed_forms::KnifeStart;
 use hamel::models::{KnifeEdge, MobileRobot};
 use hamel::{
     CsvSink, DormandPrince, Error, Event, HamelSystem, Integrator, NamedValues, Progress, Rk4,
     Simulation, Stopped, Summary, Trajectory,
 };
-use planar_closed_forms::KnifeStart;
 
 /// A former hang must return within this wall time (the calls below take micro- to
 /// milliseconds; a hang takes hours).

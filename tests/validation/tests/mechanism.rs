@@ -5,13 +5,10 @@
 //! `energy`. So scenes and pictures, which draw these bodies, draw the mechanism the equations
 //! describe. Also the names and units the catalogue gives.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
 use hamel::geometry::{Mechanism, Rotation3, Vector3};
 use hamel::models::{ChaplyginBall, Rattleback, RollingDisk, WhippleBicycle};
 use hamel::{HamelSystem, Parameters, Vector};
-use xorshift::XorShift;
 
 /// Ω in body axes from R at q − h q̇ and q + h q̇: the axial vector of Rᵀ Ṙ.
 fn body_rate(r: &Rotation3, minus: &Rotation3, plus: &Rotation3, h: f64) -> Vector3 {

@@ -18,14 +18,11 @@
 //! The parameters are read by name through `Parameters` (`m0`, `d3`, …), so one generic
 //! function checks every N.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
 use hamel::models::{NTrailer1, NTrailer2, NTrailer8, NTrailer24};
 use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory, Vector};
 use nalgebra::{DMatrix, DVector};
 use num_dual::{Dual64, DualNum, HyperDual64};
-use xorshift::XorShift;
 
 /// Dormand–Prince tolerances of the runs.
 const RTOL: f64 = 1e-10;

@@ -5,15 +5,12 @@
 //! right-hand side fused with the power (`rhs_power_prepared`, what a simulation of a forced
 //! model calls) gives the bits of `rhs_prepared`, and `power` to rounding.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::xorshift::XorShift;
 use hamel::models::{
     BallOnTurntable, ChaplyginSleigh, KnifeEdge, MobileRobot, MobileRobotPaper, NTrailer1,
     NTrailer2, NTrailer8, NTrailer24, WhippleBicycle,
 };
 use hamel::{HamelSystem, Vector};
-use xorshift::XorShift;
 
 /// Random states per model.
 const SAMPLES: usize = 50;

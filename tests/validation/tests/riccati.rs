@@ -6,17 +6,14 @@
 //! which that script wrote (rerun with `HAMEL_WRITE_CARE_REFERENCE=1 cargo test -p
 //! hamel-validation --test riccati` to renew it), after checking that its cases are these.
 
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
 use std::io::Write as _;
 use std::process::{Command, Stdio};
 
+use crate::common::xorshift::XorShift;
 use hamel::control::{Lqr, solve_care};
 use hamel::models::{MobileRobot, WhippleBicycle};
 use hamel::{Error, HamelSystem};
 use nalgebra::DMatrix;
-use xorshift::XorShift;
 
 /// The gains agree with scipy's to this, relative to the largest gain of the case.
 const GAIN_TOLERANCE: f64 = 1e-9;

@@ -12,24 +12,15 @@
 //! seeded xorshift, so every run checks the same states. Run with `--nocapture` to see the
 //! measured worst cases.
 
-#[path = "common/robot_by_hand.rs"]
-mod robot_by_hand;
-#[path = "common/robot_closed_form.rs"]
-mod robot_closed_form;
-#[path = "common/robot_projected_lagrange.rs"]
-mod robot_projected_lagrange;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
 use std::f64::consts::PI;
 
+use crate::common::robot_by_hand::MobileRobotByHand;
+use crate::common::robot_closed_form::robot_rhs;
+use crate::common::robot_projected_lagrange::projected_lagrange_rhs;
+use crate::common::xorshift::XorShift;
 use hamel::geometry::Mechanism;
 use hamel::models::{MobileRobot, MobileRobotPaper};
 use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory};
-use robot_by_hand::MobileRobotByHand;
-use robot_closed_form::robot_rhs;
-use robot_projected_lagrange::projected_lagrange_rhs;
-use xorshift::XorShift;
 
 /// Two evaluations of the same equations differ by rounding only: a few ulps of the largest
 /// component, times the conditioning of the 3×3 solve.

@@ -14,12 +14,7 @@
 //!    by a quaternion, it runs through the Euler angles' singularity with its integrals kept.
 //! 6. A free asymmetric top oriented by a quaternion tumbles as the Euler–Poinsot solution in
 //!    Jacobi's elliptic functions says, its angular momentum fixed in space.
-
-#[path = "common/affine_multipliers.rs"]
-#[allow(dead_code)]
-mod affine_multipliers;
-
-use affine_multipliers::{Mechanism as Multipliers, Real, reference};
+use crate::common::affine_multipliers::{Mechanism as Multipliers, Real, reference};
 use hamel::geometry::{Rotation3, Shape, Surface, Vector3};
 use hamel::models::ChaplyginBall;
 use hamel::prelude::*;

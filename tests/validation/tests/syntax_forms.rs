@@ -15,16 +15,11 @@
 //!
 //! Run with `--nocapture` to see the measured discrepancies of every model.
 
-#[path = "common/same_system.rs"]
-mod same_system;
-#[path = "common/xorshift.rs"]
-mod xorshift;
-
+use crate::common::same_system::{ThreeByOne, check_same_system, random_state, relative};
+use crate::common::xorshift::XorShift;
 use hamel::models::{ChaplyginSleigh, KnifeEdge};
 use hamel::{HamelSystem, hamel_system};
-use same_system::{ThreeByOne, check_same_system, random_state, relative};
 use std::f64::consts;
-use xorshift::XorShift;
 
 // ---------------------------------------------------------------------------------------------
 // The references

@@ -5,12 +5,9 @@
 //! ϑ = ±90° or 0°, 180°; these states, and a run that turns through all of them, must agree
 //! with the hand-written closed form (`common/robot_closed_form.rs`).
 
-#[path = "common/robot_closed_form.rs"]
-mod robot_closed_form;
-
+use crate::common::robot_closed_form::robot_rhs;
 use hamel::models::MobileRobot;
 use hamel::{DormandPrince, HamelSystem, Simulation};
-use robot_closed_form::robot_rhs;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The wheel angles (φ₁, φ₂) that give the heading ϑ = r(φ₁ − φ₂)/b.

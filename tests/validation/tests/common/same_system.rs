@@ -14,7 +14,7 @@
 //! * a 2 s run with Dormand–Prince at rtol 1e-10, atol 1e-12 from the same initial state:
 //!   every sample within `TRAJECTORY_TOLERANCE`·max(1, |b|).
 
-use crate::xorshift::XorShift;
+use super::xorshift::XorShift;
 use hamel::{DormandPrince, HamelSystem, Simulation};
 
 /// Rounding, not modelling: a few hundred ulps at most.

@@ -29,8 +29,8 @@ use hamel::{
     Radau5, Simulation, Trajectory, Vector,
 };
 
-use super::disk_closed_forms::{FreeDisk, StiffDisk, StiffMotion};
-use super::planar_closed_forms::SleighMotion;
+use crate::common::disk_closed_forms::{FreeDisk, StiffDisk, StiffMotion};
+use crate::common::planar_closed_forms::SleighMotion;
 
 /// A model with zero inputs as an `Ode` with its exact Jacobian, for the one-step maps
 /// (`advance`), which a `Simulation` does not expose.

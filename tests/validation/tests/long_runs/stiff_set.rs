@@ -12,7 +12,7 @@
 
 use hamel::{Integrator, Ode, Radau5, Stats, Vector};
 
-use super::stiff_problems::{
+use crate::common::stiff_problems::{
     Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, radau5,
 };
 

@@ -158,9 +158,9 @@ pub trait Rhs<const S: usize, const M: usize> {
 #[macro_export]
 macro_rules! generic_rhs {
     ($model:ty, $s:literal, $m:literal) => {
-        impl $crate::nested::Rhs<$s, $m> for $model {
-            fn rhs<T: $crate::nested::Number>(&self, x: &[T; $s], u: &[T; $m]) -> [T; $s] {
-                use $crate::nested::N;
+        impl $crate::support::nested::Rhs<$s, $m> for $model {
+            fn rhs<T: $crate::support::nested::Number>(&self, x: &[T; $s], u: &[T; $m]) -> [T; $s] {
+                use $crate::support::nested::N;
                 let mut dx = [N(T::from(0.0)); $s];
                 self.rhs_generic(N(T::from(0.0)), &x.map(N), &u.map(N), &mut dx)
                     .expect("a regular state");
