@@ -4,7 +4,7 @@
 //!
 //! Run with `--nocapture` to see the measured figures.
 
-mod common;
+use crate::common;
 
 use hamel_runtime::{
     AssemblyFailure, DormandPrince, Error, HamelSystem, Parameters, Rk4, Simulation, Singularity,

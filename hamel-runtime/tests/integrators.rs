@@ -10,7 +10,6 @@ use hamel_runtime::{
 
 // The implicit methods' own tests (orders, symmetry, stiffness, their errors), sharing the
 // problems below.
-#[path = "integrators/implicit.rs"]
 mod implicit;
 
 /// y' = −2ty², y(0) = 1: y = 1/(1 + t²). Non-autonomous and nonlinear.

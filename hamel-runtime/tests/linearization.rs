@@ -5,7 +5,7 @@
 //!
 //! Run with `--nocapture` to see the measured figures and the printed tables.
 
-mod common;
+use crate::common;
 
 use hamel_runtime::{
     Error, HamelSystem, Linearization, Mode, Num, Parameters, Scalar, Singularity,

@@ -1,9 +1,9 @@
 //! The simulation driver on a hand-written system: a skate (knife edge) on a level plane,
 //! with the closed-form solution of its free motion.
 
-mod common;
-#[path = "simulation/ensembles.rs"]
 mod ensembles;
+
+use crate::common;
 
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};

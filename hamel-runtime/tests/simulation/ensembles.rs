@@ -159,11 +159,7 @@ fn shards_in_processes(dir: &Path, n: usize) {
     let children: Vec<_> = (0..n)
         .map(|i| {
             Command::new(&exe)
-                .args([
-                    "ensembles::shards_as_separate_processes_give_the_same_rows",
-                    "--exact",
-                    "--test-threads=1",
-                ])
+                .args([&worker_test_name(), "--exact", "--test-threads=1"])
                 .env(WORKER_SHARD, format!("{i}/{n}"))
                 .env(WORKER_DIR, dir)
                 .stdout(Stdio::null())
@@ -180,6 +176,14 @@ fn shards_in_processes(dir: &Path, n: usize) {
             String::from_utf8_lossy(&output.stderr)
         );
     }
+}
+
+/// The name the test harness gives `shards_as_separate_processes_give_the_same_rows`: its
+/// module's path without the crate's name (`simulation::ensembles::…`), so that a worker
+/// runs that test alone wherever the module sits.
+fn worker_test_name() -> String {
+    let module = module_path!().split_once("::").map_or("", |(_, m)| m);
+    format!("{module}::shards_as_separate_processes_give_the_same_rows")
 }
 
 /// The shards' tables in order, joined.
