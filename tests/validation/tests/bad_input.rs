@@ -1,6 +1,7 @@
 //! Bad input gives an `Err` whose message names the problem: every case asserts the error's
 //! variant, its fields, and substrings of its `Display` text (what a user reads). The messages
-//! are printed (`cargo test --test bad_input -- --nocapture`) for review.
+//! are printed (`cargo test -p hamel-validation --test models -- bad_input:: --nocapture`)
+//! for review.
 //!
 //! The faulty models are defined here: a knife edge whose chosen quasi-velocity degenerates
 //! (A(q) singular, B from the generated LU), one with a typo in its closed-form inverse, and

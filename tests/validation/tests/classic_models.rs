@@ -8,7 +8,7 @@
 //!
 //! Both conserve energy (no forces act) and keep the constraint residual at rounding level.
 //! Every tolerance is stated where it is asserted; the measured discrepancies are printed
-//! (`cargo test --test classic_models -- --nocapture`).
+//! (`cargo test -p hamel-validation --test models -- classic_models:: --nocapture`).
 
 use hamel::models::{ChaplyginSleigh, KnifeEdge};
 use hamel::{DormandPrince, Error, HamelSystem, Integrator, Ode, Rk4, Simulation, Trajectory};

@@ -13,7 +13,7 @@
 //! the *location* part g_h(t_e)/ġ — how far from the root of the dense output Brent's method
 //! stopped (g_h at the recorded state) — and the *integration* part (g_h − g)(t_e)/ġ — the
 //! integrator's error in the state at t_e, carried into g. Each test prints both (`cargo test
-//! --test events -- --nocapture`). The bound asserted on every event time is
+//! -p hamel-validation --test models -- events:: --nocapture`). The bound asserted on every event time is
 //! `EVENT_TIME_TOL` = 1e-10 absolute, with Dormand–Prince at rtol = atol = 1e-12, whose state
 //! errors over these runs (a few turns) stay near 1e-11 (`classic_models.rs` bounds the knife
 //! edge's at 1e-8 and measures 1e-10 over longer runs); the location part with the default

@@ -5,7 +5,7 @@
 //! the macro and its engine.
 //!
 //! Each module below was a test binary of its own, and keeps its name in the tests' names:
-//! `cargo test -p hamel-validation --test models -- rolling::free_top`. (Why two binaries:
+//! `cargo test -p hamel-validation --test models -- rolling::a_free_top`. (Why two binaries:
 //! `engine.rs`.)
 //!
 //! The tests of a binary run in parallel threads of one process: none may change

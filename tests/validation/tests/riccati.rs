@@ -4,7 +4,8 @@
 //! scipy's answers come from `scripts/care_reference.py`, run on the cases built here when
 //! `python3` with scipy is on the machine; otherwise from `tests/data/care_reference.txt`,
 //! which that script wrote (rerun with `HAMEL_WRITE_CARE_REFERENCE=1 cargo test -p
-//! hamel-validation --test riccati` to renew it), after checking that its cases are these.
+//! hamel-validation --test models -- riccati::` to renew it), after checking that its cases
+//! are these.
 
 use std::io::Write as _;
 use std::process::{Command, Stdio};

@@ -1183,8 +1183,8 @@ fn euler_poinsot(top: &FreeTop, start: [f64; 3], t: f64) -> [f64; 3] {
 }
 
 /// How long the free top tumbles: 10³ s in a release build (`cargo test --release -p
-/// hamel-validation --test rolling -- free_top --nocapture`, about 0.2 s of run), 10² s in a
-/// debug build, where the thousand seconds take some 10 s of the suite's time.
+/// hamel-validation --test models -- rolling::a_free_top --nocapture`, about 0.2 s of run),
+/// 10² s in a debug build, where the thousand seconds take some 10 s of the suite's time.
 const TUMBLE: f64 = if cfg!(debug_assertions) {
     100.0
 } else {

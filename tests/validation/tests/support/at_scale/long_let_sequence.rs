@@ -1,5 +1,5 @@
-//! Regression test for a fixed engine bug, compiled as part of `tests/engine_corpus.rs`: the
-//! test binary is built with the dev profile's full debuginfo, the configuration that crashed,
+//! Regression test for a fixed engine bug, compiled into the `engine` test binary and checked
+//! by `engine_corpus.rs`: the test binary is built with the dev profile's full debuginfo, the configuration that crashed,
 //! so a regression fails the build of the suite itself.
 //!
 //! Every intermediate value is used twice, so the emitted code is ~3000 sequential `let`s in
