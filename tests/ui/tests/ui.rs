@@ -9,10 +9,12 @@
 //! and rustc reports each use of the model too (`uses_model_missing_hamel_system_on_impl`,
 //! `uses_model_struct_without_hamel_system`); the first error still names the mistake.
 //!
-//! After changing a message: `TRYBUILD=overwrite cargo test -p hamel-ui`, then read the diff.
+//! Each case is checked by rustc against the hamel cargo built for this test (`harness/`).
+//! After changing a message: `HAMEL_UI=overwrite cargo test -p hamel-ui`, then read the diff.
+
+mod harness;
 
 #[test]
 fn malformed_models_fail_to_build_with_messages_that_point_at_the_mistake() {
-    let t = trybuild::TestCases::new();
-    t.compile_fail("tests/ui/*.rs");
+    harness::check_compile_fail("tests/ui");
 }
