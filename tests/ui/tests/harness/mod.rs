@@ -89,6 +89,8 @@ struct Setup {
     /// The package directory (`tests/ui/`): the `.stderr` files name the cases relative to it.
     package_dir: PathBuf,
     workspace_dir: PathBuf,
+    /// The package directory relative to the workspace root, ending in `/` (`tests/ui/`).
+    package_prefix: String,
     cases_dir: String,
     out_dir: PathBuf,
 }
@@ -111,27 +113,20 @@ impl Setup {
         // Cargo runs tests with the toolchain that built them; `RUSTC` names it when set, and
         // rustup's proxy otherwise resolves `rustc` to the same toolchain.
         let rustc = std::env::var_os("RUSTC").map_or_else(|| PathBuf::from("rustc"), PathBuf::from);
+        let package = package_dir
+            .canonicalize()
+            .unwrap_or_else(|_| package_dir.clone());
+        let package_prefix = directory(package.strip_prefix(&workspace_dir).unwrap_or(&package));
         Setup {
             rustc,
             deps_dir,
             hamel_rlib,
             package_dir,
             workspace_dir,
+            package_prefix,
             cases_dir: cases_dir.to_owned(),
             out_dir,
         }
-    }
-
-    /// The package directory relative to the workspace root, ending in `/` (`tests/ui/`).
-    fn package_prefix(&self) -> String {
-        let package = self
-            .package_dir
-            .canonicalize()
-            .unwrap_or_else(|_| self.package_dir.clone());
-        let relative = package
-            .strip_prefix(&self.workspace_dir)
-            .unwrap_or(&package);
-        directory(relative)
     }
 
     /// The case files, relative to the package directory, sorted.
@@ -202,7 +197,7 @@ impl Setup {
         // own path is remapped to the package-relative one the `.stderr` files show.
         let output = Command::new(&self.rustc)
             .current_dir(&self.workspace_dir)
-            .arg(format!("--remap-path-prefix={}=", self.package_prefix()))
+            .arg(format!("--remap-path-prefix={}=", self.package_prefix))
             .args([
                 "--edition=2024",
                 "--crate-type=bin",
@@ -217,7 +212,7 @@ impl Setup {
             .arg(&dependency_dir)
             .arg("--extern")
             .arg(&extern_hamel)
-            .arg(format!("{}{case}", self.package_prefix()))
+            .arg(format!("{}{case}", self.package_prefix))
             .output()
             .map_err(|e| format!("cannot run {}: {e}", self.rustc.display()))?;
         let raw = String::from_utf8_lossy(&output.stderr);
@@ -268,10 +263,12 @@ fn diagnostics(json_lines: &str, context: &Context) -> Result<(bool, String), St
 
 /// The number (from 1) of the first line where two texts differ.
 fn first_difference(a: &str, b: &str) -> usize {
-    let mut a_lines = a.lines();
-    let mut b_lines = b.lines();
+    let (mut a, mut b) = (a.lines(), b.lines());
     let mut line = 1;
-    while a_lines.next() == b_lines.next() && line <= a.len() + b.len() {
+    while let (Some(x), Some(y)) = (a.next(), b.next()) {
+        if x != y {
+            break;
+        }
         line += 1;
     }
     line
