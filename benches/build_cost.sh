@@ -53,10 +53,10 @@ RS
 
 case "$command" in
 setup)
-    crate bodies "$root/src/models/whipple_bicycle.rs" "WhippleBicycle::default()"
+    crate bodies "$root/hamel-models/src/whipple_bicycle.rs" "WhippleBicycle::default()"
     crate hand "$root/tests/validation/tests/common/whipple_by_hand.rs" \
         "WhippleByHand::from(&hamel::models::WhippleBicycle::default())"
-    crate robot "$root/src/models/mobile_robot.rs" "MobileRobot::default()" 8
+    crate robot "$root/hamel-models/src/mobile_robot.rs" "MobileRobot::default()" 8
     for name in bodies hand robot; do
         (cd "$dir/$name" && CARGO_TARGET_DIR="$dir/target" cargo build --release --quiet)
     done

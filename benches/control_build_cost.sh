@@ -33,7 +33,7 @@ debug = "line-tables-only"
 TOML
     sed -e 's/^use crate::geometry::/use hamel::geometry::/' -e 's/^use crate::hamel_system;/use hamel::hamel_system;/' \
         -e 's/^\/\/!/\/\//' -e "s/^    control(order = 2),\$/    $control,/" \
-        "$root/src/models/whipple_bicycle.rs" > "$dir/$name/src/main.rs"
+        "$root/hamel-models/src/whipple_bicycle.rs" > "$dir/$name/src/main.rs"
     grep -q "^    $control,\$" "$dir/$name/src/main.rs" || {
         echo "the bicycle's control(..) line was not found" >&2
         exit 1

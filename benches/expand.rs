@@ -51,7 +51,7 @@ fn impls(source: &str) -> Vec<(String, TokenStream, TokenStream)> {
 /// The items `hamel::n_trailer!` defines for N trailers, as source: the macro's body with
 /// its metavariables substituted.
 fn n_trailer_source(n: usize) -> String {
-    let source = include_str!("../src/models/n_trailer.rs");
+    let source = include_str!("../hamel-models/src/n_trailer.rs");
     let start = source
         .find("=> {\n")
         .expect("the n_trailer! macro has one rule")
@@ -72,8 +72,10 @@ fn n_trailer_source(n: usize) -> String {
 /// The expansion cases: the catalogue's robot in both input forms, the Whipple bicycle, and
 /// the N-trailer for N = 24 and 64.
 fn cases() -> Vec<(String, TokenStream, TokenStream)> {
-    let mut cases = impls(include_str!("../src/models/mobile_robot.rs"));
-    cases.extend(impls(include_str!("../src/models/whipple_bicycle.rs")));
+    let mut cases = impls(include_str!("../hamel-models/src/mobile_robot.rs"));
+    cases.extend(impls(include_str!(
+        "../hamel-models/src/whipple_bicycle.rs"
+    )));
     for n in [24, 64] {
         cases.extend(impls(&n_trailer_source(n)));
     }

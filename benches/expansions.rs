@@ -1,7 +1,7 @@
 //! Writes what `#[hamel_system]` expands every model of the repository into, and what
 //! `#[differentiate]` expands every impl it marks into, one file per impl block, so that a
 //! change meant to leave the generated code alone can be checked: the catalogue
-//! (`src/models/`, the N-trailer for N = 1, 2, 24), the examples, the validation suite's
+//! (`hamel-models/src/`, the N-trailer for N = 1, 2, 24), the examples, the validation suite's
 //! models and differentiated functions, and every compile-fail case (whose expansion is the
 //! error fallback with its messages).
 //!
@@ -96,7 +96,8 @@ fn collect(items: &[syn::Item], found: &mut Vec<(Macro, String, TokenStream, Tok
 
 /// The items `hamel::n_trailer!` defines for N trailers, as source (as in `expand.rs`).
 fn n_trailer_source(root: &Path, n: usize) -> String {
-    let source = std::fs::read_to_string(root.join("src/models/n_trailer.rs")).unwrap_or_default();
+    let source =
+        std::fs::read_to_string(root.join("hamel-models/src/n_trailer.rs")).unwrap_or_default();
     let Some(start) = source.find("=> {\n").map(|s| s + "=> {\n".len()) else {
         return String::new();
     };

@@ -8,7 +8,7 @@
 //! cargo run --release --example mobile_robot -- --help
 //! ```
 //!
-//! The model is `hamel::models::MobileRobot` (src/models/mobile_robot.rs): kinetic and
+//! The model is `hamel::models::MobileRobot` (hamel-models/src/mobile_robot.rs): kinetic and
 //! potential energy of the body and the wheels, two rolling constraints, three
 //! quasi-velocities, the motor torques. It prints a summary and writes one CSV row per
 //! sample, `t,x,y,alpha,phi1,phi2,w3,w4,w5,tau1,tau2,energy,energy_balance`, and (feature

@@ -84,6 +84,36 @@ pub use hamel_macros::{
 };
 pub use hamel_runtime::*;
 
+/// A tractor with three trailers:
+///
+/// ```
+/// hamel::n_trailer!(
+///     /// A tractor with three trailers.
+///     pub Train3, trailers = 3, axles = 4
+/// );
+///
+/// use hamel::prelude::*;
+/// assert_eq!((Train3::N, Train3::P, Train3::TRAILERS), (6, 4, 3));
+/// assert_eq!(Train3::COORDINATES, ["x", "y", "theta0", "theta1", "theta2", "theta3"]);
+/// assert_eq!(Train3::SPEEDS, ["v", "omega"]);
+/// assert_eq!(Train3::INPUTS, ["drive", "steer"]);
+/// assert_eq!(Train3::THETA + 3, Train3::THETA3);
+/// assert_eq!(&Train3::NAMES[..4], ["m0", "m1", "m2", "m3"]);
+/// let mut train = Train3::default();
+/// train.set("d2", 1.5)?;
+/// assert_eq!(train.d[2], 1.5);
+/// # Ok::<(), hamel::Error>(())
+/// ```
+///
+/// Numbers that do not match are one compile error:
+///
+/// ```compile_fail,E0080
+/// // error: evaluation panicked: n_trailer!: `axles` must be `trailers + 1`
+/// hamel::n_trailer!(pub Train3, trailers = 3, axles = 3);
+/// ```
+#[doc(inline)]
+pub use hamel_models::n_trailer;
+
 /// The time derivative along the motion of an expression of the coordinates (and the time),
 /// d/dt = Σ q̇ⱼ ∂/∂qⱼ + ∂/∂t: `rate!(contact.x)`. The macro computes it, in the body of a
 /// role of a `#[hamel_system]` model that is read with the velocities `qd` (`#[constraints]`,

@@ -2,7 +2,7 @@
 //! quantity crosses a value (events) or the exact state at a time.
 //!
 //! * The knife edge on a level plane (`KnifeEdge` with `incline = 0`). The catalogue's model
-//!   (`src/models/knife_edge.rs`) has q = (x, y, φ), speeds (v, ω) with ẋ = v cos φ,
+//!   (`hamel-models/src/knife_edge.rs`) has q = (x, y, φ), speeds (v, ω) with ẋ = v cos φ,
 //!   ẏ = v sin φ, φ̇ = ω. With no forces the Lagrange–d'Alembert equations are J φ̈ = 0 and
 //!   m v̇ = 0 (Neimark & Fufaev, *Dynamics of Nonholonomic Systems*; Bloch, *Nonholonomic
 //!   Mechanics and Control*, §1.6, with the plane's slope set to zero; `classic_models.rs`

@@ -45,7 +45,7 @@ impl<T: Real> V<T> {
 }
 
 /// L = T − V of the robot from its bodies' motion (see the doc comments of
-/// `src/models/mobile_robot.rs` for the geometry).
+/// `hamel-models/src/mobile_robot.rs` for the geometry).
 pub fn lagrangian<T: Real>(p: &MobileRobot, q: &[T; 5], qd: &[T; 5]) -> T {
     let [_, _, alpha, phi1, phi2] = *q;
     let [xd, yd, alphad, phi1d, phi2d] = *qd;

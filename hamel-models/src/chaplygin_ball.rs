@@ -15,8 +15,8 @@
 //! that turns mostly about an axis near the horizontal (a rolling ball, for example) keeps
 //! far from it.
 
-use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 use crate::hamel_system;
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]

@@ -16,8 +16,8 @@
 //! spins on its rim at Ω² = 4 g / (r cos φ), Euler's disk (Moffatt, Nature 404, 2000). The
 //! validation suite checks each.
 
-use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 use crate::hamel_system;
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]

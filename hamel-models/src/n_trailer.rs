@@ -1,5 +1,5 @@
 //! A tractor pulling N trailers with on-axle hitching, written once for every N: the macro
-//! [`n_trailer!`](crate::n_trailer) defines the model for the number of trailers it is
+//! [`n_trailer!`](crate::n_trailer!) defines the model for the number of trailers it is
 //! given, and the catalogue instantiates it for N = 1, 2, 8 and 24.
 //!
 //! The tractor is a body on one wheel axle, its centre P₀ = (x, y), heading θ₀. Trailer i
@@ -32,45 +32,12 @@
 //! larger and slower: a release build of this crate took about four times as long (18 s
 //! against 4 to 5 s), and a right-hand side 1.8 µs instead of 1.4 µs (on one machine).
 //!
-//! ```
-//! use hamel::models::NTrailer2;
-//! use hamel::prelude::*;
-//!
-//! // Turning, with the trailers not yet in line: x, y, θ₀, θ₁, θ₂; v, ω.
-//! let train = NTrailer2::default();
-//! let x0 = train.state_from_speeds(0.0, &[0.0, 0.0, 0.3, 0.1, -0.2], &[1.0, 0.4])?;
-//! let run = Simulation::new(&train, x0)
-//!     .end_time(3.0)
-//!     .run_constant(&DormandPrince::new(1e-10, 1e-12), [0.0, 0.0])?;
-//! assert_eq!(NTrailer2::STATE[2..5], ["theta0", "theta1", "theta2"]);
-//! assert_eq!(run.column("theta2").unwrap().len(), run.len());
-//! // No input acts: the energy is conserved, and every axle keeps rolling.
-//! assert!(run.summary().relative_energy_drift < 1e-8);
-//! assert!(run.summary().max_constraint_residual < 1e-12);
-//! # Ok::<(), hamel::Error>(())
-//! ```
+//! The module `hamel::models` runs one of them, and `hamel::n_trailer!` defines another.
 
 /// Defines the model of a tractor pulling `trailers` trailers with on-axle hitching (see
-/// [`crate::models::n_trailer`]): a parameter struct and its `#[hamel_system]` impl.
+/// the module [`n_trailer`](mod@crate::n_trailer)): a parameter struct and its
+/// `#[hamel_system]` impl.
 ///
-/// ```
-/// hamel::n_trailer!(
-///     /// A tractor with three trailers.
-///     pub Train3, trailers = 3, axles = 4
-/// );
-///
-/// use hamel::prelude::*;
-/// assert_eq!((Train3::N, Train3::P, Train3::TRAILERS), (6, 4, 3));
-/// assert_eq!(Train3::COORDINATES, ["x", "y", "theta0", "theta1", "theta2", "theta3"]);
-/// assert_eq!(Train3::SPEEDS, ["v", "omega"]);
-/// assert_eq!(Train3::INPUTS, ["drive", "steer"]);
-/// assert_eq!(Train3::THETA + 3, Train3::THETA3);
-/// assert_eq!(&Train3::NAMES[..4], ["m0", "m1", "m2", "m3"]);
-/// let mut train = Train3::default();
-/// train.set("d2", 1.5)?;
-/// assert_eq!(train.d[2], 1.5);
-/// # Ok::<(), hamel::Error>(())
-/// ```
 ///
 /// The arguments are the struct's attributes (doc comments, further derives) and visibility,
 /// its name, the number N of trailers and the number N + 1 of axles, both as integer
@@ -79,12 +46,7 @@
 /// a parameter array's length must be an integer literal, which `macro_rules!` cannot compute
 /// from N. The bodies are written in N + 1 alone (`for i in 1..axles`, `q: &[f64; axles + 2]`)
 /// and `trailers` only names N, so that numbers that do not match are one error, a
-/// compile-time assertion's:
-///
-/// ```compile_fail,E0080
-/// // error: evaluation panicked: n_trailer!: `axles` must be `trailers + 1`
-/// hamel::n_trailer!(pub Train3, trailers = 3, axles = 3);
-/// ```
+/// compile-time assertion's, which says that `axles` must be `trailers + 1`.
 ///
 /// The model:
 ///

@@ -7,7 +7,7 @@
 //! With no forces the speeds θ̇ = ω_θ and φ̇ = ω_φ are constant and the contact point runs
 //! round a circle of radius R ω_θ/ω_φ (Bloch §1.4); the constraint forces, the multipliers of
 //! the rows as written here, are λ₁ = m ẍ = −m R ω_θ ω_φ sin φ and λ₂ = m ÿ =
-//! m R ω_θ ω_φ cos φ. The model is reversible ([`crate::HamelSystem::REVERSIBLE`]): a closed
+//! m R ω_θ ω_φ cos φ. The model is reversible ([`hamel::HamelSystem::REVERSIBLE`]): a closed
 //! form for every integrator's long runs.
 
 use crate::hamel_system;

@@ -28,8 +28,8 @@
 //! weave and capsize speeds; the validation suite checks all of them, from this nonlinear
 //! model.
 
-use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3, disk_contact};
 use crate::hamel_system;
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Vector3, disk_contact};
 
 /// The benchmark's parameters (the paper's Table 1).
 #[hamel_system]

@@ -6,7 +6,7 @@
 //! The constraint's row (1, 0, y) has no ẏ, so y is a free harmonic oscillator, ÿ = −y, and
 //! besides the energy H two more quantities are invariant: H_y = ½(y² + ẏ²)
 //! ([`ContactOscillator::y_energy`]) and H − H_y. The model is reversible
-//! ([`crate::HamelSystem::REVERSIBLE`]), so a symmetric integrator keeps all three bounded.
+//! ([`hamel::HamelSystem::REVERSIBLE`]), so a symmetric integrator keeps all three bounded.
 
 use crate::hamel_system;
 
@@ -60,8 +60,8 @@ impl ContactOscillator {
     /// The start of the test suite's and the benchmarks' runs, with McLachlan and
     /// Perlmutter's energies H₀ = 1.5 and H_y = 0.5: y = 0, ẏ = 1, x = z = 0.5 with ẋ = −y ż
     /// = 0, and ż > 0 taking the rest of the energy.
-    pub fn start(&self) -> Result<[f64; 5], crate::Error> {
-        use crate::HamelSystem;
+    pub fn start(&self) -> Result<[f64; 5], hamel::Error> {
+        use hamel::HamelSystem;
         let (x, z) = (0.5, 0.5);
         let potential = 0.5 * (x * x + z * z) + 0.5 * self.epsilon * x * x * z * z;
         let vz = (2.0 * (1.0 - potential)).sqrt();

@@ -13,8 +13,8 @@
 //!
 //! Both have the same parameters and give the same motion (the test suite checks it).
 
-use crate::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
 use crate::hamel_system;
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
 
 /// Parameters of the mobile robot. Defaults: a 10 kg body on 1 kg wheels of 0.1 m radius.
 #[hamel_system]

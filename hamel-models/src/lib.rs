@@ -2,6 +2,14 @@
 //! suite validates against. Each is an ordinary `#[hamel_system]` model; read its source.
 //! The N-trailer is written once for every N, as a `macro_rules!` ([`crate::n_trailer!`])
 //! that the catalogue instantiates for a few N.
+//!
+//! Use it through `hamel`, as `hamel::models` (and `hamel::n_trailer!`): the examples are
+//! there. It is a crate of its own only so that a build compiles it once.
+
+/// The attribute the catalogue's models are written with, and that `n_trailer!` expands to
+/// (as `$crate::hamel_system`, since the crate it is used in may not name `hamel_macros`).
+#[doc(hidden)]
+pub use hamel_macros::hamel_system;
 
 pub mod ball_on_turntable;
 pub mod chaplygin_ball;

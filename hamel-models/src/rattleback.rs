@@ -17,8 +17,8 @@
 //! linearization has eigenvalues whose real parts change sign with the direction of spin:
 //! the spin is unstable one way and decays the other, which is the reversal.
 
-use crate::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 use crate::hamel_system;
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Vector3};
 
 #[hamel_system]
 #[derive(Clone, Debug, PartialEq)]
