@@ -32,7 +32,7 @@ fn malformed_models_fail_to_build_with_messages_that_point_at_the_mistake() {
 /// sends the derivative methods `main` does not call (`f_hessian`, …, the longest emitted
 /// functions) through code generation too: about a quarter more CPU time.
 #[test]
-#[ignore = "heavy (about 22 s of CPU: full debuginfo for ~85,000 lines of emitted code); \
+#[ignore = "heavy (22–28 s of CPU: full debuginfo for ~85,000 lines of emitted code); \
             .ci/run runs it: cargo test -p hamel-ui -- --ignored"]
 fn emitted_code_at_scale_compiles_with_full_debuginfo_and_computes_its_function() {
     let flags = ["-Cdebuginfo=2", "-Copt-level=0", "-Clink-dead-code"];
