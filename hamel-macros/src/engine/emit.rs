@@ -13,8 +13,9 @@ use std::collections::HashMap;
 
 /// Deepest nesting of an inlined expression before it is bound to a `let` instead.
 const MAX_INLINE_DEPTH: usize = 24;
-/// Above this many `let`s in a row they are bound in blocks: with debug info, rustc's code
-/// generation overflows its stack on a few thousand sequential `let`s in one function.
+/// Above this many `let`s in a row they are bound in blocks: with full debug info, rustc's
+/// code generation overflows its stack on a few thousand sequential `let`s in one function
+/// (`tests/ui/tests/at_scale/long_let_sequence.rs` is the regression test).
 const MAX_FLAT_LETS: usize = 512;
 /// Size of those blocks.
 const LETS_PER_BLOCK: usize = 64;

@@ -23,10 +23,10 @@ mod common {
 }
 
 /// Machinery of the engine corpus (`engine_corpus.rs`): an independent AD to compare
-/// against, flattening of argument and result types, and the comparison itself. `at_scale/`
-/// holds reproductions of engine bugs that once crashed rustc, compiled into this binary.
+/// against, flattening of argument and result types, and the comparison itself. (Emitted code
+/// at a scale that once crashed rustc is not compiled into this binary: the compile-fail
+/// package compiles it with full debuginfo, `tests/ui/tests/at_scale/`.)
 mod support {
-    pub mod at_scale;
     pub mod dual;
     pub mod harness;
     pub mod shapes;

@@ -1065,21 +1065,3 @@ fn robot_matches_the_worked_example() {
     }
     assert!(report.failures.is_empty(), "{:#?}", report.failures);
 }
-
-/// Emitted code at scale: ~3000 sequential shared values (bound in blocks, since rustc with
-/// debug info overflows its stack on a few thousand `let`s in a row), and a chain of 1000
-/// single-use values (bound once nested too deep, since rustc's parser overflows on
-/// expressions thousands of levels deep). Both once crashed the compiler. They are compiled
-/// into this test binary, with the dev profile's full debuginfo (the configuration that
-/// crashed): a regression fails the suite's build, and the values must equal rustc's own.
-use crate::support::at_scale::deep_expression;
-use crate::support::at_scale::long_let_sequence;
-
-#[test]
-fn emitted_code_compiles_at_scale() {
-    let x = 0.1;
-    let deep = deep_expression::Model;
-    assert_eq!(deep.f_generic::<f64>(x), deep.f(x));
-    let long = long_let_sequence::Model;
-    assert_eq!(long.f_generic::<f64>(x), long.f(x));
-}

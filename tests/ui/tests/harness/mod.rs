@@ -1,5 +1,6 @@
 //! Compiles each case file with rustc against the `hamel` library cargo already built for this
-//! test, and compares the errors with the case's `.stderr`.
+//! test, and compares the errors with the case's `.stderr`. (`run_pass.rs` compiles programs
+//! the same way, links and runs them.)
 //!
 //! Why not trybuild: trybuild checks its cases in a cargo project of its own, with a target
 //! directory of its own, so a fresh `cargo test --workspace` built every dependency of hamel a
@@ -9,6 +10,9 @@
 //! so the `.stderr` files keep their form.
 
 mod normalize;
+mod run_pass;
+
+pub use run_pass::check_run_pass;
 
 use normalize::Context;
 use serde_json::Value;
@@ -26,9 +30,9 @@ const CASE_CRATE: &str = "hamel_ui_case";
 /// The variable that rewrites the `.stderr` files from what rustc says now.
 pub const OVERWRITE_VARIABLE: &str = "HAMEL_UI";
 
-/// What a case gave, against what its `.stderr` says.
+/// What a case gave: against what its `.stderr` says, or whether its program ran.
 enum Outcome {
-    Matched,
+    Passed,
     Overwritten,
     Failed(String),
 }
@@ -38,32 +42,25 @@ enum Outcome {
 pub fn check_compile_fail(cases_dir: &str) {
     let setup = Setup::find(cases_dir);
     let overwrite = std::env::var(OVERWRITE_VARIABLE).is_ok_and(|v| v == "overwrite");
-    let cases = setup.cases();
-    assert!(!cases.is_empty(), "no case files in {cases_dir}");
-    let next = AtomicUsize::new(0);
-    let outcomes = Mutex::new(Vec::new());
-    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
-    std::thread::scope(|scope| {
-        for _ in 0..workers.min(cases.len()) {
-            scope.spawn(|| {
-                while let Some(case) = cases.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    let outcome = setup.check(case, overwrite);
-                    outcomes.lock().unwrap().push((case.clone(), outcome));
-                }
-            });
-        }
-    });
-    let mut outcomes = outcomes.into_inner().unwrap();
-    outcomes.sort_by(|a, b| a.0.cmp(&b.0));
-    report(&outcomes, cases.len());
+    let outcomes = setup.each_case(|case| setup.check(case, overwrite));
+    report(
+        &outcomes,
+        "compile-fail cases did not give their .stderr",
+        &format!(
+            "If the new messages are right: {OVERWRITE_VARIABLE}=overwrite cargo test -p hamel-ui, \
+             then read the diff."
+        ),
+    );
 }
 
-fn report(outcomes: &[(String, Outcome)], total: usize) {
+/// Prints each case's outcome; panics with every failure at once, `what` (after "N of M")
+/// saying what went wrong and `advice` what to do about it.
+fn report(outcomes: &[(String, Outcome)], what: &str, advice: &str) {
     let mut failures = String::new();
     let mut failed = 0;
     for (case, outcome) in outcomes {
         match outcome {
-            Outcome::Matched => eprintln!("{case} ... ok"),
+            Outcome::Passed => eprintln!("{case} ... ok"),
             Outcome::Overwritten => eprintln!("{case} ... wrote its .stderr"),
             Outcome::Failed(why) => {
                 eprintln!("{case} ... FAILED");
@@ -72,11 +69,10 @@ fn report(outcomes: &[(String, Outcome)], total: usize) {
             }
         }
     }
+    let total = outcomes.len();
     assert!(
         failed == 0,
-        "{failed} of {total} compile-fail cases did not give their .stderr:\n{failures}\n\
-         If the new messages are right: {OVERWRITE_VARIABLE}=overwrite cargo test -p hamel-ui, \
-         then read the diff."
+        "{failed} of {total} {what}:\n{failures}\n{advice}"
     );
 }
 
@@ -129,6 +125,28 @@ impl Setup {
         }
     }
 
+    /// Runs `check` on every case file in parallel; the outcomes sorted by case.
+    fn each_case(&self, check: impl Fn(&str) -> Outcome + Sync) -> Vec<(String, Outcome)> {
+        let cases = self.cases();
+        assert!(!cases.is_empty(), "no case files in {}", self.cases_dir);
+        let next = AtomicUsize::new(0);
+        let outcomes = Mutex::new(Vec::new());
+        let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+        std::thread::scope(|scope| {
+            for _ in 0..workers.min(cases.len()) {
+                scope.spawn(|| {
+                    while let Some(case) = cases.get(next.fetch_add(1, Ordering::Relaxed)) {
+                        let outcome = check(case);
+                        outcomes.lock().unwrap().push((case.clone(), outcome));
+                    }
+                });
+            }
+        });
+        let mut outcomes = outcomes.into_inner().unwrap();
+        outcomes.sort_by(|a, b| a.0.cmp(&b.0));
+        outcomes
+    }
+
     /// The case files, relative to the package directory, sorted.
     fn cases(&self) -> Vec<String> {
         let dir = self.package_dir.join(&self.cases_dir);
@@ -157,7 +175,7 @@ impl Setup {
         let expected_path = self.package_dir.join(case).with_extension("stderr");
         let expected = fs::read_to_string(&expected_path).ok();
         if expected.as_deref() == Some(stderr.as_str()) {
-            return Outcome::Matched;
+            return Outcome::Passed;
         }
         if overwrite {
             return match fs::write(&expected_path, &stderr) {
@@ -182,46 +200,24 @@ impl Setup {
     /// Checks one case as `cargo check` would; returns whether it failed to compile and its
     /// normalized diagnostics.
     fn compile(&self, case: &str) -> Result<(bool, String), String> {
-        let mut dependency_dir = std::ffi::OsString::from("dependency=");
-        dependency_dir.push(&self.deps_dir);
-        let mut extern_hamel = std::ffi::OsString::from("hamel=");
-        extern_hamel.push(&self.hamel_rlib);
         let out_file = self
             .out_dir
             .join(Path::new(case).file_stem().unwrap_or_default())
             .with_extension("rmeta");
         // The flags trybuild gave rustc, so that the messages are the ones users see under
-        // cargo: dead code is not warned about, and notes are as wide as in a terminal.
-        // rustc runs in the workspace root: cargo compiled hamel's crates from paths relative
-        // to it, and rustc finds their sources from there to quote them in notes. The case's
-        // own path is remapped to the package-relative one the `.stderr` files show.
-        let output = Command::new(&self.rustc)
-            .current_dir(&self.workspace_dir)
+        // cargo: dead code is not warned about, and notes are as wide as in a terminal. The
+        // case's own path is remapped to the package-relative one the `.stderr` files show.
+        let output = self
+            .rustc(case, CASE_CRATE)
             .arg(format!("--remap-path-prefix={}=", self.package_prefix))
-            .args([
-                "--edition=2024",
-                "--crate-type=bin",
-                "--crate-name",
-                CASE_CRATE,
-            ])
             .args(["--emit=metadata", "--error-format=json", "--color=never"])
             .args(["--diagnostic-width=140", "--verbose", "-A", "dead_code"])
             .arg("-o")
             .arg(&out_file)
-            .arg("-L")
-            .arg(&dependency_dir)
-            .arg("--extern")
-            .arg(&extern_hamel)
-            .arg(format!("{}{case}", self.package_prefix))
             .output()
             .map_err(|e| format!("cannot run {}: {e}", self.rustc.display()))?;
         let raw = String::from_utf8_lossy(&output.stderr);
-        if raw.contains("compiled by an incompatible version of rustc") {
-            return Err(format!(
-                "{} is not the rustc that cargo built hamel with; set RUSTC to that one",
-                self.rustc.display()
-            ));
-        }
+        self.check_toolchain(&raw)?;
         let context = Context {
             krate: CASE_CRATE,
             source_dir: &directory(&self.package_dir),
@@ -230,6 +226,44 @@ impl Setup {
         };
         let (has_error, stderr) = diagnostics(&raw, &context)?;
         Ok((has_error || !output.status.success(), stderr))
+    }
+
+    /// rustc set to compile `case` as a binary crate named `crate_name` against hamel's rlib;
+    /// the caller adds what to emit and where.
+    ///
+    /// rustc runs in the workspace root: cargo compiled hamel's crates from paths relative to
+    /// it, and rustc finds their sources from there to quote them in notes.
+    fn rustc(&self, case: &str, crate_name: &str) -> Command {
+        let mut dependency_dir = std::ffi::OsString::from("dependency=");
+        dependency_dir.push(&self.deps_dir);
+        let mut extern_hamel = std::ffi::OsString::from("hamel=");
+        extern_hamel.push(&self.hamel_rlib);
+        let mut rustc = Command::new(&self.rustc);
+        rustc
+            .current_dir(&self.workspace_dir)
+            .args([
+                "--edition=2024",
+                "--crate-type=bin",
+                "--crate-name",
+                crate_name,
+            ])
+            .arg("-L")
+            .arg(&dependency_dir)
+            .arg("--extern")
+            .arg(&extern_hamel)
+            .arg(format!("{}{case}", self.package_prefix));
+        rustc
+    }
+
+    /// An `Err` that says what to do when rustc (by its `stderr`) could not read hamel's rlib.
+    fn check_toolchain(&self, stderr: &str) -> Result<(), String> {
+        if stderr.contains("compiled by an incompatible version of rustc") {
+            return Err(format!(
+                "{} is not the rustc that cargo built hamel with; set RUSTC to that one",
+                self.rustc.display()
+            ));
+        }
+        Ok(())
     }
 }
 
