@@ -3,7 +3,7 @@
 //! angular velocity derived in ordinary Rust (v = v_O + ω × r, ½ Ωᵀ I Ω in body axes), the
 //! rolling constraints from the wheels' contact points. It is the reference the catalogue's
 //! `hamel::models::WhippleBicycle`, stated from its bodies and contacts, is checked
-//! against (`tests/geometry.rs`), and benchmarked against (`benches/speed.rs`).
+//! against (`tests/bicycle.rs`), and benchmarked against (`benches/speed.rs`).
 //!
 //! Coordinates, speeds, inputs and constraints are the catalogue model's, in the same order.
 
