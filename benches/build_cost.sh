@@ -35,7 +35,7 @@ hamel = { path = "$root", default-features = false }
 [profile.release]
 debug = false
 TOML
-    sed -e 's/^use crate::geometry::/use hamel::geometry::/' -e 's/^use crate::hamel_system;/use hamel::hamel_system;/' \
+    sed -e 's/^use crate::hamel_system;/use hamel::hamel_system;/' \
         -e 's/^\/\/!/\/\//' "$source" > "$dir/$name/src/main.rs"
     cat >> "$dir/$name/src/main.rs" <<RS
 

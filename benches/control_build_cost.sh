@@ -31,7 +31,7 @@ hamel = { path = "$root", default-features = false }
 [profile.dev]
 debug = "line-tables-only"
 TOML
-    sed -e 's/^use crate::geometry::/use hamel::geometry::/' -e 's/^use crate::hamel_system;/use hamel::hamel_system;/' \
+    sed -e 's/^use crate::hamel_system;/use hamel::hamel_system;/' \
         -e 's/^\/\/!/\/\//' -e "s/^    control(order = 2),\$/    $control,/" \
         "$root/hamel-models/src/whipple_bicycle.rs" > "$dir/$name/src/main.rs"
     grep -q "^    $control,\$" "$dir/$name/src/main.rs" || {
