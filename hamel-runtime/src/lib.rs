@@ -46,7 +46,10 @@ pub use jacobian::{JacobianDual, jacobian_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
 /// The linear algebra crate of linearizations and controller design (`DMatrix` weights for
-/// [`control::Lqr`]), so that a program uses the same version.
+/// [`control::Lqr`]), so that a program uses the same version. hamel builds it with its `alloc`
+/// and `libm` features and without `std`, which only adds SIMD types and a faster product of
+/// large matrices; a program that depends on nalgebra 0.35 with `std` gets the same types, with
+/// `std`.
 pub use nalgebra;
 pub use named::NamedValues;
 pub use opcount::OpCounts;
