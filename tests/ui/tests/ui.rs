@@ -27,8 +27,8 @@ fn malformed_models_fail_to_build_with_messages_that_point_at_the_mistake() {
 /// stack overflow: in LLVM's debuginfo for ~3000 sequential `let`s, in the parser for an
 /// expression 1000 deep), and a `main` that checks the emitted `f_generic::<f64>` against `f`
 /// bit for bit. rustc compiles each with full debuginfo at opt-level 0, the configuration
-/// that crashed (the dev profile's `line-tables-only` or no debuginfo does not overflow on
-/// the `let`s), generates its code and links it; the program must then run. `link-dead-code`
+/// that crashed (line tables only, or no debuginfo as in the dev profile, do not overflow
+/// on the `let`s), generates its code and links it; the program must then run. `link-dead-code`
 /// sends the derivative methods `main` does not call (`f_hessian`, …, the longest emitted
 /// functions) through code generation too: about a quarter more CPU time.
 #[test]
