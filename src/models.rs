@@ -23,6 +23,8 @@
 //! # Ok::<(), hamel::Error>(())
 //! ```
 
+// Named one by one, not by a glob: a glob would also list the catalogue crate's hidden
+// `hamel_system` re-export in these docs. A model added to the catalogue is added here too.
 #[doc(inline)]
 pub use hamel_models::{
     BallOnTurntable, ChaplyginBall, ChaplyginSleigh, ContactOscillator, KnifeEdge, MobileRobot,
