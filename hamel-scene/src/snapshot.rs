@@ -7,7 +7,7 @@
 use super::equivalent::short;
 use super::error::{ErrorKind, SceneError};
 use super::infer::{owner, rolling_shapes};
-use crate::geometry::{Body, Contact, Mechanism, Shape, Surface, Vector3};
+use hamel_runtime::geometry::{Body, Contact, Mechanism, Shape, Surface, Vector3};
 
 /// A model at one configuration.
 #[derive(Clone, Debug)]

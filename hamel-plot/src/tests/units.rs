@@ -3,10 +3,10 @@
 
 use super::super::*;
 use super::texts;
-use crate::models::{MobileRobot, WhippleBicycle};
-use crate::{DormandPrince, HamelSystem, Simulation};
+use hamel::models::{MobileRobot, WhippleBicycle};
+use hamel::{DormandPrince, HamelSystem, Simulation};
 
-fn robot_run() -> crate::Trajectory {
+fn robot_run() -> hamel::Trajectory {
     let robot = MobileRobot::default();
     let x0 = robot
         .state_from_speeds(0.0, &[0.0, 0.0, 0.3, 0.0, 0.0], &[0.0, 0.5, 0.4])

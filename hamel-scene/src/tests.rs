@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use base64::Engine as _;
 
 use super::*;
-use crate::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Shape, Surface, Vector3};
-use crate::models::KnifeEdge;
-use crate::{DormandPrince, HamelSystem, Simulation, Trajectory, hamel_system};
+use hamel::geometry::{Body, Contact, Inertia, Mechanism, Rotation3, Shape, Surface, Vector3};
+use hamel::models::KnifeEdge;
+use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory, hamel_system};
 
 /// A fresh directory for one test's files.
 fn scratch(test: &str) -> PathBuf {
@@ -345,7 +345,7 @@ fn sixty_per_second<M: HamelSystem>(model: &M, x0: M::State, seconds: f64) -> Tr
         .project_holonomic(true)
         .run_constant(
             &DormandPrince::new(1e-7, 1e-9),
-            <M::Inputs as crate::Vector>::zeros(),
+            <M::Inputs as hamel::Vector>::zeros(),
         )
         .unwrap()
 }
@@ -353,7 +353,7 @@ fn sixty_per_second<M: HamelSystem>(model: &M, x0: M::State, seconds: f64) -> Tr
 /// Every catalogue model with bodies, in a run of `seconds` at 60 samples a second: its
 /// name and its scene page.
 fn catalogue_pages(seconds: f64) -> Vec<(&'static str, String)> {
-    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    use hamel::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
     let page = |html: Result<String, SceneError>| html.unwrap();
     let bike = WhippleBicycle::default();
     let ride = bike.state_builder().set("rear_wheel_rate", -4.6 / bike.r_r);
@@ -423,10 +423,10 @@ fn every_catalogue_scene_of_ten_seconds_at_sixty_frames_is_under_two_megabytes()
 
 #[test]
 fn catalogue_bodies_are_drawn_as_what_they_are() {
-    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    use hamel::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
     fn solids<M: Mechanism>(model: &M) -> Vec<look::Drawn> {
         let q = model
-            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .assemble(0.0, &<M::Coordinates as hamel::Vector>::zeros())
             .unwrap();
         let snapshot = snapshot::Snapshot::of(model, 0.0, &q).unwrap();
         look::looks(&snapshot, &[])
@@ -472,10 +472,10 @@ fn catalogue_bodies_are_drawn_as_what_they_are() {
 /// The catalogue's models with bodies, each in its reference configuration (q = 0, the
 /// dependent coordinates assembled): its name in the guide and its picture, as drawn now.
 fn catalogue_pictures() -> Vec<(&'static str, String)> {
-    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    use hamel::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
     fn svg<M: Mechanism>(model: &M) -> String {
         let q = model
-            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .assemble(0.0, &<M::Coordinates as hamel::Vector>::zeros())
             .unwrap();
         Picture::new(model, 0.0, &q)
             .unwrap()
@@ -504,7 +504,7 @@ fn catalogue_pictures() -> Vec<(&'static str, String)> {
 /// the guide instead of comparing (then read the diff).
 #[test]
 fn the_guide_shows_each_catalogue_model_as_it_is_drawn_now() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/docs/geometry.md");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../src/docs/geometry.md");
     let mut guide = std::fs::read_to_string(path).unwrap();
     let update = std::env::var_os("UPDATE_PICTURES").is_some();
     for (name, svg) in catalogue_pictures() {

@@ -4,8 +4,8 @@ use core::fmt;
 
 /// Why a scene or a picture could not be made or written: the kind of failure, and the file
 /// concerned when there is one. Nothing is written when one is returned (a file is written
-/// whole or not at all). Converts into [`crate::Error::Io`], so `?` works in a function
-/// returning `hamel::Error`.
+/// whole or not at all). Converts into [`hamel::Error::Io`](hamel_runtime::Error::Io), so `?`
+/// works in a function returning `hamel::Error`.
 ///
 /// ```
 /// use hamel::scene::{ErrorKind, SceneError};
@@ -52,8 +52,8 @@ pub enum ErrorKind {
     /// The model states no bodies at run time.
     NoBodies,
     /// The model gave a different number of bodies than it names (a hand-written
-    /// [`crate::geometry::Mechanism`] whose `bodies_at` and `BODIES` disagree), or a
-    /// different number of contacts at different times.
+    /// [`hamel::geometry::Mechanism`](hamel_runtime::geometry::Mechanism) whose `bodies_at`
+    /// and `BODIES` disagree), or a different number of contacts at different times.
     Count {
         /// `"bodies"` or `"contacts"`.
         what: &'static str,
@@ -85,7 +85,7 @@ pub enum ErrorKind {
         /// The operating system's message.
         message: String,
     },
-    /// Drawing a picture failed (see [`crate::plot::PlotError`]).
+    /// Drawing a picture failed (see `hamel::plot::PlotError`).
     Drawing {
         /// The drawing's message.
         message: String,
@@ -170,11 +170,12 @@ impl fmt::Display for ErrorKind {
 
 impl std::error::Error for SceneError {}
 
-/// Every scene error is a failure to produce a file, so it becomes [`crate::Error::Io`]: the
-/// runtime's error type cannot gain variants from this crate.
-impl From<SceneError> for crate::Error {
+/// Every scene error is a failure to produce a file, so it becomes
+/// [`hamel::Error::Io`](hamel_runtime::Error::Io): the runtime's error type cannot gain variants
+/// from this crate.
+impl From<SceneError> for hamel_runtime::Error {
     fn from(e: SceneError) -> Self {
-        crate::Error::Io {
+        hamel_runtime::Error::Io {
             path: e.path.unwrap_or_else(|| "the scene".to_string()),
             message: e.kind.to_string(),
         }

@@ -12,13 +12,13 @@ use super::snapshot::Snapshot;
 use super::solid::Solid;
 use super::view::Directions;
 use super::write::write_whole;
-use crate::Trajectory;
-use crate::geometry::Mechanism;
+use hamel_runtime::Trajectory;
+use hamel_runtime::geometry::Mechanism;
 
 /// A trajectory of a model stated from its bodies, as a 3D animation in one HTML file that
 /// opens from disk in any browser, with no network: three.js is embedded in it.
 ///
-/// Each body is drawn from what the model says: as its [`Shape`](crate::geometry::Shape) if
+/// Each body is drawn from what the model says: as its [`Shape`](hamel_runtime::geometry::Shape) if
 /// it has one, a wheel as the disk its contact runs round, a ball as its sphere, any other
 /// body as the uniform ellipsoid of its mass and principal moments of inertia (so a wrong
 /// inertia looks wrong), each with its axes as a triad (x red, y green, z blue);
@@ -103,9 +103,9 @@ impl<'a> Scene<'a> {
     }
 
     /// Draws the body called `body` (one of [`Mechanism::BODIES`]) as `shape`: one of the
-    /// model's [`Shape`](crate::geometry::Shape)s or another [`Solid`]. A name that is not a
-    /// body's, or a solid with a size that is not finite and positive, is an error when the
-    /// page is made.
+    /// model's [`Shape`](hamel_runtime::geometry::Shape)s or another [`Solid`]. A name that is
+    /// not a body's, or a solid with a size that is not finite and positive, is an error when
+    /// the page is made.
     pub fn shape(mut self, body: &str, shape: impl Into<Solid>) -> Self {
         self.shapes.push((body.to_string(), shape.into()));
         self

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{ErrorKind, PlotError};
 use super::figure::{Figure, Panel};
-use crate::{HamelSystem, Trajectory, Vector};
+use hamel_runtime::{HamelSystem, Trajectory, Vector};
 
 /// The column called `name`, or an error that lists the trajectory's columns.
 fn column<'a>(trajectory: &'a Trajectory, name: &str) -> Result<&'a [f64], PlotError> {

@@ -11,8 +11,8 @@
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
-use crate::Vector;
-use crate::geometry::{Body, Mechanism, Shape, Vector3};
+use hamel_runtime::Vector;
+use hamel_runtime::geometry::{Body, Mechanism, Shape, Vector3};
 
 /// How far each coordinate is moved: far enough that the contact point travels a visible
 /// fraction of a wheel's rim (a tenth of a radian), so that a flat spread stands out from a

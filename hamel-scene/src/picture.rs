@@ -10,8 +10,8 @@ use super::snapshot::Snapshot;
 use super::solid::Solid;
 use super::view::{Directions, View, direction_name};
 use super::write::write_whole;
-use crate::geometry::{Body, Mechanism, Surface, Vector3};
-use crate::plot::{Figure, Legend, Panel, Rgb, Series};
+use hamel_plot::{Figure, Legend, Panel, Rgb, Series};
+use hamel_runtime::geometry::{Body, Mechanism, Surface, Vector3};
 
 /// A model stated from its bodies, drawn at one configuration in three orthographic views
 /// (front, side and top), as SVG or PNG: each body as in a [`Scene`](super::Scene) (the
@@ -64,7 +64,7 @@ impl Picture {
     }
 
     /// Draws the body called `body` as `shape`, one of the model's
-    /// [`Shape`](crate::geometry::Shape)s or another [`Solid`] (see
+    /// [`Shape`](hamel_runtime::geometry::Shape)s or another [`Solid`] (see
     /// [`Scene::shape`](super::Scene::shape)).
     pub fn shape(mut self, body: &str, shape: impl Into<Solid>) -> Self {
         self.shapes.push((body.to_string(), shape.into()));
@@ -168,7 +168,7 @@ impl Picture {
     }
 }
 
-fn drawing(e: crate::plot::PlotError) -> SceneError {
+fn drawing(e: hamel_plot::PlotError) -> SceneError {
     ErrorKind::Drawing {
         message: e.to_string(),
     }

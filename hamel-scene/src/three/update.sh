@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Replaces the vendored three.js with the npm package `three` at the given version.
-# Usage: src/scene/three/update.sh 0.185.1
+# Usage: hamel-scene/src/three/update.sh 0.185.1
 set -euo pipefail
 version="${1:?usage: update.sh <three version>}"
 here="$(cd "$(dirname "$0")" && pwd)"

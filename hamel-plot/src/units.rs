@@ -2,7 +2,7 @@
 //! coordinates, speeds, inputs, time and energy, its parameters, or any name given — to
 //! their units.
 
-use crate::{HamelSystem, Parameters};
+use hamel_runtime::{HamelSystem, Parameters};
 
 /// Where axis labels find units: the names of quantities and their units.
 ///

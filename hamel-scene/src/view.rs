@@ -6,7 +6,7 @@
 //! front view looks back at it, the top view looks down with forward to the right: for the
 //! Whipple bicycle (x forward, z down) the side view is the paper's Figure 1.
 
-use crate::geometry::Vector3;
+use hamel_runtime::geometry::Vector3;
 
 /// Up, forward and left: a right-handed orthonormal frame (left = up × forward).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,10 +3,10 @@
 //! feature `plot`).
 //!
 //! Both draw what the model says, as the macro read it (through
-//! [`Mechanism`](crate::geometry::Mechanism), which `#[hamel_system]` implements for models
+//! [`Mechanism`](hamel_runtime::geometry::Mechanism), which `#[hamel_system]` implements for models
 //! with `#[bodies]`):
 //!
-//! * a body given a [`Shape`](crate::geometry::Shape) in the model (`Body::with_shape`) is
+//! * a body given a [`Shape`](hamel_runtime::geometry::Shape) in the model (`Body::with_shape`) is
 //!   drawn as that shape (a wheel with a tyre as the disk of its outer radius);
 //! * a body without one that rolls on a contact is the shape its contact runs round: the contact point,
 //!   read in the body's own axes at the configuration and at perturbations of every

@@ -1,7 +1,7 @@
 //! A [`ModeSweep`]'s eigenvalues against its parameter, each mode by its name.
 
 use super::figure::{PALETTE, Panel, Series, Style};
-use crate::{Crossing, ModeSweep};
+use hamel_runtime::{Crossing, ModeSweep};
 
 impl Panel {
     /// The eigenvalues of `sweep` against its parameter, in the manner of Meijaard et al.'s

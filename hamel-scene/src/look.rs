@@ -6,7 +6,7 @@ use super::equivalent::{Equivalent, box_edges, ellipsoid_semi_axes, short};
 use super::error::{ErrorKind, SceneError};
 use super::snapshot::Snapshot;
 use super::solid::{Form, Solid};
-use crate::geometry::{Body, Shape, Vector3};
+use hamel_runtime::geometry::{Body, Shape, Vector3};
 
 /// The bodies' colours, in order (Tableau 10 without its red and green, which the axes use).
 pub(crate) const PALETTE: [u32; 8] = [

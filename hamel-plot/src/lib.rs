@@ -8,7 +8,7 @@
 //! level between blue and red). The legend goes in a corner where it hides no line and no
 //! dot, or outside the plotting area where none is free ([`Legend`]); [`Panel::key`] adds
 //! entries that explain a style once. [`Figure::save`] picks the format from the path's
-//! extension. For a [`crate::Trajectory`], [`time_series`], [`xy`], [`energy_drift`] and
+//! extension. For a [`hamel::Trajectory`], [`time_series`], [`xy`], [`energy_drift`] and
 //! [`constraint_residual`] write the usual figures in one call, and [`Panel::time_series`],
 //! [`Panel::xy`], [`Panel::energy_drift`] and [`Panel::constraint_residual`] give the same
 //! panels to combine into one figure; [`Panel::units`] adds the units a model states to
@@ -68,16 +68,19 @@
 //! changed, and no NaN reaches a file. Every failure is a [`PlotError`]: I/O, an unknown
 //! extension, a figure, panel or series without data, x and y of different lengths, a
 //! panel with nothing left to draw, an invalid range or size, an unknown column. A
-//! [`PlotError`] converts into [`crate::Error::Io`], so `?` works in functions returning
+//! [`PlotError`] converts into [`hamel::Error::Io`], so `?` works in functions returning
 //! `hamel::Error`.
 //!
 //! # Fonts
 //!
 //! SVG text is left to the viewer's sans-serif font. PNG text is drawn with DejaVu Sans,
-//! bundled in the library (`src/plot/font/`, with its licence): no font of the system is
+//! bundled in the library (`hamel-plot/src/font/`, with its licence): no font of the system is
 //! read, and nothing but the file written touches the disk. The glyphs of a line are set on
 //! one baseline at their exact pen positions (plotters' own bitmap text rounds each glyph's
 //! offset on its own, which raised a decimal point by a pixel: "0·04").
+//!
+//! [`hamel::Trajectory`]: hamel_runtime::Trajectory
+//! [`hamel::Error::Io`]: hamel_runtime::Error::Io
 
 mod axis;
 mod colorbar;

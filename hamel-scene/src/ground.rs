@@ -6,7 +6,7 @@
 use super::data::round_up;
 use super::outline::Line;
 use super::view::View;
-use crate::geometry::{Surface, Vector3};
+use hamel_runtime::geometry::{Surface, Vector3};
 
 /// A plane seen this nearly face-on is not drawn.
 const FACE_ON: f64 = 0.999;
@@ -154,8 +154,8 @@ fn clip(line: &Line, (x0, x1, y0, y1): (f64, f64, f64, f64)) -> Vec<Line> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Rotation3;
-    use crate::scene::view::{Directions, View};
+    use crate::view::{Directions, View};
+    use hamel_runtime::geometry::Rotation3;
 
     #[test]
     fn an_incline_seen_from_the_side_is_one_line_at_its_angle_and_a_sphere_its_circle() {

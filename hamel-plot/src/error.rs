@@ -3,8 +3,8 @@
 use core::fmt;
 
 /// Why a figure could not be drawn or written: the kind of failure, and the file concerned
-/// when there is one. Converts into [`crate::Error::Io`] (`?` in a function returning
-/// `hamel::Error`), whose message then names the file and the reason.
+/// when there is one. Converts into [`hamel::Error::Io`](hamel_runtime::Error::Io) (`?` in a
+/// function returning `hamel::Error`), whose message then names the file and the reason.
 ///
 /// ```
 /// use hamel::plot::{ErrorKind, Figure, Panel};
@@ -211,11 +211,12 @@ impl fmt::Display for ErrorKind {
 
 impl std::error::Error for PlotError {}
 
-/// Every plot error is a failure to write a figure, so it becomes [`crate::Error::Io`]: the
-/// runtime's error type cannot gain variants from this crate.
-impl From<PlotError> for crate::Error {
+/// Every plot error is a failure to write a figure, so it becomes
+/// [`hamel::Error::Io`](hamel_runtime::Error::Io): the runtime's error type cannot gain variants
+/// from this crate.
+impl From<PlotError> for hamel_runtime::Error {
     fn from(e: PlotError) -> Self {
-        crate::Error::Io {
+        hamel_runtime::Error::Io {
             path: e.path.unwrap_or_else(|| "the figure".to_string()),
             message: e.kind.to_string(),
         }

@@ -5,7 +5,7 @@ use nalgebra::{Matrix2, Matrix3, SymmetricEigen};
 
 use super::look::{Drawn, Look};
 use super::view::View;
-use crate::geometry::{Body, Rotation3, Vector3};
+use hamel_runtime::geometry::{Body, Rotation3, Vector3};
 
 /// Points per full circle or ellipse.
 const ROUND: usize = 72;
@@ -135,7 +135,7 @@ fn matrix_of(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::view::{Directions, View};
+    use crate::view::{Directions, View};
 
     fn look(solid: Drawn) -> Look {
         Look {
@@ -172,7 +172,7 @@ mod tests {
         };
         let body = Body::new(
             1.0,
-            crate::geometry::Inertia::principal(1.0, 1.0, 1.0),
+            hamel_runtime::geometry::Inertia::principal(1.0, 1.0, 1.0),
             Vector3::new(1.0, 2.0, 3.0),
             Rotation3::about_z(0.5),
         );

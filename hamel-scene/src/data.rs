@@ -5,7 +5,7 @@ use super::json::{array, f32_base64, f64_base64, number, numbers, object, string
 use super::look::{Drawn, Look};
 use super::motion::Motion;
 use super::view::Directions;
-use crate::geometry::{Rotation3, Surface, Vector3};
+use hamel_runtime::geometry::{Rotation3, Surface, Vector3};
 
 /// A column shown beside the scene: its name, unit and values.
 pub(crate) struct Shown<'t> {

@@ -5,8 +5,8 @@ use nalgebra::{Matrix3, UnitQuaternion};
 
 use super::error::{ErrorKind, SceneError};
 use super::snapshot::checked_bodies;
-use crate::geometry::{Mechanism, Vector3};
-use crate::{Trajectory, Vector};
+use hamel_runtime::geometry::{Mechanism, Vector3};
+use hamel_runtime::{Trajectory, Vector};
 
 /// The poses and contact points at every sample.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,7 +141,7 @@ pub(crate) fn quaternion(m: &[[f64; 3]; 3]) -> Option<[f64; 4]> {
 #[cfg(test)]
 mod tests {
     use super::quaternion;
-    use crate::geometry::{Rotation3, Vector3};
+    use hamel_runtime::geometry::{Rotation3, Vector3};
 
     /// The page turns a body by its quaternion as three.js does (v' = v + 2w (q × v) +
     /// 2 q × (q × v)): each of the body's axes must land on the orientation's column, as

@@ -10,7 +10,7 @@
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
-use crate::geometry::Inertia;
+use hamel_runtime::geometry::Inertia;
 
 /// Moments within this fraction of the largest count as equal (for the triangle
 /// inequality) or as zero: rounding in the eigen-decomposition is far below it, and a

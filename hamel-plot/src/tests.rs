@@ -8,8 +8,8 @@ use super::legend;
 use super::prepare::{Prepared, prepare};
 use super::render::MIN_PANEL as MIN_PANEL_SIZE;
 use super::*;
-use crate::models::{KnifeEdge, MobileRobot};
-use crate::{DormandPrince, HamelSystem, Simulation, Trajectory};
+use hamel::models::{KnifeEdge, MobileRobot};
+use hamel::{DormandPrince, HamelSystem, Simulation, Trajectory};
 
 /// A fresh directory for one test's files.
 fn scratch(test: &str) -> PathBuf {
@@ -150,8 +150,8 @@ fn io_errors_name_the_file() {
     let err = Figure::from(two_series()).save(&path).unwrap_err();
     assert!(matches!(err.kind(), ErrorKind::Io { .. }));
     assert_eq!(err.path(), Some(path.display().to_string().as_str()));
-    let err: crate::Error = err.into();
-    assert!(matches!(&err, crate::Error::Io { path: p, .. } if p.ends_with("figure.svg")));
+    let err: hamel::Error = err.into();
+    assert!(matches!(&err, hamel::Error::Io { path: p, .. } if p.ends_with("figure.svg")));
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -317,7 +317,7 @@ fn errors() {
             ErrorKind::InvalidSize { .. }
         ));
     }
-    let message = crate::Error::from(PlotError::from(ErrorKind::NoPanels)).to_string();
+    let message = hamel::Error::from(PlotError::from(ErrorKind::NoPanels)).to_string();
     assert_eq!(message, "cannot write the figure: the figure has no panel");
 }
 

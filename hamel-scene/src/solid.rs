@@ -1,17 +1,17 @@
 //! What a body can be drawn as in place of what the model says: [`Solid`], one of the
-//! model's own shapes ([`geometry::Shape`](crate::geometry::Shape)) or a solid that only
+//! model's own shapes ([`geometry::Shape`](hamel_runtime::geometry::Shape)) or a solid that only
 //! drawing needs (a box, a cylinder, the uniform solids of the body's inertia).
 
-use crate::geometry::{Shape, Vector3};
+use hamel_runtime::geometry::{Shape, Vector3};
 
 /// A solid to draw a body as, in the body's own axes, centred on its centre of mass unless
 /// moved with [`Solid::at`]. Give one to a body by name with
 /// [`Scene::shape`](super::Scene::shape) or [`Picture::shape`](super::Picture::shape);
-/// bodies without one are drawn from what the model says (see [`crate::scene`]).
+/// bodies without one are drawn from what the model says (see [`hamel::scene`](crate)).
 ///
 /// Disks, wheels with tyres, spheres and ellipsoids are the model's own
-/// [`Shape`](crate::geometry::Shape)s (a `Shape` converts into a `Solid`); this type adds what
-/// a body that rolls on nothing may look like: a box, a cylinder, or the uniform box or
+/// [`Shape`](hamel_runtime::geometry::Shape)s (a `Shape` converts into a `Solid`); this type adds
+/// what a body that rolls on nothing may look like: a box, a cylinder, or the uniform box or
 /// ellipsoid of its mass and inertia. Sizes are in the model's length unit; a size that is
 /// not finite and positive is an error when the scene or picture is made.
 ///
