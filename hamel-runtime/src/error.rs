@@ -718,6 +718,13 @@ pub enum Error {
     )]
     UnphysicalBody { body: String, reason: String },
 
+    /// A body's orientation or shape, or a contact's surface, is no geometry a body can
+    /// have (a radius that is not positive, a frame that is not a rotation, a ball larger
+    /// than its bowl, a contact point that does not exist): refused when a state is built,
+    /// when a run starts and when the model is linearized.
+    #[error("{what} is impossible: {reason}")]
+    ImpossibleGeometry { what: String, reason: String },
+
     /// No input acts on an output within the order of Lie derivatives the model generates
     /// (`control(order = k)`): every L_{g_j} L_f^i h of the output, i < k, is zero at the
     /// state, so its relative degree is larger than k, or not defined there.

@@ -29,14 +29,16 @@
 
 mod body;
 mod check;
+mod check_shapes;
 mod mechanism;
 mod rotation;
 mod shape;
 mod surface;
 mod vector;
 
-pub use body::{Body, Contact, Inertia, disk_contact};
+pub use body::{Body, Contact, Inertia, disk_contact, try_disk_contact};
 pub use check::check_bodies;
+pub use check_shapes::check_contacts;
 pub use mechanism::Mechanism;
 pub use rotation::Rotation3;
 pub use shape::Shape;
