@@ -11,14 +11,14 @@
 //! renames, so two tasks given the same shard leave one complete file.
 
 use std::hash::Hasher as _;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use twox_hash::XxHash3_64;
 
 use crate::error::Error;
+use crate::whole_file::{checksum, partial_path, sync_directory, with_suffix};
 
 /// Shard `index` of `count` (0 ≤ index < count): `Shard::parse("3/8")`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -155,19 +155,6 @@ pub fn manifest_path(path: &Path) -> PathBuf {
     with_suffix(path, ".manifest")
 }
 
-fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(suffix);
-    path.with_file_name(name)
-}
-
-/// A name no other writer uses, beside `path`: `<name>.partial-<pid>-<n>`.
-fn partial_path(path: &Path) -> PathBuf {
-    static NEXT: AtomicU64 = AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    with_suffix(path, &format!(".partial-{}-{n}", std::process::id()))
-}
-
 /// The state of the shard file at `path` against `stamp`.
 pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
     let path = path.as_ref();
@@ -206,22 +193,6 @@ pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
         }
         Ok(_) => ShardState::Complete,
         Err(e) => ShardState::Incomplete(format!("it cannot be read: {e}")),
-    }
-}
-
-/// The size and XXH3 checksum of a file's bytes.
-fn checksum(path: &Path) -> std::io::Result<(u64, u64)> {
-    let mut file = std::fs::File::open(path)?;
-    let mut h = XxHash3_64::with_seed(0);
-    let mut buffer = vec![0u8; 1 << 16];
-    let mut bytes = 0u64;
-    loop {
-        let n = file.read(&mut buffer)?;
-        if n == 0 {
-            return Ok((bytes, h.finish()));
-        }
-        h.write(&buffer[..n]);
-        bytes += n as u64;
     }
 }
 
@@ -374,17 +345,6 @@ fn write_renamed(
         Ok(()) => Ok(Some((shard.bytes, shard.hasher.finish()))),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound && !partial.exists() => Ok(None),
         Err(e) => Err(io(path, e)),
-    }
-}
-
-/// Flushes a directory's entries (the renames) to disk, where the system allows it.
-fn sync_directory(path: &Path) {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if let Ok(d) = std::fs::File::open(dir) {
-            let _ = d.sync_all();
-        }
-    } else if let Ok(d) = std::fs::File::open(".") {
-        let _ = d.sync_all();
     }
 }
 

@@ -7,6 +7,7 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::error::Error;
+use crate::whole_file::{WholeFile, check_manifest};
 
 /// The columns every study table has besides its own: the case index first, the error's
 /// kind and message last.
@@ -281,22 +282,39 @@ impl Table {
         Ok(table)
     }
 
-    /// The table in the CSV file at `path`.
+    /// The table in the CSV file at `path`, checked against its manifest when it has one
+    /// ([`Self::save_csv`] writes it): a file cut short since it was written, even between two
+    /// rows, is an [`Error::Read`] saying so, not a shorter table.
     pub fn read_csv(path: impl AsRef<Path>) -> Result<Table, Error> {
         let path = path.as_ref();
-        Table::parse_csv(&read_text(path)?, &path.display().to_string())
+        let manifest = check_manifest(path)?;
+        let table = Table::parse_csv(&read_text(path)?, &path.display().to_string())?;
+        if let Some(m) = manifest
+            && m.rows != table.len() as u64
+        {
+            return Err(Error::Read {
+                path: path.display().to_string(),
+                message: format!(
+                    "it holds {} rows where its manifest says {}: it is not the file that was \
+                     written",
+                    table.len(),
+                    m.rows
+                ),
+            });
+        }
+        Ok(table)
     }
 
-    /// Writes the CSV to a file (created or truncated).
+    /// Writes the CSV to a file, whole or not at all: under a name of its own, flushed to disk
+    /// and renamed to `path`, then its manifest `<path>.manifest` (the row count, the size
+    /// and checksum), which [`Self::read_csv`] checks ([`crate::whole_file`]). The CSV itself
+    /// is plain RFC 4180, for any reader. A failed write leaves what was at `path` before.
     pub fn save_csv(&self, path: impl AsRef<Path>) -> Result<(), Error> {
         let path = path.as_ref();
-        let io = |e: std::io::Error| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        };
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-        self.write_csv(&mut w).map_err(io)?;
-        w.flush().map_err(io)
+        let mut file = WholeFile::create(path)?;
+        self.write_csv(&mut file)
+            .map_err(|e| crate::whole_file::io(path, e))?;
+        file.commit(self.len() as u64)
     }
 }
 

@@ -214,3 +214,30 @@ fn bad_column_names_are_refused() {
     }
     assert!(Table::new(vec!["a".into(), "a".into()]).is_err());
 }
+
+/// Before: `save_csv` wrote in place, and a file cut at a row boundary read back as a valid,
+/// shorter table. Now it is written whole with its manifest, and `read_csv` refuses a file
+/// that no longer matches it (and reads one without a manifest as it is).
+#[test]
+fn a_table_cut_short_after_it_was_written_is_refused() {
+    let dir = std::env::temp_dir().join(format!("hamel-table-cut-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("results.csv");
+    let mut t = two_columns();
+    for i in 0..5 {
+        t.push(i, Ok(vec![i as f64, 2.0 * i as f64])).unwrap();
+    }
+    t.save_csv(&path).unwrap();
+    assert_eq!(Table::read_csv(&path).unwrap(), t);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cut: String = text.lines().take(3).map(|l| format!("{l}\n")).collect();
+    std::fs::write(&path, &cut).unwrap();
+    let e = Table::read_csv(&path).unwrap_err();
+    assert!(matches!(e, Error::Read { .. }), "{e}");
+    assert!(e.to_string().contains("truncated"), "{e}");
+    // Without its manifest (copied alone, or written by another program) it reads as it is.
+    std::fs::remove_file(crate::whole_file::manifest_of(&path)).unwrap();
+    assert_eq!(Table::read_csv(&path).unwrap().len(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
