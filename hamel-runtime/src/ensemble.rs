@@ -18,7 +18,7 @@
 //! `hamel::study` (in the `hamel` crate) builds a study's command line on these.
 
 mod select;
-mod shard;
+pub(crate) mod shard;
 mod table;
 
 pub use select::{ModeColumns, Outputs};

@@ -270,9 +270,12 @@ pub fn check_manifest(path: impl AsRef<Path>) -> Result<Option<Manifest>, Error>
     Ok(Some(manifest))
 }
 
+/// A manifest's fields: one of a file written whole, or of a study's shard
+/// (`ensemble::shard`), which records the same and the hash of what it was computed from.
 fn parse(text: &str) -> Option<Manifest> {
     let mut lines = text.lines();
-    if lines.next()? != MANIFEST_HEADER {
+    let header = lines.next()?;
+    if header != MANIFEST_HEADER && header != crate::ensemble::shard::SHARD_MANIFEST_HEADER {
         return None;
     }
     let mut field = |key: &str, radix: u32| -> Option<u64> {

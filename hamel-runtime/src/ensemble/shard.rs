@@ -204,19 +204,20 @@ struct Manifest {
     checksum: u64,
 }
 
-const MANIFEST_HEADER: &str = "hamel shard manifest 1";
+/// A shard manifest's first line.
+pub(crate) const SHARD_MANIFEST_HEADER: &str = "hamel shard manifest 1";
 
 impl Manifest {
     fn text(&self, file: &str) -> String {
         format!(
-            "{MANIFEST_HEADER}\nfile {file}\ngrid {:016x}\nrows {}\nbytes {}\nxxh3 {:016x}\n",
+            "{SHARD_MANIFEST_HEADER}\nfile {file}\ngrid {:016x}\nrows {}\nbytes {}\nxxh3 {:016x}\n",
             self.grid, self.rows, self.bytes, self.checksum
         )
     }
 
     fn parse(text: &str) -> Option<Manifest> {
         let mut lines = text.lines();
-        if lines.next()? != MANIFEST_HEADER {
+        if lines.next()? != SHARD_MANIFEST_HEADER {
             return None;
         }
         let mut field = |key: &str, radix: u32| -> Option<u64> {
