@@ -275,7 +275,7 @@ pub fn check_manifest(path: impl AsRef<Path>) -> Result<Option<Manifest>, Error>
 fn parse(text: &str) -> Option<Manifest> {
     let mut lines = text.lines();
     let header = lines.next()?;
-    if header != MANIFEST_HEADER && header != crate::ensemble::shard::SHARD_MANIFEST_HEADER {
+    if header != MANIFEST_HEADER && !header.starts_with(crate::ensemble::shard::SHARD_MANIFEST) {
         return None;
     }
     let mut field = |key: &str, radix: u32| -> Option<u64> {

@@ -9,9 +9,10 @@ use std::path::Path;
 use crate::error::Error;
 use crate::whole_file::{WholeFile, check_manifest};
 
-/// The columns every study table has besides its own: the case index first, the error's
-/// kind and message last.
-const CASE: &str = "case";
+/// The columns every study table has besides its own: the case index first (not `case`,
+/// which SQL reserves: DuckDB needed it quoted), the error's kind and message last.
+pub const CASE_COLUMN: &str = "case_index";
+const CASE: &str = CASE_COLUMN;
 const ERROR_KIND: &str = "error_kind";
 const ERROR: &str = "error";
 
@@ -44,9 +45,11 @@ impl std::fmt::Display for CaseError {
 /// A study's results: one row per case, with the case's index (its row in the study's
 /// parameter table), a value for every named column, and the error of a case that failed
 /// (its values it could not compute are NaN). Written as CSV with the header
-/// `case,<columns>,error_kind,error`, numbers in Rust's shortest form that reads back to the
-/// same `f64` (bit for bit; `NaN`, `inf`), `error_kind` and `error` empty for a case that
-/// succeeded. Each case index appears once.
+/// `case_index,<columns>,error_kind,error`, numbers in Rust's shortest form that reads back
+/// to the same `f64` (bit for bit; `NaN`, `inf`), `error_kind` and `error` empty for a case
+/// that succeeded. A failed case's values that it could not compute (NaN) are empty fields,
+/// which pandas, polars and DuckDB read as missing (null): their means and averages skip the
+/// failed rows, where a `NaN` would make them NaN. Each case index appears once.
 ///
 /// Two tables are equal when their names, cases and errors are, and their values bit for
 /// bit, any NaN being equal to any other: a table read back from its CSV equals the table.
@@ -75,7 +78,7 @@ impl PartialEq for Table {
 
 impl Table {
     /// An empty table with these value columns. A name that is empty, holds a comma, quote or
-    /// line break, or repeats (or is `case`, `error_kind` or `error`) is an error.
+    /// line break, or repeats (or is `case_index`, `error_kind` or `error`) is an error.
     pub fn new(names: Vec<String>) -> Result<Table, Error> {
         check_names(&names)?;
         let columns = vec![Vec::new(); names.len()];
@@ -206,7 +209,7 @@ impl Table {
         (i < self.len()).then(|| self.columns.iter().map(|c| c[i]).collect())
     }
 
-    /// The CSV text: `case,<columns>,error_kind,error`, then a record per row.
+    /// The CSV text: `case_index,<columns>,error_kind,error`, then a record per row.
     pub fn write_csv<W: Write>(&self, w: W) -> std::io::Result<()> {
         let mut writer = CsvWriter::new(w, &self.names)?;
         writer.write(self)?;
@@ -215,8 +218,10 @@ impl Table {
 
     /// The table read back from [`Self::write_csv`]'s text (`source` names it in errors).
     /// Every mistake is an [`Error::Table`] naming the line and column: a header that is not
-    /// `case,<columns>,error_kind,error`, a record of another length, a case index that is not
-    /// a whole number or repeats, a value that is not a number, an error without its kind.
+    /// `case_index,<columns>,error_kind,error`, a record of another length, a case index that
+    /// is not a whole number or repeats, a value that is not a number (or missing in a row
+    /// that did not fail), an error without its kind, a quoted field whose quote is not
+    /// closed.
     pub fn parse_csv(text: &str, source: &str) -> Result<Table, Error> {
         let mut reader = reader(text.as_bytes());
         let header = header(&mut reader, source, "a study table")?;
@@ -252,14 +257,27 @@ impl Table {
                     format!("`{}` is not a case index", fields[0]),
                 )
             })?;
+            let (kind, message) = (&fields[width - 2], &fields[width - 1]);
             let mut values = Vec::with_capacity(width - 3);
             for (name, field) in header[1..].iter().zip(&fields[1..width - 2]) {
-                let v = field.parse::<f64>().map_err(|_| {
-                    table_error(source, line, name, format!("`{field}` is not a number"))
-                })?;
+                // Empty: a value a failed case could not compute.
+                let v = match field.as_str() {
+                    "" if !kind.is_empty() => f64::NAN,
+                    "" => {
+                        return Err(table_error(
+                            source,
+                            line,
+                            name,
+                            "the value is missing, in a row that did not fail (no error_kind)"
+                                .into(),
+                        ));
+                    }
+                    _ => field.parse::<f64>().map_err(|_| {
+                        table_error(source, line, name, format!("`{field}` is not a number"))
+                    })?,
+                };
                 values.push(v);
             }
-            let (kind, message) = (&fields[width - 2], &fields[width - 1]);
             let error = match (kind.is_empty(), message.is_empty()) {
                 (true, true) => None,
                 (true, false) => {
@@ -329,7 +347,7 @@ pub struct CsvWriter<W: Write> {
 }
 
 impl<W: Write> CsvWriter<W> {
-    /// Writes the header `case,<names>,error_kind,error` to `w`.
+    /// Writes the header `case_index,<names>,error_kind,error` to `w`.
     pub fn new(w: W, names: &[String]) -> std::io::Result<CsvWriter<W>> {
         let mut writer = csv::WriterBuilder::new()
             .quote_style(csv::QuoteStyle::Necessary)
@@ -361,10 +379,14 @@ impl<W: Write> CsvWriter<W> {
             number.clear();
             let _ = write!(number, "{case}");
             self.record.push_field(number.as_bytes());
+            let failed = block.errors[i].is_some();
             for column in &block.columns {
                 number.clear();
-                // `{:?}`: the shortest text that reads back to the same bits.
-                let _ = write!(number, "{:?}", column[i]);
+                // A failed case's missing value is an empty field (a null to other readers);
+                // otherwise `{:?}`, the shortest text that reads back to the same bits.
+                if !(failed && column[i].is_nan()) {
+                    let _ = write!(number, "{:?}", column[i]);
+                }
                 self.record.push_field(number.as_bytes());
             }
             match &block.errors[i] {

@@ -25,8 +25,10 @@ fn tables_round_trip_through_csv_bit_for_bit() {
     .unwrap();
     t.push(5, Ok(vec![1.0])).unwrap();
     let text = csv_of(&t);
+    // A failed case's missing values are empty fields: null to pandas, polars and DuckDB,
+    // whose means skip them (before, `NaN`, which made them NaN).
     assert!(text.starts_with(
-        "case,a,b,error_kind,error\n3,0.30000000000000004,-1e-300,,\n4,NaN,NaN,invalid_setting,\""
+        "case_index,a,b,error_kind,error\n3,0.30000000000000004,-1e-300,,\n4,,,invalid_setting,\""
     ));
     let back = Table::parse_csv(&text, "t.csv").unwrap();
     assert_eq!(back, t);
@@ -108,8 +110,22 @@ fn failed_rows_keep_their_values_and_carry_a_kind() {
         ("no_reversal", "the spin never reversed")
     );
     assert_eq!(back.column("a").unwrap()[0], 0.2);
+    assert!(back.column("b").unwrap()[0].is_nan());
+    assert!(csv_of(&t).ends_with("\n0,0.2,,no_reversal,the spin never reversed\n"));
+    // A successful case's NaN is a value it computed, and stays one; a missing value in a
+    // row that did not fail is not a table this module wrote.
+    let mut computed = two_columns();
+    computed.push(1, Ok(vec![f64::NAN, 1.0])).unwrap();
+    assert!(csv_of(&computed).ends_with("\n1,NaN,1.0,,\n"));
+    let e = Table::parse_csv("case_index,a,b,error_kind,error\n0,,2,,\n", "t.csv").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "t.csv, line 2, column `a`: the value is missing, in a row that did not fail (no \
+         error_kind)"
+    );
     // An error without a kind is not a table this module wrote.
-    let e = Table::parse_csv("case,a,b,error_kind,error\n0,1,2,,oops\n", "t.csv").unwrap_err();
+    let e =
+        Table::parse_csv("case_index,a,b,error_kind,error\n0,1,2,,oops\n", "t.csv").unwrap_err();
     assert_eq!(
         e.to_string(),
         "t.csv, line 2, column `error_kind`: an error needs its kind"
@@ -118,11 +134,11 @@ fn failed_rows_keep_their_values_and_carry_a_kind() {
 
 #[test]
 fn duplicate_case_indices_are_refused() {
-    let text = "case,a,b,error_kind,error\n0,1,2,,\n1,1,2,,\n0,3,4,,\n";
+    let text = "case_index,a,b,error_kind,error\n0,1,2,,\n1,1,2,,\n0,3,4,,\n";
     let e = Table::parse_csv(text, "t.csv").unwrap_err();
     assert_eq!(
         e.to_string(),
-        "t.csv, line 4, column `case`: the case index `0` is given twice: each case of a study \
+        "t.csv, line 4, column `case_index`: the case index `0` is given twice: each case of a study \
          has one row"
     );
     let mut t = two_columns();
@@ -209,7 +225,7 @@ fn parameter_tables_round_trip_and_refuse_nan() {
 
 #[test]
 fn bad_column_names_are_refused() {
-    for bad in ["", "a,b", "case", "error", "error_kind", " a"] {
+    for bad in ["", "a,b", "case_index", "error", "error_kind", " a"] {
         assert!(Table::new(vec![bad.into()]).is_err(), "{bad:?}");
     }
     assert!(Table::new(vec!["a".into(), "a".into()]).is_err());
