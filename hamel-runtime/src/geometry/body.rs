@@ -231,7 +231,7 @@ impl Contact {
             });
         }
         let contact = Contact::rolling(body, surface);
-        check_shapes::check_contacts(&[contact], &[body], &["body"])?;
+        check_shapes::check_contact(&contact)?;
         Ok(contact)
     }
 }

@@ -136,10 +136,11 @@ pub(super) fn not_a_unit_vector(what: &str, v: Vector3) -> Option<String> {
     })
 }
 
-/// Check each contact's surface, and that where its body touches it exists: a plane's frame
-/// must be a rotation, a sphere's or a bowl's radius positive, a ball smaller than its bowl
-/// and not at its sphere's centre, a disk not lying flat. `bodies` and `names` (the model's
-/// bodies, in order) name the body of each contact.
+/// Check each contact's surface, and that its body can touch it: a plane's frame must be a
+/// rotation, a sphere's or a bowl's radius positive, a ball smaller than its bowl and not at
+/// its sphere's centre. (A point that does not exist at one configuration, a disk lying flat,
+/// is a singularity, which a run names with its time and state.) `bodies` and `names` (the
+/// model's bodies, in order) name the body of each contact.
 ///
 /// ```
 /// use hamel_runtime::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3, check_contacts};
@@ -162,11 +163,31 @@ pub fn check_contacts(contacts: &[Contact], bodies: &[Body], names: &[&str]) -> 
         if let Some(reason) = impossible_surface(&contact.surface) {
             return Err(Error::ImpossibleGeometry { what, reason });
         }
-        if let Some(reason) = impossible_contact(contact) {
+        if let Some(reason) = impossible_contact(contact, false) {
             return Err(Error::ImpossibleGeometry { what, reason });
         }
     }
     Ok(())
+}
+
+/// [`check_contacts`] of one contact, and also a point that does not exist at this
+/// configuration (a disk lying flat), which a model's run reports with the time and state
+/// instead: for [`Contact::try_rolling`].
+pub(super) fn check_contact(contact: &Contact) -> Result<(), Error> {
+    let what = || format!("the contact on {}", surface_name(&contact.surface));
+    if let Some(reason) = impossible_surface(&contact.surface) {
+        return Err(Error::ImpossibleGeometry {
+            what: what(),
+            reason,
+        });
+    }
+    match impossible_contact(contact, true) {
+        Some(reason) => Err(Error::ImpossibleGeometry {
+            what: what(),
+            reason,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// `body `name``, or `contact's body` for a body that is not among `bodies`.
@@ -221,8 +242,11 @@ fn impossible_surface(surface: &Surface) -> Option<String> {
     }
 }
 
-/// Why the body of `contact` cannot touch its surface as written, if it cannot.
-fn impossible_contact(contact: &Contact) -> Option<String> {
+/// Why the body of `contact` cannot touch its surface as written, if it cannot: a ball no
+/// smaller than its bowl, a body at its sphere's centre; with `every`, also any other point
+/// that is not finite (a disk lying flat: a singular configuration, which a run names with
+/// its time and state).
+fn impossible_contact(contact: &Contact, every: bool) -> Option<String> {
     let body = &contact.body;
     let shape = body.shape.as_ref();
     if let (Surface::Bowl { radius: bowl, .. }, Some(Shape::Sphere { radius, .. })) =
@@ -255,6 +279,7 @@ fn impossible_contact(contact: &Contact) -> Option<String> {
                 Num(c.z)
             )
         }
+        _ if !every => return None,
         (Surface::Plane { .. }, Some(Shape::Disk { .. } | Shape::Torus { .. })) => {
             "the wheel lies flat on the plane (its axle along the plane's normal), where its \
              rim has no lowest point"
