@@ -17,6 +17,7 @@
 //!
 //! `hamel::study` (in the `hamel` crate) builds a study's command line on these.
 
+mod quotes;
 mod select;
 pub(crate) mod shard;
 mod table;

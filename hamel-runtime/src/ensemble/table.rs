@@ -6,6 +6,7 @@ use std::collections::HashSet;
 use std::io::Write;
 use std::path::Path;
 
+use super::quotes::{QuoteScan, UNCLOSED};
 use crate::error::Error;
 use crate::whole_file::{WholeFile, check_manifest};
 
@@ -224,7 +225,17 @@ impl Table {
     /// closed.
     pub fn parse_csv(text: &str, source: &str) -> Result<Table, Error> {
         let mut reader = reader(text.as_bytes());
-        let header = header(&mut reader, source, "a study table")?;
+        unless_unclosed(&mut reader, source, |reader| {
+            Table::read_records(reader, source)
+        })
+    }
+
+    /// The records of a study table's CSV.
+    fn read_records<R: std::io::Read>(
+        reader: &mut csv::Reader<R>,
+        source: &str,
+    ) -> Result<Table, Error> {
+        let header = header(reader, source, "a study table")?;
         let problem = |p: String| table_error(source, 1, "", p);
         let width = header.len();
         if width < 3
@@ -471,7 +482,7 @@ fn read_text(path: &Path) -> Result<String, Error> {
 
 /// A reader of RFC 4180 text: records of any length (checked here, to say which line),
 /// a byte-order mark (which spreadsheets write) skipped.
-fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
+fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<QuoteScan<R>> {
     if input
         .fill_buf()
         .is_ok_and(|b| b.starts_with("\u{feff}".as_bytes()))
@@ -481,7 +492,22 @@ fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .from_reader(input)
+        .from_reader(QuoteScan::new(input))
+}
+
+/// `read`'s result, unless a quote in the input is never closed: then that is the error,
+/// naming the line it opened on (whatever `read` made of the rest of the file, read as one
+/// value).
+fn unless_unclosed<R: std::io::Read, T>(
+    reader: &mut csv::Reader<QuoteScan<R>>,
+    source: &str,
+    read: impl FnOnce(&mut csv::Reader<QuoteScan<R>>) -> Result<T, Error>,
+) -> Result<T, Error> {
+    let result = read(reader);
+    match reader.get_mut().unclosed() {
+        Some(line) => Err(table_error(source, line, "", UNCLOSED.into())),
+        None => result,
+    }
 }
 
 /// The first record, the header; `what` names the table in the message of an empty one.
@@ -576,7 +602,18 @@ impl ParameterTable {
         known: &[&str],
     ) -> Result<ParameterTable, Error> {
         let mut reader = reader(input);
-        let names = header(&mut reader, source, "a parameter table").map_err(|e| match e {
+        unless_unclosed(&mut reader, source, |reader| {
+            ParameterTable::read_records(reader, source, known)
+        })
+    }
+
+    /// The records of a parameter table's CSV.
+    fn read_records<R: std::io::Read>(
+        reader: &mut csv::Reader<R>,
+        source: &str,
+        known: &[&str],
+    ) -> Result<ParameterTable, Error> {
+        let names = header(reader, source, "a parameter table").map_err(|e| match e {
             Error::Table { file, line, .. } => Error::Table {
                 file,
                 line,

@@ -257,3 +257,38 @@ fn a_table_cut_short_after_it_was_written_is_refused() {
     assert_eq!(Table::read_csv(&path).unwrap().len(), 2);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Before, a quote never closed made the rest of the file one value: a parameter table's
+/// error quoted two lines as a number, or took the last value without a word, and a study
+/// table counted the wrong fields. Now the error names the line the quote opened on.
+#[test]
+fn a_quote_never_closed_is_named_with_its_line() {
+    let unclosed = |e: Error| {
+        let text = e.to_string();
+        assert!(
+            text.contains("a quote opens a field here that is never closed"),
+            "{text}"
+        );
+        text
+    };
+    let e = ParameterTable::parse(
+        "trail,mass\n\"0.08,85\n0.1,90\n",
+        "grid.csv",
+        &["trail", "mass"],
+    )
+    .unwrap_err();
+    assert!(unclosed(e).starts_with("grid.csv, line 2: "));
+    let e = ParameterTable::parse(
+        "trail,mass\n0.1,90\n0.08,\"85\n",
+        "grid.csv",
+        &["trail", "mass"],
+    )
+    .unwrap_err();
+    assert!(unclosed(e).starts_with("grid.csv, line 3: "));
+    let e =
+        Table::parse_csv("case_index,a,error_kind,error\n0,1,\"x,\n1,2,,\n", "t.csv").unwrap_err();
+    assert!(unclosed(e).starts_with("t.csv, line 2: "));
+    // A closed quote with a line break inside, as multi-line messages are written, is fine.
+    let text = "case_index,a,error_kind,error\n0,,k,\"two\nlines\"\n";
+    assert_eq!(Table::parse_csv(text, "t.csv").unwrap().len(), 1);
+}
