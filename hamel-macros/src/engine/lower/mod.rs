@@ -305,7 +305,12 @@ impl<'a, 'g> Lowerer<'a, 'g> {
     /// signature says (a mistaken signature is reported elsewhere): what the body would do
     /// once the signature is fixed.
     pub fn check_body(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Value {
-        self.call_checked(f, args, &f.sig.ident, false)
+        // Checked as the role it is: a role read with the velocities may take `rate!` (without
+        // its context, correct `body_rates!` code was reported beside the real mistake).
+        self.rate_context = self.rate_context_for(f, &args);
+        let value = self.call_checked(f, args, &f.sig.ident, false);
+        self.rate_context = None;
+        value
     }
 
     fn call_checked(
