@@ -36,6 +36,7 @@ impl Error {
             Error::UnboundedInertia { .. } => "unbounded_inertia",
             Error::UnphysicalBody { .. } => "unphysical_body",
             Error::ImpossibleGeometry { .. } => "impossible_geometry",
+            Error::SingularOrientation { .. } => "singular_orientation",
             Error::SingularTransformation { .. } => "singular_transformation",
             Error::InverseMismatch { .. } => "inverse_mismatch",
             Error::StepSizeUnderflow { .. } => "step_size_underflow",

@@ -312,6 +312,10 @@ pub fn generate(
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
         check_bodies: check_bodies(spec),
+        singular: spec
+            .geometry
+            .bodies
+            .and_then(|_| super::orientations::singular(imp, &spec.coordinates)),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let bodies = bodies(&cx, prepared)?;

@@ -34,6 +34,7 @@ mod mechanism;
 mod rotation;
 mod shape;
 mod surface;
+mod turns;
 mod vector;
 
 pub use body::{Body, Contact, Inertia, disk_contact, try_disk_contact};
@@ -43,4 +44,5 @@ pub use mechanism::Mechanism;
 pub use rotation::Rotation3;
 pub use shape::Shape;
 pub use surface::Surface;
+pub use turns::{ThreeTurns, at_singular_orientation};
 pub use vector::Vector3;
