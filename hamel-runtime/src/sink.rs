@@ -34,8 +34,11 @@ pub struct CsvSink<W: Write> {
     rows: usize,
     /// What the end of the run does to the writer besides flushing it: a file of
     /// [`CsvSink::create`] is renamed to its path and given its manifest.
-    finish: Option<fn(&mut W, u64) -> Result<(), Error>>,
+    finish: Option<Finish<W>>,
 }
+
+/// What ends a file sink's run: the writer and the rows written.
+type Finish<W> = fn(&mut W, u64) -> Result<(), Error>;
 
 impl<W: Write> CsvSink<W> {
     /// A CSV stream into `writer`; `name` names it in I/O errors (a path, "standard output").
