@@ -1,12 +1,13 @@
 //! The plain C functions of a model ([`crate::c_api!`]): every array comes with its length,
-//! checked against the model's; values are checked finite; the results are those of the
-//! CasADi function `<model>_f` (the same code path).
+//! checked against the model's; values are checked finite. `<model>_rhs` is the model's own
+//! right-hand side (the code a hamel simulation runs); the CasADi function `<model>_f` is its
+//! form with the parameters as arguments: the tests check that the two agree bit for bit.
 
-use crate::abi::{Failure, check_finite, check_len, slice, slice_mut};
+use crate::abi::{Failure, Status, check_finite, check_len, slice, slice_mut};
 use crate::model::{Model, Sizes};
 use crate::passes;
 use crate::primal::Which;
-use hamel_runtime::{HamelSystem, Parameters};
+use hamel_runtime::{HamelSystem, Parameters, Vector};
 
 type In = (*const f64, usize);
 type Out = (*mut f64, usize);
@@ -39,7 +40,8 @@ unsafe fn point<M: Model>(t: f64, x: In, u: Option<In>, p: In) -> Result<M::Arra
     Ok(z)
 }
 
-/// `<model>_rhs`.
+/// `<model>_rhs`: the model's own `HamelSystem::rhs` (what a hamel simulation integrates),
+/// with the parameters set from `p` by name.
 ///
 /// # Safety
 /// Each pointer is null or points to as many values as its length says.
@@ -50,7 +52,32 @@ pub unsafe fn rhs<M: Model>(t: f64, x: In, u: In, p: In, xdot: Out) -> Result<()
     check_len("xdot", xdot.1, s.nx)?;
     // SAFETY: `xdot.1` writable values (the caller's contract), the length checked.
     let out = unsafe { slice_mut(xdot.0, xdot.1, "xdot") }?;
-    passes::value::<M>(Which::Rhs, z.as_ref(), out)
+    let z = z.as_ref();
+    let system = system::<M>(&z[s.p()..s.t()])?;
+    let mut state = <M::System as HamelSystem>::State::zeros();
+    state.as_mut().copy_from_slice(&z[..s.nx]);
+    let mut inputs = <M::System as HamelSystem>::Inputs::zeros();
+    inputs.as_mut().copy_from_slice(&z[s.u()..s.p()]);
+    let mut dx = <M::System as HamelSystem>::State::zeros();
+    system.rhs(t, &state, &inputs, &mut dx).map_err(|e| {
+        Failure::new(
+            Status::Singular,
+            format!("{e} at {}", M::System::named_state(&state)),
+        )
+    })?;
+    out.copy_from_slice(dx.as_ref());
+    Ok(())
+}
+
+/// The model with the parameters `p` (finite: checked), set by name.
+pub fn system<M: Model>(p: &[f64]) -> Result<M::System, Failure> {
+    let mut system = M::System::default();
+    for (name, value) in <M::System as Parameters>::NAMES.iter().zip(p) {
+        system
+            .set(name, *value)
+            .map_err(|e| Failure::new(Status::NonFinite, e.to_string()))?;
+    }
+    Ok(system)
 }
 
 /// `<model>_outputs`.
