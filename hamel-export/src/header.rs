@@ -50,7 +50,7 @@ pub fn header<M: Model>(name: &str) -> String {
     line(w, "");
     status_codes(w, &upper);
     sizes::<M>(w, &upper, s);
-    c_api::<M>(w, name, s);
+    c_api(w, name, s);
     for which in [Which::Rhs, Which::Outputs] {
         casadi_family::<M>(w, name, which);
     }
@@ -197,7 +197,7 @@ fn sizes<M: Model>(w: &mut String, upper: &str, s: Sizes) {
     }
 }
 
-fn c_api<M: Model>(w: &mut String, name: &str, s: Sizes) {
+fn c_api(w: &mut String, name: &str, s: Sizes) {
     line(
         w,
         "/* This thread's last error message: empty after a success. */",

@@ -3,6 +3,9 @@
 //! Jacobian and to central differences, and every bad argument refused with a status and a
 //! message, never a panic.
 
+// Matrices are compared entry by entry, by their indices.
+#![allow(clippy::needless_range_loop)]
+
 use core::ffi::{CStr, c_int};
 use hamel_export::casadi::sparsity::CasadiInt;
 use hamel_models::MobileRobot;
