@@ -45,4 +45,41 @@ pub mod __private {
     pub use crate::casadi::sparsity::CasadiInt;
     pub use core::ffi::{c_char, c_int};
     pub use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
+
+    /// For each of `wanted`, its position in `names`: the parameters the generated code reads,
+    /// in the order of the struct's fields. A name that is not there (a model whose generated
+    /// code reads a parameter its struct does not list: a bug) stops the build.
+    pub const fn positions<const K: usize>(names: &[&str], wanted: &[&str]) -> [usize; K] {
+        let mut out = [0; K];
+        let mut k = 0;
+        while k < K {
+            let mut i = 0;
+            loop {
+                if i == names.len() {
+                    panic!("hamel-export: a parameter the model reads is not in Parameters::NAMES");
+                }
+                if equal(names[i].as_bytes(), wanted[k].as_bytes()) {
+                    break;
+                }
+                i += 1;
+            }
+            out[k] = i;
+            k += 1;
+        }
+        out
+    }
+
+    const fn equal(a: &[u8], b: &[u8]) -> bool {
+        if a.len() != b.len() {
+            return false;
+        }
+        let mut i = 0;
+        while i < a.len() {
+            if a[i] != b[i] {
+                return false;
+            }
+            i += 1;
+        }
+        true
+    }
 }

@@ -23,6 +23,12 @@ macro_rules! model {
             const NP: usize = <$system as $crate::__private::Parameters>::NAMES.len();
             const NY: usize = <$system>::__HAMEL_OUTPUT_NAMES.len();
             const Z: usize = <$marker>::NX + <$marker>::NU + <$marker>::NP + 1;
+            /// The parameters the generated code reads, as positions in `Parameters::NAMES`.
+            const READ: [usize; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
+                $crate::__private::positions(
+                    <$system as $crate::__private::Parameters>::NAMES,
+                    <$system>::__HAMEL_PARAMETRIC_NAMES,
+                );
         }
 
         const _: () = ::core::assert!(<$marker>::NY <= <$marker>::Z);
@@ -52,8 +58,10 @@ macro_rules! model {
             ) -> ::core::result::Result<(), $crate::__private::Singularity> {
                 let x: [S; <$marker>::NX] = ::core::array::from_fn(|i| z[i]);
                 let u: [S; <$marker>::NU] = ::core::array::from_fn(|i| z[<$marker>::NX + i]);
-                let p: [S; <$marker>::NP] =
-                    ::core::array::from_fn(|i| z[<$marker>::NX + <$marker>::NU + i]);
+                let p: [S; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
+                    ::core::array::from_fn(|i| {
+                        z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
+                    });
                 let t = z[<$marker>::Z - 1];
                 let mut out = [S::from_f64(0.0); <$marker>::NX];
                 <$system>::__hamel_rhs_parametric(&p, t, &x, &u, &mut out)?;
@@ -67,8 +75,10 @@ macro_rules! model {
                 y: &mut [S; <$marker>::Z],
             ) {
                 let x: [S; <$marker>::NX] = ::core::array::from_fn(|i| z[i]);
-                let p: [S; <$marker>::NP] =
-                    ::core::array::from_fn(|i| z[<$marker>::NX + <$marker>::NU + i]);
+                let p: [S; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
+                    ::core::array::from_fn(|i| {
+                        z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
+                    });
                 let t = z[<$marker>::Z - 1];
                 let out = <$system>::__hamel_outputs_parametric(&p, t, &x);
                 y[..<$marker>::NY].copy_from_slice(&out);
