@@ -328,6 +328,7 @@ pub fn generate(
         constraints,
         dependent: spec.dependent(),
         conservative: eq.conservative,
+        power_vanishes_without_inputs: eq.power_vanishes_without_inputs,
         reversible: eq.reversible,
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
