@@ -20,6 +20,7 @@ mod model;
 mod notes;
 mod orientations;
 mod parameters;
+mod parametric;
 mod rank;
 mod rate_bodies;
 mod reserved;
