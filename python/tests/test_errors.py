@@ -90,7 +90,8 @@ def test_an_integration_that_runs_out_of_steps_names_the_time_and_state():
     e = caught.value
     assert e.kind == "too_many_steps"
     assert 0.0 < e.time < 10.0
-    assert set(e.state) == set(robot.state_names)
+    # The state, and the work done on the robot that the run integrates beside it.
+    assert set(robot.state_names) <= set(e.state)
     assert f"state: x = " in str(e)
 
 
