@@ -12,8 +12,12 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 fn main() {
-    let here = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
-    let root = here.parent().expect("python/ is inside the repository").to_path_buf();
+    let here =
+        PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let root = here
+        .parent()
+        .expect("python/ is inside the repository")
+        .to_path_buf();
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let manifest = fs::read_to_string(root.join("Cargo.toml")).unwrap_or_else(|e| {
         panic!(
@@ -27,11 +31,20 @@ fn main() {
         .filter(|m| m.starts_with("hamel-") && root.join(m).join("Cargo.toml").exists())
         .collect();
     let mut bundle = Vec::new();
-    add(&mut bundle, "Cargo.toml", rewrite(&manifest, &crates, &fs::read_to_string(here.join("Cargo.toml")).unwrap_or_default()).as_bytes());
-    for file in ["README.md"] {
-        add_file(&mut bundle, &root, Path::new(file));
-    }
+    add(
+        &mut bundle,
+        "Cargo.toml",
+        rewrite(
+            &manifest,
+            &crates,
+            &fs::read_to_string(here.join("Cargo.toml")).unwrap_or_default(),
+        )
+        .as_bytes(),
+    );
+    add_file(&mut bundle, &root, Path::new("README.md"));
     add_tree(&mut bundle, &root, Path::new("src"));
+    // The guides include an example's source (`hamel::docs::studies`).
+    add_tree(&mut bundle, &root, Path::new("examples"));
     for name in &crates {
         add_file(&mut bundle, &root, &Path::new(name).join("Cargo.toml"));
         add_tree(&mut bundle, &root, &Path::new(name).join("src"));
@@ -42,11 +55,22 @@ fn main() {
         add(&mut bundle, "work/Cargo.lock", &lock);
     }
     fs::write(out.join("sources.bin"), &bundle).expect("OUT_DIR is writable");
-    fs::write(out.join("sources.hash"), format!("{:016x}", fnv(&bundle))).expect("OUT_DIR is writable");
-    println!("cargo:rerun-if-changed={}", root.join("Cargo.toml").display());
+    fs::write(out.join("sources.hash"), format!("{:016x}", fnv(&bundle)))
+        .expect("OUT_DIR is writable");
+    println!(
+        "cargo:rerun-if-changed={}",
+        root.join("Cargo.toml").display()
+    );
     println!("cargo:rerun-if-changed={}", root.join("src").display());
-    println!("cargo:rerun-if-changed={}", here.join("hamel-python").display());
-    println!("cargo:rerun-if-changed={}", here.join("Cargo.lock").display());
+    println!("cargo:rerun-if-changed={}", root.join("examples").display());
+    println!(
+        "cargo:rerun-if-changed={}",
+        here.join("hamel-python").display()
+    );
+    println!(
+        "cargo:rerun-if-changed={}",
+        here.join("Cargo.lock").display()
+    );
     for name in &crates {
         println!("cargo:rerun-if-changed={}", root.join(name).display());
     }
@@ -54,9 +78,13 @@ fn main() {
 
 /// The workspace members the root manifest lists (`members = [..]`, on one line or several).
 fn members(manifest: &str) -> Vec<String> {
-    let Some(start) = manifest.find("members") else { return Vec::new() };
+    let Some(start) = manifest.find("members") else {
+        return Vec::new();
+    };
     let rest = &manifest[start..];
-    let (Some(open), Some(close)) = (rest.find('['), rest.find(']')) else { return Vec::new() };
+    let (Some(open), Some(close)) = (rest.find('['), rest.find(']')) else {
+        return Vec::new();
+    };
     rest[open + 1..close]
         .split(',')
         .map(|s| s.trim().trim_matches('"').to_string())
@@ -98,10 +126,23 @@ fn rewrite(manifest: &str, crates: &[String], python: &str) -> String {
                 continue;
             }
         }
+        // The facade as the wheel uses it: studies, without plots.
+        if trimmed.starts_with("hamel = {") && !trimmed.contains("default-features") {
+            out += &line.replacen(
+                "hamel = {",
+                "hamel = { default-features = false, features = [\"study\"],",
+                1,
+            );
+            out.push('\n');
+            continue;
+        }
         out += line;
         out.push('\n');
         if trimmed.starts_with("[workspace.dependencies]") {
-            for dep in python.lines().filter(|l| l.starts_with("pyo3 =") || l.starts_with("numpy =")) {
+            for dep in python
+                .lines()
+                .filter(|l| l.starts_with("pyo3 =") || l.starts_with("numpy ="))
+            {
                 out += dep;
                 out.push('\n');
             }
@@ -118,15 +159,25 @@ fn add(bundle: &mut Vec<u8>, path: &str, bytes: &[u8]) {
 }
 
 fn add_file(bundle: &mut Vec<u8>, base: &Path, relative: &Path) {
-    let bytes = fs::read(base.join(relative)).unwrap_or_else(|e| panic!("cannot read {}: {e}", base.join(relative).display()));
-    add(bundle, &relative.to_string_lossy().replace('\\', "/"), &bytes);
+    let bytes = fs::read(base.join(relative))
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", base.join(relative).display()));
+    add(
+        bundle,
+        &relative.to_string_lossy().replace('\\', "/"),
+        &bytes,
+    );
 }
 
 /// Every file under `dir`, in a fixed order (the bundle's hash does not depend on the order
 /// the file system lists them in).
 fn add_tree(bundle: &mut Vec<u8>, base: &Path, dir: &Path) {
-    let Ok(entries) = fs::read_dir(base.join(dir)) else { return };
-    let mut names: Vec<PathBuf> = entries.filter_map(|e| e.ok()).map(|e| dir.join(e.file_name())).collect();
+    let Ok(entries) = fs::read_dir(base.join(dir)) else {
+        return;
+    };
+    let mut names: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok())
+        .map(|e| dir.join(e.file_name()))
+        .collect();
     names.sort();
     for relative in names {
         let full = base.join(&relative);
@@ -140,5 +191,7 @@ fn add_tree(bundle: &mut Vec<u8>, base: &Path, dir: &Path) {
 
 /// FNV-1a, 64 bits: the bundle's identity in the compile cache's key.
 fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }

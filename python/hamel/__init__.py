@@ -16,6 +16,7 @@ from ._linear import Linearization, Lqr, Mode
 from ._model import Event, Model, Names, Parameters
 from ._run import EventRecord, Run, Summary
 from ._scene import Scene
+from ._study import study
 from ._table import Table
 from .errors import CompileError, Error
 
@@ -27,11 +28,3 @@ __all__ = [
     "models", "study",
 ]
 
-
-def __getattr__(name):
-    # `hamel.study` is imported on first use.
-    if name == "study":
-        from . import study
-
-        return study
-    raise AttributeError(f"module 'hamel' has no attribute {name!r}")

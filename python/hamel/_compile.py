@@ -93,13 +93,14 @@ def _unpack(blob: bytes, into: Path) -> None:
 
 def _prepare(root: Path) -> None:
     """The cache's workspace for this hamel and toolchain: the bundled sources under
-    ``bundle/``, the models' workspace under ``work/`` (created once)."""
+    ``bundle/`` (unpacked again when the wheel carries other sources: a rebuilt package of the
+    same version), the models' workspace under ``work/``."""
     from . import _native
 
+    blob, bundle_hash = _native.rust_sources()
     done = root / "bundle" / ".complete"
-    if done.exists():
+    if done.exists() and done.read_text() == bundle_hash:
         return
-    blob, _ = _native.rust_sources()
     staging = Path(tempfile.mkdtemp(prefix="bundle-", dir=root))
     _unpack(blob, staging)
     lock = staging / "work" / "Cargo.lock"
@@ -116,7 +117,7 @@ def _prepare(root: Path) -> None:
     if bundle.exists():
         shutil.rmtree(bundle)
     staging.rename(bundle)
-    done.write_text("")
+    done.write_text(bundle_hash)
 
 
 def _crate(module: str, source: str, models: List[str]) -> (str, str):
@@ -247,10 +248,12 @@ def compile(path_or_source: Union[str, os.PathLike], *, model: Optional[str] = N
             "#[hamel_system(coordinates(..), ..)]", [], shown_as)
     _, bundle_hash = _native.rust_sources()
     toolchain = _toolchain()
+    # One workspace (and target directory) per version and toolchain; one module per source,
+    # built against the exact sources the wheel carries.
     version_key = hashlib.sha256(
-        f"{_native.hamel_version}\n{bundle_hash}\n{toolchain}".encode()).hexdigest()[:16]
+        f"{_native.hamel_version}\n{toolchain}".encode()).hexdigest()[:16]
     source_key = hashlib.sha256(
-        f"{version_key}\n{','.join(models)}\n{source}".encode()).hexdigest()[:16]
+        f"{version_key}\n{bundle_hash}\n{','.join(models)}\n{source}".encode()).hexdigest()[:16]
     module = f"hamel_model_{source_key}"
     root = cache_directory() / version_key
     with _LOCK:

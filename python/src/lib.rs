@@ -30,5 +30,8 @@ hamel_python::export_models!(
 #[pyo3::pyfunction]
 fn rust_sources(py: pyo3::Python<'_>) -> (pyo3::Bound<'_, pyo3::types::PyBytes>, &'static str) {
     let bytes = include_bytes!(concat!(env!("OUT_DIR"), "/sources.bin"));
-    (pyo3::types::PyBytes::new(py, bytes), include_str!(concat!(env!("OUT_DIR"), "/sources.hash")))
+    (
+        pyo3::types::PyBytes::new(py, bytes),
+        include_str!(concat!(env!("OUT_DIR"), "/sources.hash")),
+    )
 }

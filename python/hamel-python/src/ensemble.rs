@@ -49,7 +49,7 @@ pub struct RowOutputs {
 }
 
 impl RowOutputs {
-    fn outputs(&self) -> Outputs {
+    pub(crate) fn outputs(&self) -> Outputs {
         let mut o = Outputs::new();
         if self.final_state {
             o = o.final_state();
@@ -70,8 +70,16 @@ impl RowOutputs {
 impl Cases {
     /// `parameters`: (name, values) pairs; `states`: a state (1-D), a state per case (2-D), or
     /// a list of (name, values) pairs.
-    pub fn parse(count: usize, parameters: Vec<(String, PyReadonlyArray1<'_, f64>)>, states: &Bound<'_, PyAny>, d: &Description) -> PyResult<Cases> {
-        let column = |name: &str, values: &PyReadonlyArray1<'_, f64>, argument: &str| -> PyResult<Vec<f64>> {
+    pub fn parse(
+        count: usize,
+        parameters: Vec<(String, PyReadonlyArray1<'_, f64>)>,
+        states: &Bound<'_, PyAny>,
+        d: &Description,
+    ) -> PyResult<Cases> {
+        let column = |name: &str,
+                      values: &PyReadonlyArray1<'_, f64>,
+                      argument: &str|
+         -> PyResult<Vec<f64>> {
             let v = values.as_array().to_vec();
             if v.len() != count {
                 return Err(PyValueError::new_err(format!(
@@ -159,11 +167,25 @@ impl Cases {
 }
 
 /// Case `i`: its model, its state, its run, its row.
-fn case<S: Model>(object: &Object<S>, cases: &Cases, setup: &RunSetup, outputs: &Outputs, failure: &Failure, i: usize) -> Result<Vec<f64>, Error> {
+fn case<S: Model>(
+    object: &Object<S>,
+    cases: &Cases,
+    setup: &RunSetup,
+    outputs: &Outputs,
+    failure: &Failure,
+    i: usize,
+) -> Result<Vec<f64>, Error> {
     if failure.is_set() {
-        return Err(Error::case_failed("interrupted", "the ensemble was interrupted before this case ran"));
+        return Err(Error::case_failed(
+            "interrupted",
+            "the ensemble was interrupted before this case ran",
+        ));
     }
-    let values: Vec<(String, f64)> = cases.parameters.iter().map(|(n, v)| (n.clone(), v[i])).collect();
+    let values: Vec<(String, f64)> = cases
+        .parameters
+        .iter()
+        .map(|(n, v)| (n.clone(), v[i]))
+        .collect();
     let model = object.model_with(&values)?;
     let len = S::State::LEN;
     let x0 = match &cases.states {
@@ -177,7 +199,10 @@ fn case<S: Model>(object: &Object<S>, cases: &Cases, setup: &RunSetup, outputs: 
     .unwrap_or_else(S::State::zeros);
     let trajectory = run(&model, x0, setup, failure, Failure::stop_if_set)?;
     if failure.is_set() {
-        return Err(Error::case_failed("interrupted", "the ensemble was interrupted during this case"));
+        return Err(Error::case_failed(
+            "interrupted",
+            "the ensemble was interrupted during this case",
+        ));
     }
     let mut row = cases.given(i);
     row.extend(outputs.values::<S>(&trajectory)?);
@@ -186,7 +211,14 @@ fn case<S: Model>(object: &Object<S>, cases: &Cases, setup: &RunSetup, outputs: 
 
 /// The ensemble on a thread of its own (its cases on the pool), while this thread, released
 /// from the interpreter, checks for Ctrl-C every 10 ms and stops every case when it comes.
-pub fn run_cases<S: Model>(object: &Object<S>, py: Python<'_>, cases: &Cases, setup: &RunSetup, outputs: &RowOutputs, threads: Option<usize>) -> PyResult<Table> {
+pub fn run_cases<S: Model>(
+    object: &Object<S>,
+    py: Python<'_>,
+    cases: &Cases,
+    setup: &RunSetup,
+    outputs: &RowOutputs,
+    threads: Option<usize>,
+) -> PyResult<Table> {
     let outputs = outputs.outputs();
     let mut names = cases.names();
     names.extend(outputs.names::<S>());
@@ -289,7 +321,10 @@ impl NativeTable {
     }
 
     fn __repr__(&self) -> String {
-        format!("<hamel table: {} rows, columns {}>", self.table.len(), self.table.names().join(", "))
+        format!(
+            "<hamel table: {} rows, columns {}>",
+            self.table.len(),
+            self.table.names().join(", ")
+        )
     }
 }
-

@@ -30,7 +30,14 @@ impl EventSpec {
     /// One entry of the list the Python package makes of `events=`:
     /// `(name, function or None, state name or None, value, direction, terminal)`.
     pub fn parse(entry: &Bound<'_, PyAny>, state: &[&str]) -> PyResult<EventSpec> {
-        type Entry<'py> = (String, Option<Bound<'py, PyAny>>, Option<String>, f64, f64, bool);
+        type Entry<'py> = (
+            String,
+            Option<Bound<'py, PyAny>>,
+            Option<String>,
+            f64,
+            f64,
+            bool,
+        );
         let (name, function, component, value, direction, terminal): Entry<'_> =
             entry.extract().map_err(|_| {
                 PyTypeError::new_err(
@@ -75,7 +82,9 @@ impl EventSpec {
         let event = match &self.kind {
             EventKind::Threshold { index, value } => {
                 let (index, value) = (*index, *value);
-                Event::new(self.name.clone(), move |_t, x: &S::State| x.as_ref()[index] - value)
+                Event::new(self.name.clone(), move |_t, x: &S::State| {
+                    x.as_ref()[index] - value
+                })
             }
             EventKind::Callable(f) => Event::new(self.name.clone(), move |t, x: &S::State| {
                 if failure.is_set() {
@@ -97,7 +106,11 @@ impl EventSpec {
         } else {
             event
         };
-        if self.terminal { event.terminal() } else { event }
+        if self.terminal {
+            event.terminal()
+        } else {
+            event
+        }
     }
 }
 

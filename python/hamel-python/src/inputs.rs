@@ -16,7 +16,10 @@ pub enum InputSpec {
     /// One value per input (all zero when none are given).
     Constant(Vec<f64>),
     /// Values sampled at increasing times, linearly interpolated, held beyond the ends.
-    Sampled { times: Vec<f64>, columns: Vec<Column> },
+    Sampled {
+        times: Vec<f64>,
+        columns: Vec<Column>,
+    },
     /// A Python function u(t, x) returning one value per input.
     Callable(Py<PyAny>),
     /// u = u₀ − K (x − x₀) of an LQR design (evaluated in Rust).
@@ -33,7 +36,11 @@ impl InputSpec {
     /// `inputs=` of `simulate`: `None`, a number (one input), a sequence of one value per
     /// input, a dict by input name (numbers; with a key `"t"`, arrays sampled at those times),
     /// a callable u(t, x), or an LQR design (`lin.lqr(Q, R)`).
-    pub fn parse(value: Option<&Bound<'_, PyAny>>, names: &[&str], lqr: Option<Lqr>) -> PyResult<InputSpec> {
+    pub fn parse(
+        value: Option<&Bound<'_, PyAny>>,
+        names: &[&str],
+        lqr: Option<Lqr>,
+    ) -> PyResult<InputSpec> {
         if let Some(lqr) = lqr {
             return Ok(InputSpec::Feedback(lqr));
         }
@@ -72,7 +79,9 @@ fn values_of(value: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<f64>> {
         )));
     }
     if let Ok(a) = value.extract::<PyReadonlyArray1<f64>>() {
-        return Ok(a.as_slice().map_or_else(|_| a.as_array().to_vec(), <[f64]>::to_vec));
+        return Ok(a
+            .as_slice()
+            .map_or_else(|_| a.as_array().to_vec(), <[f64]>::to_vec));
     }
     value.extract::<Vec<f64>>().map_err(|_| {
         PyTypeError::new_err(format!(
@@ -116,7 +125,11 @@ fn parse_dict(dict: &Bound<'_, PyDict>, names: &[&str]) -> PyResult<InputSpec> {
         let Some(j) = names.iter().position(|n| *n == key) else {
             return Err(PyValueError::new_err(format!(
                 "inputs: unknown input `{key}`; the model's inputs are: {}",
-                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
             )));
         };
         let argument = format!("inputs[\"{key}\"]");
@@ -158,11 +171,17 @@ fn parse_dict(dict: &Bound<'_, PyDict>, names: &[&str]) -> PyResult<InputSpec> {
     if times.is_empty() {
         return Err(PyValueError::new_err("inputs[\"t\"]: no sample times"));
     }
-    if let Some(i) = (0..times.len()).find(|&i| !times[i].is_finite() || (i > 0 && times[i] <= times[i - 1])) {
+    if let Some(i) =
+        (0..times.len()).find(|&i| !times[i].is_finite() || (i > 0 && times[i] <= times[i - 1]))
+    {
         return Err(PyValueError::new_err(format!(
             "inputs[\"t\"]: the sample times must be finite and increasing; entry {i} is {} after {}",
             times[i],
-            if i > 0 { times[i - 1].to_string() } else { "nothing".into() }
+            if i > 0 {
+                times[i - 1].to_string()
+            } else {
+                "nothing".into()
+            }
         )));
     }
     Ok(InputSpec::Sampled { times, columns })

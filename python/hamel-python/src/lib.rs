@@ -26,11 +26,14 @@ mod object;
 mod probe;
 mod run;
 mod settings;
+mod study;
 
 pub use describe::Description;
 pub use model::{Hooks, Model};
 pub use object::{ModelObject, NativeModel, NativeModelType};
-pub use probe::{Probe, ViaControl, ViaDefault, ViaMechanism, ViaNoControl, ViaNoMechanism, ViaZeroed};
+pub use probe::{
+    Probe, ViaControl, ViaDefault, ViaMechanism, ViaNoControl, ViaNoMechanism, ViaZeroed,
+};
 
 /// The crates the macro's expansion names, so that a crate exporting models needs only
 /// `hamel` and `hamel-python` among its dependencies.
@@ -40,7 +43,11 @@ use pyo3::prelude::*;
 
 /// Adds the model type `S`, called `name`, to the module being made (what
 /// [`export_models!`] expands to, once per model).
-pub fn register<S: Model>(module: &Bound<'_, PyModule>, name: &'static str, hooks: Hooks<S>) -> PyResult<()> {
+pub fn register<S: Model>(
+    module: &Bound<'_, PyModule>,
+    name: &'static str,
+    hooks: Hooks<S>,
+) -> PyResult<()> {
     let ty = NativeModelType::new::<S>(name, hooks);
     let types = match module.getattr("models") {
         Ok(existing) => existing,

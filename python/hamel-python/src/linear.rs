@@ -12,6 +12,9 @@ use hamel::{Linearization, NamedValues};
 
 use crate::errors::to_py;
 
+/// An operating point for Python: the time, and the state and inputs by name.
+type OperatingPoint<'py> = (f64, Bound<'py, PyDict>, Bound<'py, PyDict>);
+
 /// A linearization: `hamel.Linearization` wraps it.
 #[pyclass(frozen, module = "hamel")]
 pub struct NativeLinearization {
@@ -30,7 +33,10 @@ pub fn matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> PyResult<Bound<'py, PyA
     PyArray1::from_vec(py, data).reshape([r, c])
 }
 
-fn complex<'py>(py: Python<'py>, values: &[hamel::nalgebra::Complex<f64>]) -> Bound<'py, PyArray1<Complex64>> {
+fn complex<'py>(
+    py: Python<'py>,
+    values: &[hamel::nalgebra::Complex<f64>],
+) -> Bound<'py, PyArray1<Complex64>> {
     let values: Vec<Complex64> = values.iter().map(|z| Complex64::new(z.re, z.im)).collect();
     PyArray1::from_vec(py, values)
 }
@@ -44,7 +50,12 @@ fn named<'py>(py: Python<'py>, values: &NamedValues) -> PyResult<Bound<'py, PyDi
 }
 
 /// A weight matrix given from Python, square of `size`.
-fn weight(m: PyReadonlyArray2<'_, f64>, name: &str, size: usize, over: &str) -> PyResult<DMatrix<f64>> {
+fn weight(
+    m: PyReadonlyArray2<'_, f64>,
+    name: &str,
+    size: usize,
+    over: &str,
+) -> PyResult<DMatrix<f64>> {
     let a = m.as_array();
     if a.shape() != [size, size] {
         return Err(PyValueError::new_err(format!(
@@ -75,7 +86,10 @@ impl NativeLinearization {
     }
 
     /// `(t, state dict, inputs dict)`, or None for a linearization of given matrices.
-    fn operating_point<'py>(&self, py: Python<'py>) -> PyResult<Option<(f64, Bound<'py, PyDict>, Bound<'py, PyDict>)>> {
+    fn operating_point<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Option<OperatingPoint<'py>>> {
         match self.linearization.operating_point() {
             Some(p) => Ok(Some((p.t, named(py, &p.state)?, named(py, &p.inputs)?))),
             None => Ok(None),
@@ -110,13 +124,23 @@ impl NativeLinearization {
 
     fn with_inputs(&self, keep: Vec<String>) -> PyResult<NativeLinearization> {
         let keep: Vec<&str> = keep.iter().map(String::as_str).collect();
-        let linearization = self.linearization.with_inputs(&keep).map_err(|e| to_py(&e))?;
+        let linearization = self
+            .linearization
+            .with_inputs(&keep)
+            .map_err(|e| to_py(&e))?;
         Ok(NativeLinearization { linearization })
     }
 
     /// The LQR design with the weights Q (over the states) and R (over the inputs).
-    fn lqr(&self, q: PyReadonlyArray2<'_, f64>, r: PyReadonlyArray2<'_, f64>) -> PyResult<NativeLqr> {
-        let (n, m) = (self.linearization.states().len(), self.linearization.inputs().len());
+    fn lqr(
+        &self,
+        q: PyReadonlyArray2<'_, f64>,
+        r: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<NativeLqr> {
+        let (n, m) = (
+            self.linearization.states().len(),
+            self.linearization.inputs().len(),
+        );
         let q = weight(q, "Q", n, "states")?;
         let r = weight(r, "R", m, "inputs")?;
         let lqr = Lqr::new(&self.linearization, &q, &r).map_err(|e| to_py(&e))?;

@@ -19,7 +19,8 @@ pub struct Factory<S> {
 
 /// A model's scene as an HTML page (models with `#[bodies]`): the run, the columns shown
 /// beside it (`None`: the coordinates), and a title.
-pub type SceneFn<S> = fn(&S, &Trajectory, Option<&[String]>, Option<&str>) -> Result<String, String>;
+pub type SceneFn<S> =
+    fn(&S, &Trajectory, Option<&[String]>, Option<&str>) -> Result<String, String>;
 
 /// A model's outputs y = h(t, x) (models with `#[outputs]`): their names and values.
 pub struct OutputsHook<S: HamelSystem> {

@@ -17,6 +17,7 @@ use crate::model::{Hooks, Model};
 use crate::object::{ModelObject, Object, not_plain};
 use crate::run::NativeRun;
 use crate::settings::{MethodArgs, RunSetup};
+use crate::study::{StudyResult, StudySpec};
 
 /// Making models of one type.
 trait ModelKind: Send + Sync {
@@ -47,7 +48,11 @@ impl<S: Model> ModelKind for Kind<S> {
                 return Err(PyTypeError::new_err(format!(
                     "{}() has no default parameters (the model has no `Default`): give {}",
                     d.name,
-                    missing.iter().map(|m| format!("{m}=...")).collect::<Vec<_>>().join(", ")
+                    missing
+                        .iter()
+                        .map(|m| format!("{m}=..."))
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )));
             }
         }
@@ -81,7 +86,9 @@ impl NativeModelType {
 /// `{name: value}` from a dict of numbers; a value that is not a number is a `TypeError`
 /// naming its key.
 fn numbers(dict: Option<&Bound<'_, PyDict>>, argument: &str) -> PyResult<Vec<(String, f64)>> {
-    let Some(dict) = dict else { return Ok(Vec::new()) };
+    let Some(dict) = dict else {
+        return Ok(Vec::new());
+    };
     let mut values = Vec::with_capacity(dict.len());
     for (key, value) in dict.iter() {
         let key: String = key
@@ -100,7 +107,12 @@ fn numbers(dict: Option<&Bound<'_, PyDict>>, argument: &str) -> PyResult<Vec<(St
 }
 
 /// A one-dimensional array of `names.len()` numbers (a NumPy array or a sequence).
-pub fn vector_arg(value: &Bound<'_, PyAny>, argument: &str, names: &[&str], what: &str) -> PyResult<Vec<f64>> {
+pub fn vector_arg(
+    value: &Bound<'_, PyAny>,
+    argument: &str,
+    names: &[&str],
+    what: &str,
+) -> PyResult<Vec<f64>> {
     let values = if let Ok(a) = value.cast::<numpy::PyArrayDyn<f64>>() {
         if a.ndim() != 1 {
             return Err(PyValueError::new_err(format!(
@@ -192,7 +204,9 @@ impl NativeModel {
         max_samples: Option<u64>,
     ) -> PyResult<RunSetup> {
         let d = self.d();
-        let lqr = inputs.and_then(|i| i.cast::<NativeLqr>().ok()).map(|l| l.get().lqr.clone());
+        let lqr = inputs
+            .and_then(|i| i.cast::<NativeLqr>().ok())
+            .map(|l| l.get().lqr.clone());
         let events = match events {
             Some(list) => list
                 .iter()
@@ -229,7 +243,10 @@ impl NativeModel {
     #[pyo3(signature = (parameters=None))]
     fn with_parameters(&self, parameters: Option<&Bound<'_, PyDict>>) -> PyResult<NativeModel> {
         let values = numbers(parameters, "")?;
-        let object = self.object.with_parameters(&values).map_err(|e| to_py(&e))?;
+        let object = self
+            .object
+            .with_parameters(&values)
+            .map_err(|e| to_py(&e))?;
         Ok(NativeModel { object })
     }
 
@@ -243,7 +260,9 @@ impl NativeModel {
         t: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let values = numbers(values, "")?;
-        let velocities = velocities.map(|v| numbers(Some(v), "velocities")).transpose()?;
+        let velocities = velocities
+            .map(|v| numbers(Some(v), "velocities"))
+            .transpose()?;
         let x = self
             .object
             .state(t, &values, velocities.as_deref())
@@ -278,8 +297,28 @@ impl NativeModel {
         max_samples: Option<u64>,
     ) -> PyResult<NativeRun> {
         let x0 = self.state_arg(x0, "x0")?;
-        let method = MethodArgs { method, rtol, atol, step, max_steps, max_step, initial_step, min_step, dt };
-        let setup = self.setup(t0, t_end, dt, method, inputs, events, lambdas, project, max_samples)?;
+        let method = MethodArgs {
+            method,
+            rtol,
+            atol,
+            step,
+            max_steps,
+            max_step,
+            initial_step,
+            min_step,
+            dt,
+        };
+        let setup = self.setup(
+            t0,
+            t_end,
+            dt,
+            method,
+            inputs,
+            events,
+            lambdas,
+            project,
+            max_samples,
+        )?;
         let trajectory = self.object.simulate(py, &x0, &setup)?;
         Ok(NativeRun { trajectory })
     }
@@ -317,8 +356,28 @@ impl NativeModel {
         sample_at: Vec<f64>,
         threads: Option<usize>,
     ) -> PyResult<NativeTable> {
-        let method = MethodArgs { method, rtol, atol, step, max_steps, max_step, initial_step, min_step, dt };
-        let setup = self.setup(t0, t_end, dt, method, inputs, events, lambdas, project, max_samples)?;
+        let method = MethodArgs {
+            method,
+            rtol,
+            atol,
+            step,
+            max_steps,
+            max_step,
+            initial_step,
+            min_step,
+            dt,
+        };
+        let setup = self.setup(
+            t0,
+            t_end,
+            dt,
+            method,
+            inputs,
+            events,
+            lambdas,
+            project,
+            max_samples,
+        )?;
         let cases = Cases::parse(count, parameters, states, self.d())?;
         let outputs = RowOutputs {
             final_state,
@@ -327,15 +386,118 @@ impl NativeModel {
             sample_at,
         };
         if threads == Some(0) {
-            return Err(PyValueError::new_err("threads: at least 1 (None: every core)"));
+            return Err(PyValueError::new_err(
+                "threads: at least 1 (None: every core)",
+            ));
         }
-        let table = self.object.ensemble(py, &cases, &setup, &outputs, threads)?;
+        let table = self
+            .object
+            .ensemble(py, &cases, &setup, &outputs, threads)?;
         Ok(NativeTable { table })
+    }
+
+    /// A study over a table of cases: see `hamel.study`.
+    #[pyo3(signature = (name, names, rows, arguments, table_path, *, t0=0.0, t_end=10.0, dt=0.01,
+        method="dopri5", rtol=None, atol=None, step=None, max_steps=None, max_step=None,
+        initial_step=None, min_step=None, inputs=None, events=None, lambdas=false, project=false,
+        max_samples=None, final_state=true, summary=true, sample_at=Vec::new(), threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn study(
+        &self,
+        py: Python<'_>,
+        name: String,
+        names: Vec<String>,
+        rows: Vec<Vec<f64>>,
+        arguments: Option<Vec<String>>,
+        table_path: String,
+        t0: f64,
+        t_end: f64,
+        dt: f64,
+        method: &str,
+        rtol: Option<f64>,
+        atol: Option<f64>,
+        step: Option<f64>,
+        max_steps: Option<usize>,
+        max_step: Option<f64>,
+        initial_step: Option<f64>,
+        min_step: Option<f64>,
+        inputs: Option<&Bound<'_, PyAny>>,
+        events: Option<&Bound<'_, PyList>>,
+        lambdas: bool,
+        project: bool,
+        max_samples: Option<u64>,
+        final_state: bool,
+        summary: bool,
+        sample_at: Vec<f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Option<NativeTable>> {
+        let d = self.d();
+        for n in &names {
+            let known = d.parameters.contains(&n.as_str())
+                || d.coordinates.contains(&n.as_str())
+                || d.speeds.contains(&n.as_str());
+            if !known {
+                return Err(PyValueError::new_err(format!(
+                    "cases: the column `{n}` is neither a parameter nor a coordinate or speed of {}",
+                    d.name
+                )));
+            }
+        }
+        if threads == Some(0) {
+            return Err(PyValueError::new_err(
+                "threads: at least 1 (None: every core)",
+            ));
+        }
+        let method = MethodArgs {
+            method,
+            rtol,
+            atol,
+            step,
+            max_steps,
+            max_step,
+            initial_step,
+            min_step,
+            dt,
+        };
+        let setup = self.setup(
+            t0,
+            t_end,
+            dt,
+            method,
+            inputs,
+            events,
+            lambdas,
+            project,
+            max_samples,
+        )?;
+        let outputs = RowOutputs {
+            final_state,
+            summary,
+            events: setup.events.iter().map(|e| e.name.clone()).collect(),
+            sample_at,
+        };
+        let spec = StudySpec {
+            name,
+            names,
+            rows,
+            arguments,
+            table_path,
+            threads,
+        };
+        match self.object.study(py, &spec, &setup, &outputs)? {
+            StudyResult::Table(table) => Ok(Some(NativeTable { table })),
+            StudyResult::Done => Ok(None),
+        }
     }
 
     /// The linearization at (t, x, u).
     #[pyo3(signature = (x, u=None, t=0.0))]
-    fn linearize(&self, x: &Bound<'_, PyAny>, u: Option<&Bound<'_, PyAny>>, t: f64) -> PyResult<NativeLinearization> {
+    fn linearize(
+        &self,
+        x: &Bound<'_, PyAny>,
+        u: Option<&Bound<'_, PyAny>>,
+        t: f64,
+    ) -> PyResult<NativeLinearization> {
         let x = self.state_arg(x, "x")?;
         let u = self.inputs_arg(u)?;
         let linearization = self.object.linearize(t, &x, &u).map_err(|e| to_py(&e))?;
@@ -344,7 +506,13 @@ impl NativeModel {
 
     /// ẋ = F(t, x, u).
     #[pyo3(signature = (x, u=None, t=0.0))]
-    fn rhs<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: Option<&Bound<'py, PyAny>>, t: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn rhs<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: Option<&Bound<'py, PyAny>>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = self.state_arg(x, "x")?;
         let u = self.inputs_arg(u)?;
         let dx = self.object.rhs(t, &x, &u).map_err(|e| to_py(&e))?;
@@ -358,15 +526,29 @@ impl NativeModel {
     }
 
     #[pyo3(signature = (x, u=None, t=0.0))]
-    fn constraint_forces<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: Option<&Bound<'py, PyAny>>, t: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn constraint_forces<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: Option<&Bound<'py, PyAny>>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = self.state_arg(x, "x")?;
         let u = self.inputs_arg(u)?;
-        let lambda = self.object.constraint_forces(t, &x, &u).map_err(|e| to_py(&e))?;
+        let lambda = self
+            .object
+            .constraint_forces(t, &x, &u)
+            .map_err(|e| to_py(&e))?;
         Ok(PyArray1::from_vec(py, lambda))
     }
 
     #[pyo3(signature = (x, t=0.0))]
-    fn outputs<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, t: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn outputs<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = self.state_arg(x, "x")?;
         match self.object.outputs(t, &x) {
             Some(y) => Ok(PyArray1::from_vec(py, y)),
@@ -379,12 +561,20 @@ impl NativeModel {
 
     /// The run's 3D scene as an HTML page.
     #[pyo3(signature = (run, show=None, title=None))]
-    fn scene(&self, run: &Bound<'_, PyAny>, show: Option<Vec<String>>, title: Option<String>) -> PyResult<String> {
+    fn scene(
+        &self,
+        run: &Bound<'_, PyAny>,
+        show: Option<Vec<String>>,
+        title: Option<String>,
+    ) -> PyResult<String> {
         let run = run.cast::<NativeRun>().map_err(|_| {
             PyTypeError::new_err("run: expected a run of this model (`model.simulate(...)`)")
         })?;
         let trajectory = &run.get().trajectory;
-        match self.object.scene(trajectory, show.as_deref(), title.as_deref()) {
+        match self
+            .object
+            .scene(trajectory, show.as_deref(), title.as_deref())
+        {
             Some(Ok(html)) => Ok(html),
             Some(Err(message)) => Err(to_py(&hamel::Error::case_failed("scene", message))),
             None => Err(PyTypeError::new_err(format!(

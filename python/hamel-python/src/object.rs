@@ -16,6 +16,7 @@ use crate::inputs::Inputs;
 use crate::interrupt::Failure;
 use crate::model::{Hooks, Model};
 use crate::settings::{Method, RunSetup};
+use crate::study::{StudyResult, StudySpec};
 
 pub use crate::native::{NativeModel, NativeModelType};
 
@@ -29,11 +30,31 @@ pub trait ModelObject: Send + Sync {
     /// The same model with some parameters changed.
     fn with_parameters(&self, values: &[(String, f64)]) -> Result<Box<dyn ModelObject>, Error>;
     /// A state by name (`StateBuilder`): the rest zero, the dependent coordinates solved.
-    fn state(&self, t: f64, values: &[(String, f64)], velocities: Option<&[(String, f64)]>) -> Result<Vec<f64>, Error>;
+    fn state(
+        &self,
+        t: f64,
+        values: &[(String, f64)],
+        velocities: Option<&[(String, f64)]>,
+    ) -> Result<Vec<f64>, Error>;
     /// A run, the whole solve in Rust with the interpreter released.
     fn simulate(&self, py: Python<'_>, x0: &[f64], setup: &RunSetup) -> PyResult<Trajectory>;
     /// Many runs on every core, one row each, in the order of the cases.
-    fn ensemble(&self, py: Python<'_>, cases: &Cases, setup: &RunSetup, outputs: &RowOutputs, threads: Option<usize>) -> PyResult<hamel::Table>;
+    fn ensemble(
+        &self,
+        py: Python<'_>,
+        cases: &Cases,
+        setup: &RunSetup,
+        outputs: &RowOutputs,
+        threads: Option<usize>,
+    ) -> PyResult<hamel::Table>;
+    /// A study over a table of cases, in memory or through the study's command line.
+    fn study(
+        &self,
+        py: Python<'_>,
+        spec: &StudySpec,
+        setup: &RunSetup,
+        outputs: &RowOutputs,
+    ) -> PyResult<StudyResult>;
     fn linearize(&self, t: f64, x: &[f64], u: &[f64]) -> Result<Linearization, Error>;
     fn rhs(&self, t: f64, x: &[f64], u: &[f64]) -> Result<Vec<f64>, Error>;
     fn energy(&self, t: f64, x: &[f64]) -> Result<f64, Error>;
@@ -41,7 +62,12 @@ pub trait ModelObject: Send + Sync {
     /// The outputs y = h(t, x), for a model with `#[outputs]`.
     fn outputs(&self, t: f64, x: &[f64]) -> Option<Vec<f64>>;
     /// The run's 3D scene as an HTML page, for a model with bodies.
-    fn scene(&self, run: &Trajectory, show: Option<&[String]>, title: Option<&str>) -> Option<Result<String, String>>;
+    fn scene(
+        &self,
+        run: &Trajectory,
+        show: Option<&[String]>,
+        title: Option<&str>,
+    ) -> Option<Result<String, String>>;
 }
 
 /// A model and what the export macro found out about its type.
@@ -55,7 +81,8 @@ impl<S: Model> Object<S> {
     /// A copy of the model with `values` set (the model has no `Clone`: it is made afresh and
     /// its parameters copied by name).
     pub fn model_with(&self, values: &[(String, f64)]) -> Result<S, Error> {
-        let mut model = (self.hooks.factory.make)().ok_or_else(|| not_plain(self.description.name))?;
+        let mut model =
+            (self.hooks.factory.make)().ok_or_else(|| not_plain(self.description.name))?;
         for name in S::NAMES {
             model.set(name, self.model.get(name).unwrap_or(f64::NAN))?;
         }
@@ -85,7 +112,10 @@ impl<S: Model> ModelObject for Object<S> {
     }
 
     fn parameter_values(&self) -> Vec<f64> {
-        S::NAMES.iter().map(|n| self.model.get(n).unwrap_or(f64::NAN)).collect()
+        S::NAMES
+            .iter()
+            .map(|n| self.model.get(n).unwrap_or(f64::NAN))
+            .collect()
     }
 
     fn with_parameters(&self, values: &[(String, f64)]) -> Result<Box<dyn ModelObject>, Error> {
@@ -96,7 +126,12 @@ impl<S: Model> ModelObject for Object<S> {
         }))
     }
 
-    fn state(&self, t: f64, values: &[(String, f64)], velocities: Option<&[(String, f64)]>) -> Result<Vec<f64>, Error> {
+    fn state(
+        &self,
+        t: f64,
+        values: &[(String, f64)],
+        velocities: Option<&[(String, f64)]>,
+    ) -> Result<Vec<f64>, Error> {
         build_state(&self.model, t, values, velocities).map(|x| x.as_ref().to_vec())
     }
 
@@ -118,8 +153,25 @@ impl<S: Model> ModelObject for Object<S> {
         }
     }
 
-    fn ensemble(&self, py: Python<'_>, cases: &Cases, setup: &RunSetup, outputs: &RowOutputs, threads: Option<usize>) -> PyResult<hamel::Table> {
+    fn ensemble(
+        &self,
+        py: Python<'_>,
+        cases: &Cases,
+        setup: &RunSetup,
+        outputs: &RowOutputs,
+        threads: Option<usize>,
+    ) -> PyResult<hamel::Table> {
         crate::ensemble::run_cases(self, py, cases, setup, outputs, threads)
+    }
+
+    fn study(
+        &self,
+        py: Python<'_>,
+        spec: &StudySpec,
+        setup: &RunSetup,
+        outputs: &RowOutputs,
+    ) -> PyResult<StudyResult> {
+        crate::study::run_study(self, py, spec, setup, outputs)
     }
 
     fn linearize(&self, t: f64, x: &[f64], u: &[f64]) -> Result<Linearization, Error> {
@@ -152,7 +204,12 @@ impl<S: Model> ModelObject for Object<S> {
         Some((hook.values)(&self.model, t, &vector(x)))
     }
 
-    fn scene(&self, run: &Trajectory, show: Option<&[String]>, title: Option<&str>) -> Option<Result<String, String>> {
+    fn scene(
+        &self,
+        run: &Trajectory,
+        show: Option<&[String]>,
+        title: Option<&str>,
+    ) -> Option<Result<String, String>> {
         let scene = self.hooks.scene?;
         Some(
             catch_unwind(AssertUnwindSafe(|| scene(&self.model, run, show, title)))
@@ -162,7 +219,12 @@ impl<S: Model> ModelObject for Object<S> {
 }
 
 /// A state of `model` by name, through its state builder.
-pub fn build_state<S: Model>(model: &S, t: f64, values: &[(String, f64)], velocities: Option<&[(String, f64)]>) -> Result<S::State, Error> {
+pub fn build_state<S: Model>(
+    model: &S,
+    t: f64,
+    values: &[(String, f64)],
+    velocities: Option<&[(String, f64)]>,
+) -> Result<S::State, Error> {
     let mut builder = model.state_builder().at_time(t);
     for (name, value) in values {
         builder = builder.set(name, *value);
@@ -188,7 +250,13 @@ pub fn build_state<S: Model>(model: &S, t: f64, values: &[(String, f64)], veloci
 
 /// One run of `model` from `x0` with `setup`: `progress` is the run's progress callback (it
 /// checks for Ctrl-C, or for a stop asked by another thread).
-pub fn run<S: Model>(model: &S, x0: S::State, setup: &RunSetup, failure: &Failure, progress: fn(&Failure) -> ControlFlow<()>) -> Result<Trajectory, Error> {
+pub fn run<S: Model>(
+    model: &S,
+    x0: S::State,
+    setup: &RunSetup,
+    failure: &Failure,
+    progress: fn(&Failure) -> ControlFlow<()>,
+) -> Result<Trajectory, Error> {
     let mut sim = Simulation::new(model, x0)
         .start_time(setup.t0)
         .end_time(setup.t_end)

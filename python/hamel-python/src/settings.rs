@@ -122,7 +122,11 @@ impl MethodArgs<'_> {
         let adaptive = matches!(self.method, "dopri5" | "radau5");
         let refuse = |name: &str, given: bool| -> PyResult<()> {
             if given {
-                let kind = if adaptive { "an adaptive" } else { "a fixed-step" };
+                let kind = if adaptive {
+                    "an adaptive"
+                } else {
+                    "a fixed-step"
+                };
                 Err(PyValueError::new_err(format!(
                     "{name}: the method `{}` is {kind} method and has no `{name}` (dopri5 and \
                      radau5 take rtol, atol, max_step, initial_step, min_step; rk4, midpoint, \
