@@ -86,10 +86,7 @@ impl NativeLinearization {
     }
 
     /// `(t, state dict, inputs dict)`, or None for a linearization of given matrices.
-    fn operating_point<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<Option<OperatingPoint<'py>>> {
+    fn operating_point<'py>(&self, py: Python<'py>) -> PyResult<Option<OperatingPoint<'py>>> {
         match self.linearization.operating_point() {
             Some(p) => Ok(Some((p.t, named(py, &p.state)?, named(py, &p.inputs)?))),
             None => Ok(None),
