@@ -16,7 +16,7 @@ use hamel::{Ensemble, Error, Outputs, Table, Vector};
 
 use crate::describe::Description;
 use crate::errors::to_py;
-use crate::interrupt::Failure;
+use crate::interrupt::{Failure, Watch};
 use crate::model::Model;
 use crate::object::{Object, build_state, run};
 use crate::settings::RunSetup;
@@ -197,7 +197,7 @@ fn case<S: Model>(
         }
     }
     .unwrap_or_else(S::State::zeros);
-    let trajectory = run(&model, x0, setup, failure, Failure::stop_if_set)?;
+    let trajectory = run(&model, x0, setup, failure, Watch::Flag)?;
     if failure.is_set() {
         return Err(Error::case_failed(
             "interrupted",

@@ -9,7 +9,7 @@ use pyo3::types::{PyDict, PyString};
 use hamel::control::{Controller, Lqr, StateFeedback};
 use hamel::{HamelSystem, Vector};
 
-use crate::interrupt::Failure;
+use crate::interrupt::{CHECK_EVERY, Failure, Watch, stop};
 
 /// The inputs of a run.
 pub enum InputSpec {
@@ -191,13 +191,20 @@ fn parse_dict(dict: &Bound<'_, PyDict>, names: &[&str]) -> PyResult<InputSpec> {
 pub struct Inputs<'a, S: HamelSystem> {
     spec: &'a InputSpec,
     failure: &'a Failure,
+    watch: Watch,
+    /// Evaluations until the next look for Ctrl-C.
+    countdown: u32,
     feedback: Option<StateFeedback<S>>,
     /// The interval of sampled inputs the last time fell in (times mostly increase).
     cursor: usize,
 }
 
 impl<'a, S: HamelSystem> Inputs<'a, S> {
-    pub fn new(spec: &'a InputSpec, failure: &'a Failure) -> Result<Self, hamel::Error> {
+    pub fn new(
+        spec: &'a InputSpec,
+        failure: &'a Failure,
+        watch: Watch,
+    ) -> Result<Self, hamel::Error> {
         let feedback = match spec {
             InputSpec::Feedback(lqr) => Some(lqr.feedback::<S>()?),
             _ => None,
@@ -205,14 +212,27 @@ impl<'a, S: HamelSystem> Inputs<'a, S> {
         Ok(Inputs {
             spec,
             failure,
+            watch,
+            countdown: CHECK_EVERY,
             feedback,
             cursor: 0,
         })
     }
 
-    /// u(t, x). A Python error (from a function u) is kept in the run's failure and the
-    /// inputs are then NaN, which ends the run.
+    /// u(t, x). Every [`CHECK_EVERY`] evaluations a single run looks for Ctrl-C; a Python
+    /// error kept (Ctrl-C, an exception of a function u, a stop asked by another thread) stops
+    /// the run by unwinding ([`crate::interrupt::Stopped`]).
     pub fn at(&mut self, t: f64, x: &S::State) -> S::Inputs {
+        self.countdown -= 1;
+        if self.countdown == 0 {
+            self.countdown = CHECK_EVERY;
+            if self.watch == Watch::Signals {
+                self.failure.check_signals();
+            }
+        }
+        if self.failure.is_set() {
+            stop();
+        }
         let mut u = S::Inputs::zeros();
         match self.spec {
             InputSpec::Constant(values) => u.as_mut().copy_from_slice(values),
@@ -235,13 +255,9 @@ impl<'a, S: HamelSystem> Inputs<'a, S> {
                 }
             }
             InputSpec::Callable(f) => {
-                if self.failure.is_set() {
-                    u.as_mut().fill(f64::NAN);
-                    return u;
-                }
                 if let Err(e) = Python::attach(|py| call(py, f, t, x.as_ref(), u.as_mut())) {
                     self.failure.set(e);
-                    u.as_mut().fill(f64::NAN);
+                    stop();
                 }
             }
         }

@@ -2,7 +2,6 @@
 //! for every exported model ([`Object<S>`]), so that one `#[pyclass]` ([`NativeModel`])
 //! serves them all, and the whole solve runs in Rust, monomorphized for the model.
 
-use std::ops::ControlFlow;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use pyo3::prelude::*;
@@ -13,7 +12,7 @@ use crate::describe::Description;
 use crate::ensemble::{Cases, RowOutputs};
 use crate::errors::{panicked, to_py};
 use crate::inputs::Inputs;
-use crate::interrupt::Failure;
+use crate::interrupt::{Failure, Watch};
 use crate::model::{Hooks, Model};
 use crate::settings::{Method, RunSetup};
 use crate::study::{StudyResult, StudySpec};
@@ -140,7 +139,7 @@ impl<S: Model> ModelObject for Object<S> {
         let failure = Failure::default();
         let result = py.detach(|| {
             catch_unwind(AssertUnwindSafe(|| {
-                run(&self.model, x0, setup, &failure, Failure::progress)
+                run(&self.model, x0, setup, &failure, Watch::Signals)
             }))
         });
         if let Some(e) = failure.take() {
@@ -248,29 +247,29 @@ pub fn build_state<S: Model>(
     builder.build()
 }
 
-/// One run of `model` from `x0` with `setup`: `progress` is the run's progress callback (it
-/// checks for Ctrl-C, or for a stop asked by another thread).
+/// One run of `model` from `x0` with `setup`; `watch` says whether the run looks for Ctrl-C
+/// itself (see `Inputs::at`). A Python error kept in `failure` stops it by unwinding: call it
+/// inside `catch_unwind`.
 pub fn run<S: Model>(
     model: &S,
     x0: S::State,
     setup: &RunSetup,
     failure: &Failure,
-    progress: fn(&Failure) -> ControlFlow<()>,
+    watch: Watch,
 ) -> Result<Trajectory, Error> {
     let mut sim = Simulation::new(model, x0)
         .start_time(setup.t0)
         .end_time(setup.t_end)
         .sample_interval(setup.dt)
         .record_constraint_forces(setup.lambdas)
-        .project_holonomic(setup.project)
-        .on_progress(move |_| progress(failure));
+        .project_holonomic(setup.project);
     if let Some(n) = setup.max_samples {
         sim = sim.max_samples(n);
     }
     for event in &setup.events {
         sim = sim.event(event.event::<S>(failure));
     }
-    let mut inputs = Inputs::<S>::new(&setup.inputs, failure)?;
+    let mut inputs = Inputs::<S>::new(&setup.inputs, failure, watch)?;
     let u = move |t: f64, x: &S::State| inputs.at(t, x);
     match &setup.method {
         Method::Dopri5(a) => sim.run(&a.dopri5(), u),

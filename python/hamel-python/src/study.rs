@@ -15,7 +15,7 @@ use hamel::{Error, Outputs, ParameterTable, Table};
 
 use crate::ensemble::RowOutputs;
 use crate::errors::to_py;
-use crate::interrupt::Failure;
+use crate::interrupt::{Failure, Watch};
 use crate::model::Model;
 use crate::object::{Object, build_state, run};
 use crate::settings::RunSetup;
@@ -96,7 +96,7 @@ fn make_study<'a, S: Model>(
         }
         let model = object.model_with(&parameters)?;
         let x0 = build_state(&model, setup.t0, &values, None)?;
-        let trajectory = run(&model, x0, setup, failure, Failure::stop_if_set)?;
+        let trajectory = run(&model, x0, setup, failure, Watch::Flag)?;
         if failure.is_set() {
             return Err(Error::case_failed(
                 "interrupted",
