@@ -22,7 +22,6 @@ import shutil
 import struct
 import subprocess
 import sys
-import tempfile
 import threading
 from pathlib import Path
 from typing import Dict, List, Optional, Union
@@ -78,45 +77,47 @@ def _source_of(path_or_source: Union[str, os.PathLike]) -> (str, Optional[str]):
 
 
 def _unpack(blob: bytes, into: Path) -> None:
-    """Writes the bundled sources (see the wheel's build.rs) under ``into``."""
+    """Writes the bundled sources (see the wheel's build.rs) under ``into``, leaving files
+    whose contents are already those untouched, so that cargo, which compares times, rebuilds
+    only the crates whose sources changed."""
     at = 0
     while at < len(blob):
         end = blob.index(b"\0", at)
         name = blob[at:end].decode("utf-8")
         (size,) = struct.unpack_from("<Q", blob, end + 1)
         start = end + 9
+        content = blob[start:start + size]
         target = into / name
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(blob[start:start + size])
+        if not (target.exists() and target.read_bytes() == content):
+            target.parent.mkdir(parents=True, exist_ok=True)
+            partial = target.with_name(target.name + f".{os.getpid()}.partial")
+            partial.write_bytes(content)
+            os.replace(partial, target)
         at = start + size
 
 
 def _prepare(root: Path) -> None:
     """The cache's workspace for this hamel and toolchain: the bundled sources under
-    ``bundle/`` (unpacked again when the wheel carries other sources: a rebuilt package of the
-    same version), the models' workspace under ``work/``."""
+    ``bundle/`` (brought up to date when the wheel carries other sources: a rebuilt package of
+    the same version), and the models' workspace under ``work/``."""
     from . import _native
 
     blob, bundle_hash = _native.rust_sources()
     done = root / "bundle" / ".complete"
     if done.exists() and done.read_text() == bundle_hash:
         return
-    staging = Path(tempfile.mkdtemp(prefix="bundle-", dir=root))
-    _unpack(blob, staging)
-    lock = staging / "work" / "Cargo.lock"
+    bundle = root / "bundle"
+    _unpack(blob, bundle)
     work = root / "work"
     (work / "models").mkdir(parents=True, exist_ok=True)
+    lock = bundle / "work" / "Cargo.lock"
     if lock.exists() and not (work / "Cargo.lock").exists():
         shutil.copyfile(lock, work / "Cargo.lock")
-    shutil.rmtree(staging / "work", ignore_errors=True)
-    (work / "Cargo.toml").write_text(
-        "# The models hamel.compile builds, one crate each, sharing one target directory.\n"
-        "[workspace]\nmembers = [\"models/*\"]\nresolver = \"3\"\n\n"
-        "[profile.release]\nstrip = \"symbols\"\n")
-    bundle = root / "bundle"
-    if bundle.exists():
-        shutil.rmtree(bundle)
-    staging.rename(bundle)
+    manifest = ("# The models hamel.compile builds, one crate each, sharing one target directory.\n"
+                "[workspace]\nmembers = [\"models/*\"]\nresolver = \"3\"\n\n"
+                "[profile.release]\nstrip = \"symbols\"\n")
+    if not (work / "Cargo.toml").exists() or (work / "Cargo.toml").read_text() != manifest:
+        (work / "Cargo.toml").write_text(manifest)
     done.write_text(bundle_hash)
 
 

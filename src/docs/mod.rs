@@ -13,6 +13,7 @@
 //! * [`control`] — control from the model: the control-affine form, outputs and their Lie
 //!   derivatives, Lie brackets and the accessibility rank, exact input–output linearization,
 //!   LQR with its Riccati equation, and controllers as a run's input function.
+//! * [`python`] — hamel from Python: the package, runs, ensembles, studies, errors, `compile`.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
@@ -38,6 +39,9 @@ pub mod control {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
+
+#[doc = include_str!("python.md")]
+pub mod python {}
 
 #[doc = include_str!("design.md")]
 pub mod design {}
