@@ -26,10 +26,7 @@ fn main() {
             root.join("Cargo.toml").display()
         )
     });
-    let crates: Vec<String> = members(&manifest)
-        .into_iter()
-        .filter(|m| m.starts_with("hamel-") && root.join(m).join("Cargo.toml").exists())
-        .collect();
+    let crates = needed(&root, &manifest);
     let mut bundle = Vec::new();
     add(
         &mut bundle,
@@ -90,6 +87,34 @@ fn members(manifest: &str) -> Vec<String> {
         .map(|s| s.trim().trim_matches('"').to_string())
         .filter(|s| !s.is_empty())
         .collect()
+}
+
+/// The workspace's `hamel-*` crates the facade depends on, directly or through each other
+/// (not, say, `hamel-export`, which nothing of the facade uses).
+fn needed(root: &Path, manifest: &str) -> Vec<String> {
+    let crates: Vec<String> = members(manifest)
+        .into_iter()
+        .filter(|m| m.starts_with("hamel-") && root.join(m).join("Cargo.toml").exists())
+        .collect();
+    let dependencies = |text: &str| -> String {
+        text.split("\n[")
+            .filter(|section| section.starts_with("dependencies]") || section.starts_with("[dependencies]"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let mut needed: Vec<String> = Vec::new();
+    let mut pending = vec![dependencies(manifest)];
+    while let Some(text) = pending.pop() {
+        for name in &crates {
+            if !needed.contains(name) && text.contains(name.as_str()) {
+                needed.push(name.clone());
+                let own = fs::read_to_string(root.join(name).join("Cargo.toml")).unwrap_or_default();
+                pending.push(dependencies(&own));
+            }
+        }
+    }
+    needed.sort();
+    needed
 }
 
 /// The root manifest for the bundle: its members the bundled crates and `hamel-python`, no

@@ -132,6 +132,13 @@ pub trait HamelSystem: Parameters {
     /// rows, nothing that depends on the time explicitly. Otherwise a simulation checks the
     /// energy balance E(t) − E(t₀) = ∫ P dt with the power [`Self::power`].
     const CONSERVATIVE: bool;
+    /// Whether the power [`Self::power`] vanishes identically when every input is zero: the
+    /// model is driven by its inputs alone (motor torques), with no other force, no affine
+    /// part in the rows and no explicit time dependence doing work. A run with zero constant
+    /// inputs then does no work on it, and its energy balance is its energy drift
+    /// ([`crate::Simulation::run_constant`] integrates no work). `#[hamel_system]` finds it on
+    /// the power's expression; the default, `false`, claims nothing.
+    const POWER_VANISHES_WITHOUT_INPUTS: bool = false;
     /// Whether the reduced ODE is reversible: ρ(q, ω) = (q, −ω) maps its solutions to
     /// solutions run backwards in time, so that a symmetric integrator
     /// ([`crate::GaussLegendre`], [`crate::ImplicitMidpoint`]) is ρ-reversible on it and keeps

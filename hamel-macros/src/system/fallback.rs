@@ -304,6 +304,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         constraints,
         dependent: Vec::new(),
         conservative: false,
+        power_vanishes_without_inputs: false,
         reversible: false,
         constant_determinant: false,
         units: Vec::new(),

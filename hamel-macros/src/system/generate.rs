@@ -147,15 +147,35 @@ impl<'g> Context<'g> {
         checks: Checks,
         prepared: &[NodeId],
     ) -> syn::Result<(Code, TokenStream)> {
+        let bindings: Vec<(NodeId, TokenStream)> = prepared
+            .iter()
+            .enumerate()
+            .map(|(i, &node)| {
+                let i = lit(i);
+                let read = match &scalar {
+                    Scalar::F64 => quote!(prepared[#i]),
+                    Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(prepared[#i])),
+                };
+                (node, read)
+            })
+            .collect();
+        self.emit_bound(source, scalar, roots, checks, &bindings)
+    }
+
+    /// [`Self::emit`], reading the nodes of `bindings` as their tokens say (prepared values,
+    /// parameters read from a slice) instead of computing them or reading them from `self`.
+    pub(super) fn emit_bound(
+        &self,
+        source: Source,
+        scalar: Scalar,
+        roots: &[NodeId],
+        checks: Checks,
+        bindings: &[(NodeId, TokenStream)],
+    ) -> syn::Result<(Code, TokenStream)> {
         let generic = matches!(scalar, Scalar::Generic(_));
         let mut emitter = self.emitter(source, scalar.clone());
-        for (i, &node) in prepared.iter().enumerate() {
-            let i = lit(i);
-            let read = match &scalar {
-                Scalar::F64 => quote!(prepared[#i]),
-                Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(prepared[#i])),
-            };
-            emitter.bind(node, read);
+        for (node, read) in bindings {
+            emitter.bind(*node, read.clone());
         }
         let all = self.checked_roots(roots, checks);
         let transformation = self
@@ -308,12 +328,17 @@ pub fn generate(
         constraints,
         dependent: spec.dependent(),
         conservative: eq.conservative,
+        power_vanishes_without_inputs: eq.power_vanishes_without_inputs,
         reversible: eq.reversible,
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
         check_bodies: check_bodies(spec),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
+    let outputs = control
+        .and_then(|nodes| Some((nodes.outputs.as_slice(), nodes.lie.first()?.as_slice())))
+        .unwrap_or((&[], &[]));
+    let parametric = super::parametric::emit(&cx, dims, outputs)?;
     let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
     // A generic impl is of a generic parameter struct, an error of the struct's own: an array
@@ -338,6 +363,7 @@ pub fn generate(
         impl #impl_generics #ty #where_clause {
             #(#consts)*
             #rhs_generic
+            #parametric
             #bounds
         }
 

@@ -25,6 +25,7 @@ pub struct Header<'a> {
     pub constraints: Vec<String>,
     pub dependent: Vec<usize>,
     pub conservative: bool,
+    pub power_vanishes_without_inputs: bool,
     pub reversible: bool,
     /// det A(q, t) depends on the parameters alone (`TRANSFORMATION_DETERMINANT_CONSTANT`).
     pub constant_determinant: bool,
@@ -211,6 +212,7 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
     let dependent = h.dependent.iter().map(|&i| lit(i));
     let (conservative, reversible) = (h.conservative, h.reversible);
     let constant_determinant = h.constant_determinant;
+    let power_vanishes = h.power_vanishes_without_inputs;
     let prepared_len = lit(prepared_len);
     let units = (!h.units.is_empty()).then(|| {
         let pairs = h.units.iter().map(|(name, unit)| quote!((#name, #unit)));
@@ -228,6 +230,7 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
         const STATE: &'static [&'static str] = &[#(#state_names),*];
         const DEPENDENT: &'static [usize] = &[#(#dependent),*];
         const CONSERVATIVE: bool = #conservative;
+        const POWER_VANISHES_WITHOUT_INPUTS: bool = #power_vanishes;
         const REVERSIBLE: bool = #reversible;
         const PREPARED_LEN: usize = #prepared_len;
         const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;

@@ -19,6 +19,7 @@ mod mechanism;
 mod model;
 mod notes;
 mod parameters;
+mod parametric;
 mod rank;
 mod rate_bodies;
 mod reserved;

@@ -342,6 +342,8 @@ impl Snakeboard {
 
 #[test]
 fn accessibility_ranks_are_what_theory_says() {
+    // A force u·(cos φ, sin φ) vanishes with u: the macro sees it through the products.
+    const { assert!(Skate::POWER_VANISHES_WITHOUT_INPUTS && !Skate::CONSERVATIVE) };
     let mut rng = XorShift::new(1989);
     let (skate, steered) = (Skate { m: 2.0, j: 0.3 }, SteeredSkate { m: 2.0, j: 0.3 });
     let robot = MobileRobot::default();
