@@ -212,10 +212,14 @@ def _build(root: Path, module: str, source: str, models: List[str], shown_as: st
 
 
 def _import(module: str, path: Path):
+    # An extension module initializes once per process: one loaded already is reused.
+    if module in sys.modules:
+        return sys.modules[module]
     loader = importlib.machinery.ExtensionFileLoader(module, str(path))
     spec = importlib.util.spec_from_file_location(module, str(path), loader=loader)
     imported = importlib.util.module_from_spec(spec)
     loader.exec_module(imported)
+    sys.modules[module] = imported
     return imported
 
 

@@ -100,3 +100,20 @@ impl Skate {
 def test_a_source_without_a_model():
     with pytest.raises(hamel.CompileError, match="no model found"):
         hamel.compile("fn main() {}\n")
+
+
+def test_a_module_of_models_loads_as_the_same_classes(readme_sleigh):
+    # A crate's own module (`hamel_python::export_models!` and `maturin develop`) is loaded by
+    # `hamel.load`; here the module `compile` built, loaded from its file under its name.
+    Sleigh = hamel.compile(readme_sleigh)
+    module = next(name for name, classes in _compile._LOADED.items()
+                  if isinstance(classes, dict) and classes.get("Sleigh") is Sleigh)
+    library = next((_compile.cache_directory()).glob(f"*/lib/{module}*"))
+    _compile._LOADED.pop(module)
+    classes = hamel.load(module, library)
+    assert set(classes) == {"Sleigh"}
+    sleigh = classes["Sleigh"](m=2.0, inertia=0.5, a=0.4)
+    assert isinstance(sleigh, hamel.Model)
+    assert sleigh.simulate(sleigh.state(v=1.0), t_end=1.0)["v"][0] == 1.0
+    with pytest.raises(TypeError, match="not a module of hamel models"):
+        hamel.load("json")
