@@ -7,11 +7,11 @@
 #     bash python/benches/pydy.sh [rounds]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-venv=python/target/pydy-venv
+venv="$PWD/python/target/pydy-venv"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
     "$venv/bin/pip" install -q --disable-pip-version-check pydy sympy scipy cython numpy setuptools maturin
 fi
-"$venv/bin/pip" install -q --disable-pip-version-check --no-build-isolation ./python
+PATH="$venv/bin:$PATH" "$venv/bin/pip" install -q --disable-pip-version-check --no-build-isolation ./python
 "$venv/bin/pip" list --disable-pip-version-check 2>/dev/null | grep -iE '^(pydy|sympy|scipy|cython|numpy) '
 "$venv/bin/python" python/benches/pydy_vs_hamel.py "$@"
