@@ -98,7 +98,9 @@ fn needed(root: &Path, manifest: &str) -> Vec<String> {
         .collect();
     let dependencies = |text: &str| -> String {
         text.split("\n[")
-            .filter(|section| section.starts_with("dependencies]") || section.starts_with("[dependencies]"))
+            .filter(|section| {
+                section.starts_with("dependencies]") || section.starts_with("[dependencies]")
+            })
             .collect::<Vec<_>>()
             .join("\n")
     };
@@ -108,7 +110,8 @@ fn needed(root: &Path, manifest: &str) -> Vec<String> {
         for name in &crates {
             if !needed.contains(name) && text.contains(name.as_str()) {
                 needed.push(name.clone());
-                let own = fs::read_to_string(root.join(name).join("Cargo.toml")).unwrap_or_default();
+                let own =
+                    fs::read_to_string(root.join(name).join("Cargo.toml")).unwrap_or_default();
                 pending.push(dependencies(&own));
             }
         }

@@ -234,11 +234,7 @@ pub fn run_cases<S: Model>(
             });
             while !study.is_finished() {
                 thread::sleep(Duration::from_millis(10));
-                if !failure.is_set()
-                    && let Err(e) = Python::attach(|py| py.check_signals())
-                {
-                    failure.set(e);
-                }
+                failure.check_signals();
             }
             study.join()
         })

@@ -38,9 +38,10 @@ impl Failure {
     /// Checks for Ctrl-C (Python runs its signal handlers, on the main thread, when asked):
     /// a `KeyboardInterrupt` is kept.
     pub fn check_signals(&self) {
-        if !self.is_set()
-            && let Err(e) = Python::attach(|py| py.check_signals())
-        {
+        if self.is_set() {
+            return;
+        }
+        if let Err(e) = Python::attach(|py| py.check_signals()) {
             self.set(e);
         }
     }
