@@ -47,6 +47,21 @@ impl Failure {
     }
 }
 
+impl Failure {
+    /// A run's progress callback: looks for Ctrl-C (a single run, on the main thread) and
+    /// cancels the run if a Python error is kept.
+    pub fn progress(&self, watch: Watch) -> std::ops::ControlFlow<()> {
+        if watch == Watch::Signals {
+            self.check_signals();
+        }
+        if self.is_set() {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    }
+}
+
 /// Who looks for Ctrl-C during a run: the run itself, on the main thread, every so many
 /// evaluations of its inputs (a single run), or the thread that waits for the run's thread
 /// (an ensemble's or a study's cases, which only look at the failure).

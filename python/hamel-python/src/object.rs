@@ -11,7 +11,7 @@ use hamel::{Error, Linearization, Simulation, Trajectory, Vector};
 use crate::describe::Description;
 use crate::ensemble::{Cases, RowOutputs};
 use crate::errors::{panicked, to_py};
-use crate::inputs::Inputs;
+use crate::inputs::{InputSpec, Inputs};
 use crate::interrupt::{Failure, Watch};
 use crate::model::{Hooks, Model};
 use crate::settings::{Method, RunSetup};
@@ -268,6 +268,21 @@ pub fn run<S: Model>(
     }
     for event in &setup.events {
         sim = sim.event(event.event::<S>(failure));
+    }
+    // Constant inputs take the runtime's own path for them (checked once; with zero inputs
+    // no work integrated), as a Rust program's `run_constant` does: Ctrl-C is then looked for
+    // by the progress callback, every 50 ms (it costs the robot's run about a tenth; a
+    // function's inputs look for it themselves, see `Inputs::at`).
+    if let InputSpec::Constant(values) = &setup.inputs {
+        let u = S::Inputs::from_slice(values).unwrap_or_else(S::Inputs::zeros);
+        let sim = sim.on_progress(move |_| failure.progress(watch));
+        return match &setup.method {
+            Method::Dopri5(a) => sim.run_constant(&a.dopri5(), u),
+            Method::Radau5(a) => sim.run_constant(&a.radau5(), u),
+            Method::Rk4(f) => sim.run_constant(&f.rk4(), u),
+            Method::Midpoint(f) => sim.run_constant(&f.midpoint(), u),
+            Method::Gauss(stages, f) => sim.run_constant(&f.gauss(*stages), u),
+        };
     }
     let mut inputs = Inputs::<S>::new(&setup.inputs, failure, watch)?;
     let u = move |t: f64, x: &S::State| inputs.at(t, x);
