@@ -19,6 +19,9 @@ pub trait Parameters {
     const NAMES: &'static [&'static str];
     /// The fields' doc comments (empty where there is none), for `--help` texts.
     const DOCS: &'static [&'static str];
+    /// The parameter struct's own doc comment, its lines kept (empty where there is none):
+    /// the model's description, which the Python package makes its class's docstring.
+    const DOC: &'static str = "";
 
     /// The value of the parameter `name`.
     fn get(&self, name: &str) -> Option<f64>;

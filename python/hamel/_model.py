@@ -302,7 +302,8 @@ def model_class(native_type, module: str = "hamel.models", doc: Optional[str] = 
     """The Python class of a model type from an extension module."""
     description = dict(native_type.describe())
     name = description["name"]
-    lines = [doc or f"The model {name}."]
+    # The parameter struct's doc comment (`Parameters::DOC`), as rustdoc shows it.
+    lines = [doc or description.get("doc") or f"The model {name}."]
     lines.append("\nParameters (keywords" + (", with their defaults" if description["defaults"] else "") + "):")
     defaults = description["defaults"] or [None] * len(description["parameters"])
     for p, text, default in zip(description["parameters"], description["parameter_docs"], defaults):

@@ -10,8 +10,13 @@ import numpy as np
 class Table:
     """Rows of cases: ``table["final_x"]`` a column (a read-only NumPy view), ``columns``,
     ``cases`` (each row's case index), ``errors`` (per row ``None`` or ``(kind, message)``),
-    ``to_pandas()`` (with the columns ``error_kind`` and ``error``), ``to_arrow()``,
-    ``to_csv()`` (the same bytes as Rust's ``Table::write_csv``)."""
+    ``to_pandas()`` and ``to_arrow()`` (first the column ``case_index``, last ``error_kind``
+    and ``error``), ``to_csv()`` (the same bytes as Rust's ``Table::write_csv``; with a path,
+    written whole with its ``.manifest`` beside it, as Rust's ``Table::save_csv``).
+
+    A failed case keeps its row: its given values, and NaN in memory for what its run could
+    not compute, which the CSV leaves empty, Arrow makes null and pandas reads as missing, so
+    that means and counts skip failed cases, as DuckDB's and polars' do on Rust's files."""
 
     def __init__(self, native):
         self._native = native
@@ -39,8 +44,11 @@ class Table:
         return self._native.failed()
 
     def to_dict(self) -> Dict[str, object]:
+        """The columns by name: ``case_index``, the table's columns (NumPy arrays, NaN where a
+        failed case has no value), ``error_kind`` and ``error`` (``None`` for a case that
+        succeeded)."""
         errors = self.errors
-        columns: Dict[str, object] = {"case": self.cases}
+        columns: Dict[str, object] = {"case_index": self.cases}
         columns.update({name: self[name] for name in self.columns})
         columns["error_kind"] = [e[0] if e else None for e in errors]
         columns["error"] = [e[1] if e else None for e in errors]
@@ -52,9 +60,18 @@ class Table:
         return pd.DataFrame(self.to_dict())
 
     def to_arrow(self):
+        """A ``pyarrow.Table``: the values of failed cases that their runs could not compute
+        are null (as in Rust's Parquet files), not NaN."""
         import pyarrow as pa
 
-        return pa.table(self.to_dict())
+        failed = np.array([e is not None for e in self.errors], dtype=bool)
+        columns = {}
+        for name, values in self.to_dict().items():
+            if isinstance(values, np.ndarray) and values.dtype.kind == "f" and failed.any():
+                columns[name] = pa.array(values, mask=failed & np.isnan(values))
+            else:
+                columns[name] = values
+        return pa.table(columns)
 
     def to_csv(self, path: Optional[str] = None) -> Optional[str]:
         if path is None:

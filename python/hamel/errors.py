@@ -67,6 +67,8 @@ _KINDS = {
     "singular_mass_matrix": None,
     "unbounded_inertia": None,
     "unphysical_body": ValueError,
+    "impossible_geometry": ValueError,
+    "singular_orientation": None,
     "singular_transformation": None,
     "inverse_mismatch": None,
     "step_size_underflow": None,

@@ -48,10 +48,35 @@ def test_a_failed_case_keeps_its_row_and_error():
     assert kind == "invalid_parameter" and "`m0` is NaN" in message
     assert np.isnan(table["final_x"][1]) and table["final_x"][0] == table["final_x"][2]
     frame = table.to_pandas()
+    assert frame.columns[0] == "case_index" and frame["case_index"].tolist() == [0, 1, 2]
     assert frame["error_kind"].isna().tolist() == [True, False, True]
     assert frame["error_kind"][1] == "invalid_parameter"
     assert frame.shape[0] == 3
-    assert table.to_arrow().num_rows == 3
+    # Means skip the failed case, in pandas as in Arrow, where its outputs are null.
+    assert frame["final_x"].mean() == table["final_x"][0]
+    arrow = table.to_arrow()
+    assert arrow.num_rows == 3 and arrow.column_names[0] == "case_index"
+    assert arrow.column("final_x").null_count == 1 and not arrow.column("final_x")[1].is_valid
+    # The failed case keeps the values it was given.
+    assert arrow.column("w4")[1].as_py() == 0.5
+    # Its CSV row: its NaN values empty, as Rust writes them.
+    lines = table.to_csv().splitlines()
+    assert lines[0].startswith("case_index,m0,w4,final_x,")
+    assert lines[2].startswith("1,,0.5,,")
+
+
+def test_a_table_saved_as_csv_gets_its_manifest(tmp_path):
+    robot = MobileRobot()
+    table = robot.ensemble(parameters={"m0": [10.0, float("nan")]}, states={"w4": [0.5, 0.5]},
+                           t_end=1.0)
+    path = tmp_path / "robots.csv"
+    assert table.to_csv(path) is None
+    assert path.read_text() == table.to_csv()
+    manifest = (tmp_path / "robots.csv.manifest").read_text().splitlines()
+    assert manifest[0] == "hamel file manifest 1"
+    assert "rows 2" in manifest and f"bytes {path.stat().st_size}" in manifest
+    back = pd.read_csv(path)
+    assert back.columns[0] == "case_index" and back["final_x"].isna().tolist() == [False, True]
 
 
 def test_event_columns_and_samples():

@@ -150,3 +150,24 @@ def test_errors_pickle_their_message_kind_time_and_state():
     except hamel.Error as e:
         again = pickle.loads(pickle.dumps(e))
         assert (str(again), again.kind, again.time) == (str(e), e.kind, e.time)
+
+
+def test_an_impossible_geometry_is_refused_with_its_reason():
+    with pytest.raises(errors.ImpossibleGeometry) as caught:
+        MobileRobot(r=-0.1).state(w4=0.5)
+    e = caught.value
+    assert isinstance(e, ValueError) and e.kind == "impossible_geometry"
+    assert str(e) == ("the shape of body `right_wheel` is impossible: a disk: its radius is -0.1; "
+                      "it must be positive (check the parameters it is made of)")
+
+
+def test_an_orientation_at_its_singularity_names_the_time_and_state():
+    # The Chaplygin ball's Euler angles are singular at beta = 0 (hamel::docs::geometry).
+    ball = hamel.models.ChaplyginBall()
+    x0 = ball.state(alpha_rate=1.0, beta_rate=1.0, gamma_rate=1.0)
+    with pytest.raises(errors.SingularOrientation) as caught:
+        ball.simulate(x0, t_end=1.0)
+    e = caught.value
+    assert e.kind == "singular_orientation" and e.time == 0.0
+    assert e.state is not None and e.state["beta"] == 0.0
+    assert "Rotation3::from_quaternion(w, x, y, z)" in str(e)

@@ -11,6 +11,8 @@ use crate::model::{Hooks, Model};
 pub struct Description {
     /// The model's type name (`MobileRobot`).
     pub name: &'static str,
+    /// The parameter struct's doc comment (`Parameters::DOC`), empty where there is none.
+    pub doc: &'static str,
     pub parameters: &'static [&'static str],
     pub parameter_docs: &'static [&'static str],
     pub parameter_units: Vec<Option<&'static str>>,
@@ -46,6 +48,7 @@ impl Description {
         };
         Description {
             name,
+            doc: S::DOC,
             parameters: S::NAMES,
             parameter_docs: S::DOCS,
             parameter_units: S::NAMES.iter().map(|n| S::parameter_unit(n)).collect(),
@@ -68,6 +71,7 @@ impl Description {
     pub fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         d.set_item("name", self.name)?;
+        d.set_item("doc", self.doc)?;
         d.set_item("parameters", self.parameters.to_vec())?;
         d.set_item("parameter_docs", self.parameter_docs.to_vec())?;
         d.set_item("parameter_units", self.parameter_units.clone())?;

@@ -1,7 +1,8 @@
 //! Ensembles: many runs of one model, each case its own parameters and initial state, on
 //! every core with the interpreter released (`hamel::Ensemble`: rows in case order, the same
-//! bits for any number of threads, a failed case a row with its error). Ctrl-C stops them:
-//! the waiting thread checks for it and every case's run stops at its next progress call.
+//! bits for any number of threads, a failed case a row with its error and the values it was
+//! given). Ctrl-C stops them: the waiting thread checks for it and every case's run stops at
+//! its next progress call.
 
 use std::thread;
 use std::time::Duration;
@@ -12,7 +13,7 @@ use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 
-use hamel::{Ensemble, Error, Outputs, Table, Vector};
+use hamel::{CaseError, Ensemble, Error, Outputs, Table, Vector};
 
 use crate::describe::Description;
 use crate::errors::to_py;
@@ -209,6 +210,27 @@ fn case<S: Model>(
     Ok(row)
 }
 
+/// The rows in case order; a failed case keeps the values it was given (its parameters and
+/// named initial values), NaN for the rest, as a study's table does.
+fn fill(
+    mut table: Table,
+    cases: &Cases,
+    rows: Vec<Result<Vec<f64>, Error>>,
+) -> Result<Table, Error> {
+    let width = table.names().len();
+    for (i, row) in rows.into_iter().enumerate() {
+        match row {
+            Ok(values) => table.push(i as u64, Ok(values))?,
+            Err(e) => {
+                let mut values = cases.given(i);
+                values.resize(width, f64::NAN);
+                table.push_row(i as u64, values, Some(CaseError::of(&e)))?;
+            }
+        }
+    }
+    Ok(table)
+}
+
 /// The ensemble on a thread of its own (its cases on the pool), while this thread, released
 /// from the interpreter, checks for Ctrl-C every 10 ms and stops every case when it comes.
 pub fn run_cases<S: Model>(
@@ -230,7 +252,10 @@ pub fn run_cases<S: Model>(
                 if let Some(n) = threads {
                     ensemble = ensemble.threads(n);
                 }
-                ensemble.table(names, |i| case(object, cases, setup, &outputs, &failure, i))
+                // Names that cannot be columns are refused before any case runs.
+                let table = Table::new(names)?;
+                let rows = ensemble.run(|i| case(object, cases, setup, &outputs, &failure, i))?;
+                fill(table, cases, rows)
             });
             while !study.is_finished() {
                 thread::sleep(Duration::from_millis(10));

@@ -57,6 +57,8 @@ fn time_and_state(e: &Error) -> (Option<f64>, Option<&NamedValues>) {
         } => (Some(*t), Some(configuration)),
         Error::InverseMismatch { configuration, .. } => (None, Some(configuration)),
         Error::InvalidReference { t, .. } => (Some(*t), None),
+        // The singularity met names them.
+        Error::SingularOrientation { cause, .. } => time_and_state(cause),
         _ => (None, None),
     }
 }
