@@ -5,10 +5,17 @@
 The cases: the README's robot run (10 s, dopri5 at rtol 1e-9, atol 1e-12) with the body's mass
 and the initial pitch drawn per case, given as NumPy arrays (a parameter column and an array of
 one state per case). Each round runs the ensemble on 1 thread and on 2 (alternating which goes
-first); printed: the speed-up t(1)/t(2), median and p10–p90 over the rounds, and the times.
-The issue's bound is a speed-up ≥ 1.8 on 2 threads (of a 2-core machine: other load lowers it).
+first); printed: the speed-up t(1)/t(2), median and p10–p90 over the rounds, and the times;
+and, to tell a loaded machine from a path that serializes, the CPU time the process used (the
+same on 1 and 2 threads when nothing is repeated or spun on) and the context switches its
+threads made waiting (a lock or the interpreter's lock contended shows as thousands of them).
+The issue's bound is a speed-up ≥ 1.8 on 2 threads of a 2-core machine. On a machine loaded by
+other processes, Linux's autogroup scheduling (`/proc/sys/kernel/sched_autogroup_enabled`)
+gives a session's threads together one share of the cores, so 2 threads get no more CPU than
+1: see `python/benches/README.md` for measuring it there.
 """
 
+import resource
 import statistics
 import sys
 import time
@@ -32,12 +39,18 @@ def main():
     states = np.tile(robot.state(alpha=0.3, w4=0.5, w5=0.4), (n, 1))
     states[:, 2] = rng.uniform(0.2, 0.4, n)
 
+    usage = {1: [], 2: []}
+
     def timed(threads):
+        before = resource.getrusage(resource.RUSAGE_SELF)
         start = time.perf_counter()
         table = robot.ensemble(parameters=parameters, states=states, t_end=10.0, dt=0.01,
                                rtol=1e-9, atol=1e-12, threads=threads)
         elapsed = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_SELF)
         assert len(table) == n and table.failed == 0
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        usage[threads].append((cpu, after.ru_nvcsw - before.ru_nvcsw))
         return elapsed
 
     speedups, ones, twos = [], [], []
@@ -54,6 +67,11 @@ def main():
           f"(p10-p90 {quantile(speedups, 0.1):.3f}-{quantile(speedups, 0.9):.3f})")
     print(f"median time: 1 thread {statistics.median(ones):.2f} s ({statistics.median(ones) / n * 1e3:.3f} ms a run), "
           f"2 threads {statistics.median(twos):.2f} s")
+    for threads in (1, 2):
+        cpu = statistics.median(c for c, _ in usage[threads])
+        waits = statistics.median(w for _, w in usage[threads])
+        print(f"{threads} thread{'s' if threads > 1 else ''}: CPU time {cpu:.2f} s "
+              f"({cpu / n * 1e3:.3f} ms a run), {waits:.0f} voluntary context switches")
 
 
 if __name__ == "__main__":
