@@ -16,17 +16,17 @@
 //! colours into a matrix by repeated calls, each of which would cost a whole dual-number
 //! Jacobian here. The scheme is written on nalgebra's LU instead.
 
-use nalgebra::DVectorViewMut;
-
 use super::collocation::{Collocation, Tableau, extrapolate};
+use super::differences::Jacobian;
 use super::initial_step::{Target, initial_step};
-use super::newton::{Criterion, Newton, Outcome};
+use super::newton::{Criterion, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::radau_stages::TransformedStages;
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_span, check_state, too_many_steps,
+    Integrator, MAX_STEPS, Ode, Stats, Watched, check_problem, check_span, check_state,
+    too_many_steps,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -154,6 +154,17 @@ impl Radau5 {
         self
     }
 
+    fn settings(&self) -> Adaptive {
+        Adaptive {
+            rtol: self.rtol,
+            atol: self.atol,
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            min_step: self.min_step,
+        }
+    }
+
     fn check_settings(&self) -> Result<(), Error> {
         let floor = RtolFloor {
             value: 10.0 * f64::EPSILON,
@@ -161,17 +172,7 @@ impl Radau5 {
             reason: "the relative tolerance of Radau5 must be a finite number above 10 ε ≈ \
                      2.2e-15 (its error control works with rtol^(2/3))",
         };
-        settings::check(
-            &Adaptive {
-                rtol: self.rtol,
-                atol: self.atol,
-                initial_step: self.initial_step,
-                max_step: self.max_step,
-                max_steps: self.max_steps,
-                min_step: self.min_step,
-            },
-            floor,
-        )?;
+        settings::check(&self.settings(), floor)?;
         if self.max_iterations < 2 {
             return Err(Error::InvalidSetting {
                 name: "max iterations",
@@ -210,6 +211,7 @@ impl Integrator for Radau5 {
             return Ok(Stats::default());
         };
         check_span(ode, t0, t_end, x0)?;
+        settings::check_relative_floor(&self.settings(), t0, t_end)?;
         let tableau = Tableau::radau_iia();
         let mut run = Run::new(self, &tableau, ode, (t0, x0), t_end)?;
         run.integrate(&mut samples)?;
@@ -219,7 +221,7 @@ impl Integrator for Radau5 {
 
 /// The constants of RADAU5's error estimate: the weights of the stage increments in the
 /// embedded formula (its DD1…DD3); its matrix (u₁/h) I − J, u₁ the real eigenvalue of A⁻¹, is
-/// the transformed iteration's real one ([`TransformedStages::real_lu`]).
+/// the transformed iteration's real one ([`TransformedStages::solve_real`]).
 struct Estimate {
     dd: [f64; 3],
 }
@@ -237,13 +239,14 @@ impl Estimate {
 struct Run<'a, 't, O: Ode> {
     method: &'a Radau5,
     tableau: &'t Tableau<3>,
-    ode: &'a mut O,
+    /// The ODE, its right-hand side's values watched for NaN (named when the run ends).
+    ode: Watched<'a, O>,
     stats: Stats,
     /// The Jacobian, evaluated afresh when the iteration slows down.
-    newton: Newton,
+    jacobian: Jacobian,
     /// The factored matrices of RADAU5's transformed iteration (the real one is the error
     /// estimate's too).
-    stages: TransformedStages,
+    stages: TransformedStages<O::State>,
     estimate: Estimate,
     /// The tolerances as RADAU5 transforms them, and its Newton tolerance.
     rtol: f64,
@@ -348,10 +351,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         Ok(Run {
             method,
             tableau,
-            ode,
+            ode: Watched::new(ode),
             stats,
-            newton: Newton::new(O::State::LEN, controlled, 3),
-            stages: TransformedStages::new(O::State::LEN, controlled, tableau),
+            jacobian: Jacobian::new(O::State::LEN, method.atol),
+            stages: TransformedStages::new(controlled, tableau),
             estimate: Estimate::new(),
             rtol,
             atol,
@@ -383,8 +386,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         &mut self,
         samples: &mut Samples<'_, T, O::State>,
     ) -> Result<(), Error> {
-        let (t, y) = (self.t, self.y);
-        self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        self.evaluate_jacobian()?;
         // Stretch a first step that nearly reaches the end (RADAU5's rule).
         let mut last = self.t + self.h * QUOT1 >= self.t_end;
         if last {
@@ -394,14 +396,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             let (t, y, h) = (self.t, self.y, self.h);
             let tried = self.stats.steps + self.stats.rejected;
             if tried >= self.method.max_steps {
-                return Err(too_many_steps(&*self.ode, t, h, &y, tried));
+                return Err(too_many_steps(&self.ode, t, h, &y, tried));
             }
             if h < self.floor(t) {
-                return Err(Error::StepSizeUnderflow {
+                return Err(self.ode.explain(Error::StepSizeUnderflow {
                     t,
                     h,
                     state: self.ode.describe(&y),
-                });
+                }));
             }
             let Some((z, iterations)) = self.attempt()? else {
                 last = false;
@@ -435,10 +437,9 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                     Next::Continue => {}
                 }
                 last = self.next_step(h / quot);
-                self.newton.fresh = false;
+                self.jacobian.fresh = false;
                 if self.theta > THET {
-                    let (t, y) = (self.t, self.y);
-                    self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+                    self.evaluate_jacobian()?;
                 }
             } else {
                 self.stats.rejected += 1;
@@ -490,7 +491,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     fn singular(&mut self, e: Error) -> Result<(), Error> {
         self.failures.singular_in_a_row += 1;
         if self.failures.singular_in_a_row >= SINGULAR_IN_A_ROW {
-            return Err(e);
+            return Err(self.ode.explain(e));
         }
         self.stats.rejected += 1;
         self.reject = true;
@@ -500,11 +501,17 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
 
     /// Evaluates the Jacobian at the current point unless it was evaluated there.
     fn refresh_unless_fresh(&mut self) -> Result<(), Error> {
-        if !self.newton.fresh {
-            let (t, y) = (self.t, self.y);
-            self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        if !self.jacobian.fresh {
+            self.evaluate_jacobian()?;
         }
         Ok(())
+    }
+
+    /// Evaluates the Jacobian at the current point (t, y), where f is `f0`.
+    fn evaluate_jacobian(&mut self) -> Result<(), Error> {
+        let (t, y, f0) = (self.t, self.y, self.f0);
+        self.jacobian
+            .evaluate(&mut self.ode, t, &y, Some(&f0), &mut self.stats)
     }
 
     /// The stage increments of a step of size h from (t, y) and the iterations they took, or
@@ -522,14 +529,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             tolerance: self.fnewt,
             max_iterations: self.method.max_iterations,
         };
-        let fresh = self.newton.fresh;
+        let fresh = self.jacobian.fresh;
         let outcome = self.stages.iterate(
-            self.ode,
+            &mut self.ode,
             self.tableau,
             (t, &y, h),
             &mut z,
             criterion,
-            scale.as_ref(),
+            &scale,
             &mut self.stats,
         )?;
         match outcome {
@@ -550,14 +557,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                         || (self.failures.newton >= NEWTON_FAILURES_SUSTAINED
                             && self.failures.newton > self.stats.steps)
                     {
-                        return Err(Error::NewtonNotConverged {
+                        return Err(self.ode.explain(Error::NewtonNotConverged {
                             t,
                             h,
                             iterations,
                             increment,
                             rate,
                             state: self.ode.describe(&y),
-                        });
+                        }));
                     }
                 }
                 self.stats.rejected += 1;
@@ -591,11 +598,9 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// components.
     fn error(&mut self, z: &[O::State; 3]) -> Result<f64, Error> {
         let (t, y, h) = (self.t, self.y, self.h);
-        let lu = self.stages.real_lu();
-        // On the stack, solved in place through a view: the estimate allocates nothing.
-        let solve = |v: &mut O::State| {
-            lu.solve_mut(&mut DVectorViewMut::from_slice(v.as_mut(), O::State::LEN));
-        };
+        let stages = &self.stages;
+        // On the stack, solved in place: the estimate allocates nothing.
+        let solve = |v: &mut O::State| stages.solve_real(v);
         let mut f2 = O::State::zeros();
         for (i, zi) in z.iter().enumerate() {
             for (f, v) in f2.as_mut().iter_mut().zip(zi.as_ref()) {
@@ -639,10 +644,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// Factors the transformed iteration's matrices for the current h and Jacobian (unless
     /// done already); a singular one is an error naming the growing mode that makes it so.
     fn factor(&mut self) -> Result<(), Error> {
-        let id = (self.h, self.stats.jacobians);
+        let id = (self.h, self.jacobian.count());
         let singular =
             self.stages
-                .factor(self.newton.jacobian(), id, self.tableau, &mut self.stats);
+                .factor(self.jacobian.matrix(), id, self.tableau, &mut self.stats);
         match singular {
             None => Ok(()),
             Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
@@ -673,8 +678,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             z,
         };
         let raw = self.tableau.end(&y, &z);
-        check_state(&*self.ode, t1, &raw)?;
+        check_state(&self.ode, t1, &raw)?;
         self.stats.steps += 1;
+        // A value that was not finite at a rejected attempt is no longer a cause.
+        self.ode.non_finite = None;
         let mut y1 = raw;
         self.ode.project(t1, &mut y1)?;
         let control = if samples.observer.watches_steps() {
@@ -693,7 +700,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             Control::Continue => None,
             Control::Stop(ts) => Some(ts.clamp(t, t1)),
         };
-        let stop = samples.report(self.ode, (t1, &y1), |s| step.at(s), stop)?;
+        let stop = samples.report(&mut self.ode, (t1, &y1), |s| step.at(s), stop)?;
         if stop.is_some() {
             self.stats.stopped = stop;
             return Ok(Next::Done);
