@@ -54,6 +54,7 @@ pub struct Bodies {
     pub gamma: TokenStream,
     pub inverse_defect: TokenStream,
     pub jacobian: TokenStream,
+    pub time_derivative: TokenStream,
 }
 
 impl Bodies {
@@ -79,7 +80,8 @@ impl Bodies {
             mass_matrix: never.clone(),
             gamma: never.clone(),
             inverse_defect: never.clone(),
-            jacobian: never,
+            jacobian: never.clone(),
+            time_derivative: never,
         }
     }
 }
@@ -368,6 +370,7 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         gamma,
         inverse_defect,
         jacobian,
+        time_derivative,
         ..
     } = b;
     quote! {
@@ -386,6 +389,10 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         #allow
         fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
             #jacobian
+        }
+        #allow
+        fn time_derivative(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<::core::option::Option<[f64; #state]>, #singularity> {
+            #time_derivative
         }
     }
 }

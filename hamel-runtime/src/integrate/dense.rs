@@ -39,11 +39,12 @@ pub trait SquareLu<T: Entry> {
     /// once).
     fn new() -> Self;
 
-    /// Forms the matrix with entries `entry(row, column)` (called column by column) and
-    /// factors it in place; its smallest pivot in modulus (infinite for n = 0), for the
-    /// singularity test (`super::singular`; the caller knows the largest entry more cheaply
-    /// than a modulus of every entry, which for a complex one is a `hypot`).
-    fn factor(&mut self, entry: impl FnMut(usize, usize) -> T) -> f64;
+    /// Forms the matrix by `fill`, which writes its n² entries column by column (column-major
+    /// order: entry (r, c) at c·n + r), and factors it in place; its smallest pivot in
+    /// modulus (infinite for n = 0), for the singularity test (`super::singular`; the caller
+    /// knows the largest entry more cheaply than a modulus of every entry, which for a
+    /// complex one is a `hypot`).
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64;
 
     /// Solves the factored system in place, `b` of length n; `false` when a pivot is zero.
     fn solve(&self, b: &mut [T]) -> bool;
@@ -73,13 +74,9 @@ where
     }
 
     /// `LU::new`'s steps on the storage in place.
-    fn factor(&mut self, mut entry: impl FnMut(usize, usize) -> T) -> f64 {
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
         let n = self.dim.value();
-        for c in 0..n {
-            for r in 0..n {
-                self.lu[(r, c)] = entry(r, c);
-            }
-        }
+        fill(self.lu.as_mut_slice());
         self.p = PermutationSequence::identity_generic(self.dim);
         for i in 0..n {
             let piv = self.lu.view_range(i.., i).icamax() + i;
@@ -133,10 +130,10 @@ impl<T: Entry, const N: usize> SquareLu<T> for Lu<T, N> {
         }
     }
 
-    fn factor(&mut self, entry: impl FnMut(usize, usize) -> T) -> f64 {
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
         match self {
-            Lu::Fixed(factors) => factors.factor(entry),
-            Lu::General(factors) => factors.factor(entry),
+            Lu::Fixed(factors) => factors.factor(fill),
+            Lu::General(factors) => factors.factor(fill),
         }
     }
 
@@ -160,7 +157,7 @@ mod tests {
     use nalgebra::DMatrix;
 
     /// A matrix that needs row interchanges (a zero leading entry, for n > 1), of any size.
-    fn entry(n: usize) -> impl Fn(usize, usize) -> f64 {
+    fn entry(n: usize) -> impl Fn(usize, usize) -> f64 + Copy {
         move |r, c| {
             if r == 0 && c == 0 && n > 1 {
                 0.0
@@ -170,11 +167,18 @@ mod tests {
         }
     }
 
+    /// Writes the entries `entry(r, c)` column by column.
+    fn fill<T>(slice: &mut [T], n: usize, entry: impl Fn(usize, usize) -> T) {
+        for (k, v) in slice.iter_mut().enumerate() {
+            *v = entry(k % n, k / n);
+        }
+    }
+
     /// Both paths give nalgebra's `LU` to the bit: the same steps on other storage.
     fn same_as_nalgebra<const N: usize>() {
         let e = entry(N);
         let mut ours = <Lu<f64, N> as SquareLu<f64>>::new();
-        let smallest_pivot = ours.factor(&e);
+        let smallest_pivot = ours.factor(|m| fill(m, N, e));
         let reference = DMatrix::from_fn(N, N, &e).lu();
         let b: Vec<f64> = (0..N).map(|i| 1.0 + i as f64).collect();
         let mut x = b.clone();
@@ -213,7 +217,7 @@ mod tests {
             [Complex::new(0.0, 1.0), Complex::new(1.0, 0.0)],
             [Complex::new(1.0, 0.0), Complex::new(0.0, 0.0)],
         ];
-        lu.factor(|r, c| m[r][c]);
+        lu.factor(|s| fill(s, 2, |r, c| m[r][c]));
         let mut b = [Complex::new(1.0, 1.0), Complex::new(1.0, 0.0)];
         assert!(lu.solve(&mut b));
         assert!((b[0] - Complex::new(1.0, 0.0)).norm() < 1e-15);
@@ -223,7 +227,8 @@ mod tests {
     #[test]
     fn a_singular_matrix_fails_its_solve() {
         let mut lu = <Lu<f64, 2> as SquareLu<f64>>::new();
-        assert_eq!(lu.factor(|r, _| if r == 0 { 1.0 } else { 0.0 }), 0.0);
+        let singular = |r: usize, _| if r == 0 { 1.0 } else { 0.0 };
+        assert_eq!(lu.factor(|s| fill(s, 2, singular)), 0.0);
         assert!(!lu.solve(&mut [1.0, 1.0]));
     }
 }

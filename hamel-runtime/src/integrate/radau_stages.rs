@@ -266,23 +266,41 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
 ) -> (Pivots, Pivots) {
     let zero = Complex::new(0.0, 0.0);
     let (mut off_diagonal, mut real_diagonal, mut complex_diagonal) = (0.0f64, 0.0f64, 0.0f64);
-    for (c, column) in jacobian.column_iter().enumerate() {
-        for (r, &j) in column.iter().enumerate() {
-            if r == c {
-                real_diagonal = real_diagonal.max((g - j).abs());
-                complex_diagonal = complex_diagonal.max((s - j).norm());
-            } else {
-                off_diagonal = off_diagonal.max(j.abs());
+    let n = jacobian.nrows();
+    let js = jacobian.as_slice();
+    // Column by column (the storage order of both), as slices: no index checks.
+    let real_smallest = real.factor(|m| {
+        for (c, (column, js)) in m
+            .chunks_exact_mut(n.max(1))
+            .zip(js.chunks_exact(n.max(1)))
+            .enumerate()
+        {
+            for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
+                if r == c {
+                    *v = g - j;
+                    real_diagonal = real_diagonal.max(v.abs());
+                } else {
+                    *v = 0.0 - j;
+                    off_diagonal = off_diagonal.max(j.abs());
+                }
             }
         }
-    }
-    let real_smallest = real.factor(|r, c| {
-        let j = jacobian[(r, c)];
-        if r == c { g - j } else { 0.0 - j }
     });
-    let complex_smallest = complex.factor(|r, c| {
-        let j = jacobian[(r, c)];
-        if r == c { s - j } else { zero - j }
+    let complex_smallest = complex.factor(|m| {
+        for (c, (column, js)) in m
+            .chunks_exact_mut(n.max(1))
+            .zip(js.chunks_exact(n.max(1)))
+            .enumerate()
+        {
+            for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
+                if r == c {
+                    *v = s - j;
+                    complex_diagonal = complex_diagonal.max(v.norm());
+                } else {
+                    *v = zero - j;
+                }
+            }
+        }
     });
     (
         Pivots {

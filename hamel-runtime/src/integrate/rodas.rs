@@ -482,15 +482,21 @@ impl<'a, 't, O: Ode, const S: usize, const K: usize> Run<'a, 't, O, S, K> {
         self.formed = None;
         let diagonal = 1.0 / (self.h * self.tableau.gamma);
         let jacobian = self.jacobian.matrix();
-        let smallest = self.lu.factor(|r, c| {
-            let j = jacobian[(r, c)];
-            if r == c { diagonal - j } else { 0.0 - j }
+        let n = jacobian.nrows();
+        let mut largest = 0.0f64;
+        let smallest = self.lu.factor(|m| {
+            let columns = m
+                .chunks_exact_mut(n.max(1))
+                .zip(jacobian.as_slice().chunks_exact(n.max(1)));
+            for (c, (column, js)) in columns.enumerate() {
+                for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
+                    // As `0.0 - j` (not −j: the sign of a zero).
+                    *v = if r == c { diagonal - j } else { 0.0 - j };
+                    largest = largest.max(v.abs());
+                }
+            }
         });
         self.stats.factorizations += 1;
-        let largest = jacobian
-            .iter()
-            .map(|j| j.abs())
-            .fold((diagonal - jacobian.diagonal().min()).abs(), f64::max);
         if relative_pivot(smallest, largest) <= SUSPICIOUS_PIVOT {
             let mu = [Complex::new(self.tableau.gamma, 0.0)];
             let mode = growing_mode(jacobian, self.h, &mu);
