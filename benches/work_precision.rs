@@ -40,8 +40,7 @@ use hamel::{
     SampleTimes, Stats, Vector,
 };
 use stiff_problems::{
-    Differenced, Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error,
-    run,
+    Differenced, Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, run,
 };
 
 use compare::Row;
@@ -302,10 +301,17 @@ fn stiff_robot(solver: Solver) -> Option<Run> {
         .expect("the reference run");
     Some(Box::new(move |rtol| {
         let mut end = x0;
-        let stats = integrate_model(solver, rtol, &mut model(&robot), &x0, &[5.0], &mut |_, x| {
-            end = *x;
-            Ok(())
-        })
+        let stats = integrate_model(
+            solver,
+            rtol,
+            &mut model(&robot),
+            &x0,
+            &[5.0],
+            &mut |_, x| {
+                end = *x;
+                Ok(())
+            },
+        )
         .expect("the run");
         let error = end
             .iter()
@@ -358,9 +364,7 @@ fn main() {
             .flat_map(|number| PROBLEMS.iter().map(move |(name, _)| round(name, number)))
             .collect::<Result<Vec<Vec<Row>>, String>>()
             .map(|rows| compare::report(&rows.concat(), false)),
-        _ => Err(
-            "usage: work_precision [round R PROBLEM | once PROBLEM [SOLVER] | report]".into(),
-        ),
+        _ => Err("usage: work_precision [round R PROBLEM | once PROBLEM [SOLVER] | report]".into()),
     };
     if let Err(message) = result {
         eprintln!("work_precision: {message}");

@@ -236,7 +236,15 @@ pub fn report(rows: &[Row], figures: bool) {
     }
     if rows.iter().any(|r| !r.solver.starts_with("hamel")) {
         for mine in EXACT {
-            equal_error(rows, &points, &problems, &rounds, mine, "scipy Radau", &OTHERS);
+            equal_error(
+                rows,
+                &points,
+                &problems,
+                &rounds,
+                mine,
+                "scipy Radau",
+                &OTHERS,
+            );
         }
         for mine in [RADAU5_DIFFERENCED, RODAS5P_DIFFERENCED] {
             equal_error(
@@ -365,7 +373,11 @@ fn equal_error(
     println!("|---|---:|---:{}|", "|---:".repeat(others.len()));
     for &problem in problems {
         let ours = curve(points, problem, mine);
-        if ours.is_empty() || !rows.iter().any(|r| r.problem == problem && r.solver == counted) {
+        if ours.is_empty()
+            || !rows
+                .iter()
+                .any(|r| r.problem == problem && r.solver == counted)
+        {
             continue;
         }
         let theirs = curve(points, problem, counted);
@@ -375,7 +387,11 @@ fn equal_error(
             count_ratio(&ours, &theirs, |r| r.factorizations)
         );
         for solver in others {
-            let _ = write!(line, " | {}", wall_cell(rows, problem, rounds, mine, solver));
+            let _ = write!(
+                line,
+                " | {}",
+                wall_cell(rows, problem, rounds, mine, solver)
+            );
         }
         println!("{line} |");
     }
@@ -391,10 +407,15 @@ fn faster_of_the_two(rows: &[Row], points: &[Row], problems: &[&str], rounds: &[
          given): its evaluations / scipy Radau's and its wall time / diffsol BDF's (median of \
          the per-round ratios) at that error\n"
     );
-    println!("| problem | rtol | faster | error | evaluations / scipy Radau | wall / diffsol BDF |");
+    println!(
+        "| problem | rtol | faster | error | evaluations / scipy Radau | wall / diffsol BDF |"
+    );
     println!("|---|---:|---|---:|---:|---:|");
     for &problem in problems {
-        let (radau, rodas) = (curve(points, problem, RADAU5), curve(points, problem, RODAS5P));
+        let (radau, rodas) = (
+            curve(points, problem, RADAU5),
+            curve(points, problem, RODAS5P),
+        );
         if radau.is_empty() || rodas.is_empty() {
             continue;
         }
