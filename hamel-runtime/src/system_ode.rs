@@ -225,7 +225,11 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
 /// hand-written `HamelSystem` whose `StateJacobian` or `InputJacobian` is not n × n and
 /// n × m): named, rather than a slice out of bounds.
 fn check_jacobian_shape<S: HamelSystem>(state: usize, input: usize) -> Result<(), Error> {
-    let (n, m) = (S::State::LEN, S::Inputs::LEN);
+    jacobian_shape((S::State::LEN, S::Inputs::LEN), (state, input))
+}
+
+/// [`check_jacobian_shape`] for n states and m inputs.
+fn jacobian_shape((n, m): (usize, usize), (state, input): (usize, usize)) -> Result<(), Error> {
     if state == n * n && input == n * m {
         return Ok(());
     }
@@ -425,4 +429,29 @@ fn singular_in_run<S: HamelSystem>(
         };
     }
     S::singular(s, t, x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A hand-written model whose `StateJacobian` has 15 entries for a state of 4: an error
+    /// naming the sizes (it was a slice out of bounds, a panic).
+    #[test]
+    fn a_jacobian_of_the_wrong_shape_is_named() {
+        assert_eq!(jacobian_shape((4, 1), (16, 4)), Ok(()));
+        for wrong in [(15, 4), (16, 3), (4, 16)] {
+            match jacobian_shape((4, 1), wrong) {
+                Err(e @ Error::InconsistentModel { .. }) => {
+                    let message = e.to_string();
+                    assert!(
+                        message.contains(&format!("∂F/∂x with {} entries", wrong.0))
+                            && message.contains("need 16 and 4"),
+                        "{message}"
+                    );
+                }
+                other => panic!("{wrong:?}: {other:?}"),
+            }
+        }
+    }
 }

@@ -430,6 +430,94 @@ fn invalid_settings_are_errors_naming_the_value() {
     );
 }
 
+/// Settings no run can honour, refused by every adaptive method with the setting named: an
+/// absolute tolerance of 10³⁰⁰ (Radau5 took it, crossed the span in one step and returned that
+/// step's value), a largest step below the floor on the step (only ever an underflow before),
+/// a first step below that floor (it had lost its message: "step size underflow at t = 0").
+#[test]
+fn absurd_tolerances_and_step_limits_are_refused_by_name() {
+    let refused =
+        |label: &str, result: Result<Stats, Error>, setting: &str, words: &str| match result {
+            Err(e @ Error::InvalidSetting { .. }) => {
+                let Error::InvalidSetting { name, .. } = &e else {
+                    unreachable!()
+                };
+                assert_eq!(*name, setting, "{label}: {e}");
+                assert!(e.to_string().contains(words), "{label}: {e}");
+            }
+            other => panic!("{label}: expected `{setting}` refused, got {other:?}"),
+        };
+    let quiet = &mut |_: f64, _: &[f64; 2]| Ok(());
+    let x0 = [1.0, 0.0];
+    let atol = "controls nothing";
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e300).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "atol",
+        atol,
+    );
+    refused(
+        "Radau5",
+        Radau5::new(1e-6, 1e300).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "atol",
+        atol,
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1e-6, 1e300).integrate(
+            &mut Oscillator,
+            0.0,
+            &x0,
+            &[1.0],
+            quiet,
+        ),
+        "atol",
+        atol,
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1.0, 1e-6).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "rtol",
+        "controls nothing",
+    );
+    // A floor of half the span (Dormand–Prince's floor is relative to the span) above the
+    // largest step; and for Radau5, whose floor is relative to |t|, at t = 1000.
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e-6)
+            .with_min_step(0.5)
+            .with_max_step(0.1)
+            .integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "max step",
+        "below the smallest step",
+    );
+    refused(
+        "Radau5",
+        Radau5::new(1e-6, 1e-6)
+            .with_min_step(1e-3)
+            .with_max_step(0.1)
+            .integrate(&mut Oscillator, 1000.0, &x0, &[1001.0], quiet),
+        "max step",
+        "below the smallest step",
+    );
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e-6)
+            .with_initial_step(1e-300)
+            .integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "initial step",
+        "below the smallest step the integration may take at the start",
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1e-6, 1e-6)
+            .with_initial_step(1e-300)
+            .integrate(&mut Oscillator, 1.0, &x0, &[2.0], quiet),
+        "initial step",
+        "below the smallest step the integration may take at the start",
+    );
+}
+
 #[test]
 fn bad_start_and_sample_times_are_errors() {
     let methods: (Rk4, DormandPrince) = (Rk4::new(0.1), DormandPrince::new(1e-6, 1e-6));
