@@ -49,6 +49,9 @@ pub(crate) struct Jacobian {
     /// The threshold below which |xⱼ| does not shrink a column's step (atol).
     threshold: f64,
     evaluations: usize,
+    /// Whether the last Jacobian was formed by differences (n evaluations of the right-hand
+    /// side: an expensive one, which a method keeps longer).
+    differenced: bool,
     /// Whether the Jacobian was evaluated at the start of the step being solved: when it
     /// was, a failure cannot be blamed on an old Jacobian.
     pub fresh: bool,
@@ -65,8 +68,14 @@ impl Jacobian {
             factors: Vec::new(),
             threshold,
             evaluations: 0,
+            differenced: false,
             fresh: false,
         }
+    }
+
+    /// Whether the last Jacobian was formed by differences.
+    pub fn differenced(&self) -> bool {
+        self.differenced
     }
 
     /// How many Jacobians have been evaluated: the identity of the current one.
@@ -92,7 +101,8 @@ impl Jacobian {
         stats: &mut Stats,
     ) -> Result<(), Error> {
         let mut known = f.copied();
-        if !ode.jacobian(t, x, &mut self.rows)? {
+        self.differenced = !ode.jacobian(t, x, &mut self.rows)?;
+        if self.differenced {
             let f0 = match known {
                 Some(f0) => f0,
                 None => {

@@ -112,6 +112,11 @@ const SAFE: f64 = 0.9;
 const FACL: f64 = 5.0;
 const FACR: f64 = 0.125;
 const THET: f64 = 0.001;
+/// The same for a Jacobian by differences, which costs n evaluations: RADAU5's advice for
+/// expensive Jacobians (its WORK(3) "increase to 0.1, say, when Jacobian evaluations are
+/// costly"). The Newton iteration then converges a little more slowly on an older Jacobian
+/// instead of paying n evaluations after nearly every step.
+const THET_DIFFERENCED: f64 = 0.1;
 const QUOT1: f64 = 1.0;
 const QUOT2: f64 = 1.2;
 
@@ -438,7 +443,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                 }
                 last = self.next_step(h / quot);
                 self.jacobian.fresh = false;
-                if self.theta > THET {
+                if self.theta > self.thet() {
                     self.evaluate_jacobian()?;
                 }
             } else {
@@ -467,7 +472,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         }
         // Within a band of ratios the step, and so the factorization, is kept.
         let ratio = h_new / h;
-        if !(self.theta <= THET && (QUOT1..=QUOT2).contains(&ratio)) {
+        if !(self.theta <= self.thet() && (QUOT1..=QUOT2).contains(&ratio)) {
             self.h = h_new;
         }
         false
@@ -505,6 +510,15 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             self.evaluate_jacobian()?;
         }
         Ok(())
+    }
+
+    /// The contraction below which the Jacobian is kept after a step (RADAU5's THET).
+    fn thet(&self) -> f64 {
+        if self.jacobian.differenced() {
+            THET_DIFFERENCED
+        } else {
+            THET
+        }
     }
 
     /// Evaluates the Jacobian at the current point (t, y), where f is `f0`.

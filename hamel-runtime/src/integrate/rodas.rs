@@ -515,6 +515,7 @@ impl<'a, 't, O: Ode, const S: usize, const K: usize> Run<'a, 't, O, S, K> {
         }
         let (t, y, h) = (self.t, self.y, self.h);
         let tab = self.tableau;
+        let coupling: [[f64; S]; S] = tab.coupling.map(|row| row.map(|c| c / h));
         let mut k = [O::State::zeros(); S];
         for i in 0..S {
             let mut rhs = if i == 0 {
@@ -545,8 +546,8 @@ impl<'a, 't, O: Ode, const S: usize, const K: usize> Run<'a, 't, O, S, K> {
             let hd = h * tab.d[i];
             for (p, r) in rhs.as_mut().iter_mut().enumerate() {
                 let mut sum = hd * self.dfdt.as_ref()[p];
-                for (j, kj) in k.iter().enumerate().take(i) {
-                    sum += tab.coupling[i][j] / h * kj.as_ref()[p];
+                for (c, kj) in coupling[i].iter().zip(&k).take(i) {
+                    sum += c * kj.as_ref()[p];
                 }
                 *r += sum;
             }
