@@ -125,7 +125,9 @@ pub struct Stats {
     pub evaluations: usize,
     /// Jacobians ∂f/∂x evaluated (implicit methods only).
     pub jacobians: usize,
-    /// LU factorizations of an implicit method's iteration matrix (implicit methods only).
+    /// LU factorizations of an implicit or Rosenbrock method's iteration matrices (implicit
+    /// methods only): Radau5's real and complex matrices of a step count as two, as scipy's
+    /// `Radau` counts them.
     pub factorizations: usize,
     /// The time the observer stopped the integration at ([`Control::Stop`]), if it did.
     pub stopped: Option<f64>,
