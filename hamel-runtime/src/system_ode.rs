@@ -22,14 +22,79 @@ pub(crate) fn prepared<S: HamelSystem>(system: &S) -> Vec<f64> {
 /// The name of the work in the extended state's messages.
 const WORK: &str = "work";
 
+/// A run's inputs u(t, x), shared by its ODE (every stage) and its recorder (every sample):
+/// a function of the time and state, checked to be finite wherever it is evaluated, or
+/// constant, checked once.
+pub(crate) struct RunInputs<S: HamelSystem, F> {
+    function: RefCell<F>,
+    constant: Option<S::Inputs>,
+}
+
+impl<S: HamelSystem> RunInputs<S, fn(f64, &S::State) -> S::Inputs> {
+    /// Constant inputs (checked once, by [`RunInputs::check_start`]).
+    pub fn constant(u: S::Inputs) -> Self {
+        RunInputs {
+            function: RefCell::new(|_, _| S::Inputs::zeros()),
+            constant: Some(u),
+        }
+    }
+}
+
+impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> RunInputs<S, F> {
+    /// Inputs computed by `f` at each (t, x).
+    pub fn function(f: F) -> Self {
+        RunInputs {
+            function: RefCell::new(f),
+            constant: None,
+        }
+    }
+
+    /// That the inputs at the run's start are finite: the first that is not is named, with
+    /// the time and state. Constant inputs are checked here only.
+    pub fn check_start(&self, t: f64, x: &S::State) -> Result<(), Error> {
+        check_inputs::<S>(&self.unchecked(t, x), t, x)
+    }
+
+    /// u(t, x), which must be finite, as [`RunInputs::check_start`] says; constant inputs
+    /// were checked there.
+    #[inline]
+    pub fn at(&self, t: f64, x: &S::State) -> Result<S::Inputs, Error> {
+        let u = self.unchecked(t, x);
+        if self.constant.is_none() {
+            check_inputs::<S>(&u, t, x)?;
+        }
+        Ok(u)
+    }
+
+    /// u(t, x), not checked.
+    #[inline]
+    fn unchecked(&self, t: f64, x: &S::State) -> S::Inputs {
+        match self.constant {
+            Some(u) => u,
+            None => (self.function.borrow_mut())(t, x),
+        }
+    }
+
+    /// Whether the inputs are constant and zero.
+    pub fn are_zero(&self) -> bool {
+        self.constant
+            .is_some_and(|u| u.as_ref().iter().all(|v| *v == 0.0))
+    }
+
+    /// Whether the inputs depend on the state at all (constant ones do not).
+    fn read_state(&self) -> bool {
+        self.constant.is_none()
+    }
+}
+
 /// The reduced ODE ẋ = F(t, x, u(t, x)): the inputs are evaluated at every stage, and a
 /// singular matrix in the right-hand side becomes an error naming the time and state.
-pub(crate) struct PlainOde<'s, 'i, S, F> {
+pub(crate) struct PlainOde<'s, 'i, S: HamelSystem, F> {
     pub system: &'s S,
     /// The right-hand side's parameter-only values, prepared once for the run.
     pub prepared: Vec<f64>,
     /// Shared with the recorder, which records the inputs at the samples.
-    pub inputs: &'i RefCell<F>,
+    pub inputs: &'i RunInputs<S, F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
     /// The reduced mass matrix's diagonal at the run's start ([`inertia_diagonal`]).
@@ -40,8 +105,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
     type State = S::State;
 
     fn rhs(&mut self, t: f64, x: &S::State, dx: &mut S::State) -> Result<(), Error> {
-        let u = (self.inputs.borrow_mut())(t, x);
-        check_inputs::<S>(&u, t, x)?;
+        let u = self.inputs.at(t, x)?;
         self.system
             .rhs_prepared(&self.prepared, t, x, &u, dx)
             .map_err(|s| singular_in_run(self.system, s, t, x, self.start_inertia.as_deref()))
@@ -78,11 +142,11 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
 /// The reduced ODE extended by the work W done on the system, Ẇ = power(t, x, u), for the
 /// energy balance E(t) − E(t₀) = W(t). W is left out of the step-size control, so the steps
 /// are exactly those of the plain state.
-pub(crate) struct BalanceOde<'s, 'i, S, F> {
+pub(crate) struct BalanceOde<'s, 'i, S: HamelSystem, F> {
     pub system: &'s S,
     /// The right-hand side's parameter-only values, prepared once for the run.
     pub prepared: Vec<f64>,
-    pub inputs: &'i RefCell<F>,
+    pub inputs: &'i RunInputs<S, F>,
     /// Whether to re-solve the dependent coordinates after every step.
     pub project: bool,
     /// The reduced mass matrix's diagonal at the run's start ([`inertia_diagonal`]).
@@ -100,8 +164,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         else {
             return Err(inconsistent_extension::<S>());
         };
-        let u = (self.inputs.borrow_mut())(t, x);
-        check_inputs::<S>(&u, t, x)?;
+        let u = self.inputs.at(t, x)?;
         let power = self
             .system
             .rhs_power_prepared(&self.prepared, t, x, &u, dx)
@@ -186,13 +249,13 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
 /// without inputs, and exactly zero for inputs that do not read the state.
 fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
     system: &S,
-    inputs: &RefCell<F>,
+    inputs: &RunInputs<S, F>,
     (t, x): (f64, &S::State),
     out: &mut [f64],
     stride: usize,
 ) -> Result<(), Error> {
     let (n, m) = (S::State::LEN, S::Inputs::LEN);
-    let u = (inputs.borrow_mut())(t, x);
+    let u = inputs.at(t, x)?;
     let (jx, ju) = system
         .jacobian(t, x, &u)
         .map_err(|s| S::singular(s, t, x))?;
@@ -200,7 +263,7 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
     for i in 0..n {
         out[i * stride..i * stride + n].copy_from_slice(&jx.as_ref()[i * n..(i + 1) * n]);
     }
-    if m == 0 {
+    if m == 0 || !inputs.read_state() {
         return Ok(());
     }
     for j in 0..n {
@@ -208,7 +271,7 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
         let xj = x.as_ref()[j];
         shifted.as_mut()[j] = xj + (f64::EPSILON * xj.abs().max(1e-5)).sqrt();
         let delta = shifted.as_ref()[j] - xj;
-        let moved = (inputs.borrow_mut())(t, &shifted);
+        let moved = inputs.unchecked(t, &shifted);
         for k in 0..m {
             let du = (moved.as_ref()[k] - u.as_ref()[k]) / delta;
             if du != 0.0 {

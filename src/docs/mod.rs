@@ -13,6 +13,8 @@
 //! * [`control`] — control from the model: the control-affine form, outputs and their Lie
 //!   derivatives, Lie brackets and the accessibility rank, exact input–output linearization,
 //!   LQR with its Riccati equation, and controllers as a run's input function.
+//! * [`export`] — a model as a C library and header: CasADi's external functions with exact
+//!   first and second derivatives (NMPC with IPOPT), plain C functions, a model of your own.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
@@ -35,6 +37,9 @@ pub mod studies {}
 
 #[doc = include_str!("control.md")]
 pub mod control {}
+
+#[doc = include_str!("export.md")]
+pub mod export {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
