@@ -187,7 +187,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         let stride = S::Extended::LEN;
         state_jacobian(self.system, self.inputs, (t, &x), jacobian, stride)?;
         let power = |x: &S::State| {
-            let u = (self.inputs.borrow_mut())(t, x);
+            let u = self.inputs.at(t, x)?;
             self.system
                 .power(t, x, &u)
                 .map_err(|s| S::singular(s, t, x))
@@ -217,7 +217,7 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
             return Ok(false);
         }
         let power = |t: f64| {
-            let u = (self.inputs.borrow_mut())(t, &x);
+            let u = self.inputs.at(t, &x)?;
             self.system
                 .power(t, &x, &u)
                 .map_err(|s| S::singular(s, t, &x))
@@ -314,12 +314,12 @@ fn jacobian_shape((n, m): (usize, usize), (state, input): (usize, usize)) -> Res
 /// the whole right-hand side in t.
 fn state_time_derivative<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
     system: &S,
-    inputs: &RefCell<F>,
+    inputs: &RunInputs<S, F>,
     (t, x): (f64, &S::State),
     out: &mut [f64],
 ) -> Result<bool, Error> {
     let (n, m) = (S::State::LEN, S::Inputs::LEN);
-    let u = (inputs.borrow_mut())(t, x);
+    let u = inputs.at(t, x)?;
     let Some(ft) = system
         .time_derivative(t, x, &u)
         .map_err(|s| S::singular(s, t, x))?
@@ -327,11 +327,12 @@ fn state_time_derivative<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
         return Ok(false);
     };
     out[..n].copy_from_slice(ft.as_ref());
-    if m == 0 {
+    // Constant inputs do not change with t.
+    if m == 0 || !inputs.read_state() {
         return Ok(true);
     }
     let shifted = t + f64::EPSILON.sqrt() * t.abs().max(1.0);
-    let moved = (inputs.borrow_mut())(shifted, x);
+    let moved = inputs.unchecked(shifted, x);
     let du: Vec<f64> = (0..m)
         .map(|k| (moved.as_ref()[k] - u.as_ref()[k]) / (shifted - t))
         .collect();
