@@ -26,12 +26,12 @@ use crate::vector::Vector;
 
 /// A difference below this fraction of the function's scale is rounding: the column is tried
 /// again with a larger step.
-const DIFF_REJECT: f64 = 1.7319121124709868e-14; // ε^0.875
+const DIFF_REJECT: f64 = 2.0097183471152322e-14; // ε^0.875
 /// Below this fraction the next step grows tenfold.
 const DIFF_SMALL: f64 = 1.8189894035458565e-12; // ε^0.75
 /// Above this fraction the next step shrinks tenfold (the difference is no longer small:
 /// truncation error).
-const DIFF_BIG: f64 = 1.2207031250000000e-4; // ε^0.25
+const DIFF_BIG: f64 = 1.220703125e-4; // ε^0.25
 /// The smallest factor.
 const MIN_FACTOR: f64 = 1e3 * f64::EPSILON;
 const FACTOR_CHANGE: f64 = 10.0;
@@ -378,6 +378,14 @@ mod tests {
         // f, the first column and its retry.
         assert_eq!(stats.evaluations, 3);
         assert!(jacobian.factors[0] > f64::EPSILON.sqrt());
+    }
+
+    #[test]
+    fn the_thresholds_are_powers_of_epsilon() {
+        let e = f64::EPSILON;
+        assert_eq!(DIFF_REJECT, e.powf(0.875));
+        assert_eq!(DIFF_SMALL, e.powf(0.75));
+        assert_eq!(DIFF_BIG, e.powf(0.25));
     }
 
     #[test]

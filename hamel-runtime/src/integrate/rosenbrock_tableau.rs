@@ -306,10 +306,10 @@ mod tests {
             assert!((o5 - 0.2).abs() < tol, "order 5: {o5}");
         }
         // The nodes are the row sums of α (cᵢ = αᵢ), and dᵢ = Σⱼ γᵢⱼ (the row sums of Γ).
-        for i in 0..n {
-            assert!((alpha_i[i] - t.c[i]).abs() < 1e-9, "c{i}");
+        for (i, (alpha, (c, d))) in alpha_i.iter().zip(t.c.iter().zip(&t.d)).enumerate() {
+            assert!((alpha - c).abs() < 1e-9, "c{i}");
             let gi: f64 = big_gamma.row(i).sum();
-            assert!((gi - t.d[i]).abs() < 1e-9, "d{i}: {gi} against {}", t.d[i]);
+            assert!((gi - d).abs() < 1e-9, "d{i}: {gi} against {d}");
         }
     }
 
