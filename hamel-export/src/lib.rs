@@ -29,6 +29,7 @@
 pub mod abi;
 pub mod c_api;
 pub mod casadi;
+pub mod fmi2;
 pub mod header;
 pub mod hyper;
 mod macros;
