@@ -23,10 +23,12 @@ fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Run `body` on the instance `c` as the function `name`: the mode checked, a refusal or a
-/// panic logged and returned as its status.
+/// panic logged and returned as its status. Inlined, with the refusals out of line, so that
+/// a call that succeeds costs its checks and nothing else (`fmi2GetDerivatives`).
 ///
 /// # Safety
 /// `c` is null or an instance of `M` from [`instantiate`] not yet freed.
+#[inline]
 pub unsafe fn call<M: Model>(
     c: Component,
     function: Function,
@@ -39,20 +41,37 @@ pub unsafe fn call<M: Model>(
     // SAFETY: an instance of `M` (the caller's contract), used by one thread at a time (the
     // standard's).
     let instance = unsafe { &mut *(c as *mut Instance<M>) };
-    if let Some(why) = function.refusal(name, instance.interface, instance.mode) {
-        instance.log(Status::Error, Category::Error, &format!("{name}: {why}"));
-        instance.mode = Mode::Error;
-        return Status::Error;
+    if !function.permits(instance.interface, instance.mode) {
+        return out_of_order(instance, function, name);
     }
-    let outcome = catch_unwind(AssertUnwindSafe(|| body(&mut *instance)));
-    let refusal = match outcome {
-        Ok(Ok(())) => return Status::Ok,
-        Ok(Err(refusal)) => refusal,
-        Err(panic) => Refusal::error(format!(
-            "internal error (a bug, please report it): {}",
-            panic_message(&*panic)
-        )),
-    };
+    match catch_unwind(AssertUnwindSafe(|| body(&mut *instance))) {
+        Ok(Ok(())) => Status::Ok,
+        Ok(Err(refusal)) => report(instance, name, refusal),
+        Err(panic) => report(
+            instance,
+            name,
+            Refusal::error(format!(
+                "internal error (a bug, please report it): {}",
+                panic_message(&*panic)
+            )),
+        ),
+    }
+}
+
+/// A call the instance's mode or interface does not allow: `fmi2Error`, logged.
+#[cold]
+#[inline(never)]
+fn out_of_order<M: Model>(instance: &mut Instance<M>, function: Function, name: &str) -> Status {
+    let why = function
+        .refusal(name, instance.interface, instance.mode)
+        .unwrap_or_default();
+    report(instance, name, Refusal::error(why))
+}
+
+/// A refusal logged, and an `fmi2Error` leaving the instance in the error mode.
+#[cold]
+#[inline(never)]
+fn report<M: Model>(instance: &mut Instance<M>, name: &str, refusal: Refusal) -> Status {
     instance.log(
         refusal.status,
         Category::of(refusal.status),
@@ -68,14 +87,13 @@ pub unsafe fn call<M: Model>(
 ///
 /// # Safety
 /// A non-null `ptr` points to `n` readable values.
+#[inline]
 pub unsafe fn read<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Refusal> {
     if n == 0 {
         return Ok(&[]);
     }
     if ptr.is_null() {
-        return Err(Refusal::error(format!(
-            "`{what}` is a null pointer, with {n} entries"
-        )));
+        return Err(null(what, n));
     }
     // SAFETY: non-null, `n` values (the caller's contract).
     Ok(unsafe { core::slice::from_raw_parts(ptr, n) })
@@ -85,17 +103,23 @@ pub unsafe fn read<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T]
 ///
 /// # Safety
 /// A non-null `ptr` points to `n` writable values not otherwise accessed meanwhile.
+#[inline]
 pub unsafe fn write<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Refusal> {
     if n == 0 {
         return Ok(&mut []);
     }
     if ptr.is_null() {
-        return Err(Refusal::error(format!(
-            "`{what}` is a null pointer, with {n} entries"
-        )));
+        return Err(null(what, n));
     }
     // SAFETY: non-null, `n` values (the caller's contract).
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// The refusal of a null pointer.
+#[cold]
+#[inline(never)]
+fn null(what: &str, n: usize) -> Refusal {
+    Refusal::error(format!("`{what}` is a null pointer, with {n} entries"))
 }
 
 /// One value to write.
@@ -128,10 +152,17 @@ pub fn check_count(what: &str, given: usize, expected: usize) -> Outcome {
     if given == expected {
         Ok(())
     } else {
-        Err(Refusal::error(format!(
-            "`{what}` has {given} entries; the model has {expected}"
-        )))
+        Err(count_refusal(what, given, expected))
     }
+}
+
+/// The refusal of a length that is not the model's.
+#[cold]
+#[inline(never)]
+pub fn count_refusal(what: &str, given: usize, expected: usize) -> Refusal {
+    Refusal::error(format!(
+        "`{what}` has {given} entries; the model has {expected}"
+    ))
 }
 
 /// `fmi2Instantiate`: a new instance of `M`, or null (with the reason logged when there is a

@@ -3,12 +3,12 @@
 //! and no discrete states of its own (hamel's events belong to a simulation, not to a
 //! model), so event mode only passes through.
 
-use super::api::{call, check_count, read, write, write_one};
+use super::api::{call, check_count, count_refusal, read, write, write_one};
 use super::instance::Refusal;
 use super::modes::{Function, Mode};
 use super::types::*;
 use crate::model::Model;
-use hamel_runtime::HamelSystem;
+use hamel_runtime::{HamelSystem, Vector};
 
 /// `fmi2EnterEventMode`.
 ///
@@ -125,11 +125,16 @@ pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) 
     // SAFETY: the caller's contract.
     unsafe {
         call::<M>(c, Function::GetDerivatives, "fmi2GetDerivatives", |inst| {
-            check_count("derivatives", nx, inst.table.sizes.nx)?;
             let out = write(dx, nx, "derivatives")?;
-            let x = inst.current()?;
-            out.copy_from_slice(inst.derivatives(&x)?.as_ref());
-            Ok(())
+            let out = <M::System as HamelSystem>::State::head_mut(out)
+                .filter(|_| nx == inst.table.sizes.nx)
+                .ok_or_else(|| count_refusal("derivatives", nx, inst.table.sizes.nx))?;
+            if inst.mode == Mode::Continuous {
+                // The hot path: the importer's state, straight into its array.
+                inst.derivatives_into(&inst.x, out)
+            } else {
+                inst.derivatives_into(&inst.current()?, out)
+            }
         })
     }
 }

@@ -186,19 +186,45 @@ impl<M: Model> Instance<M> {
     /// `fmi2Discard` (the importer may try a smaller step).
     pub fn derivatives(&self, x: &State<M>) -> Result<State<M>, Refusal> {
         let mut dx = State::<M>::zeros();
-        self.system
-            .rhs_prepared(&self.prepared, self.t, x, &self.u, &mut dx)
-            .map_err(|s| Refusal::discard(singular::<M>(s, self.t, x)))?;
-        if let Some(i) = dx.as_ref().iter().position(|v| !v.is_finite()) {
-            return Err(Refusal::discard(format!(
-                "der({}) = {} is not finite at t = {}, state {}",
-                self.name(Role::State(i)),
-                dx.as_ref()[i],
-                self.t,
-                M::System::named_state(x)
-            )));
-        }
+        self.derivatives_into(x, &mut dx)?;
         Ok(dx)
+    }
+
+    /// [`Self::derivatives`] into `dx` (the importer's array, in `fmi2GetDerivatives`).
+    #[inline]
+    pub fn derivatives_into(&self, x: &State<M>, dx: &mut State<M>) -> Result<(), Refusal> {
+        match self
+            .system
+            .rhs_prepared(&self.prepared, self.t, x, &self.u, dx)
+        {
+            // One branch for all (the or of the tests has none).
+            Ok(())
+                if !dx
+                    .as_ref()
+                    .iter()
+                    .fold(false, |bad, v| bad | !v.is_finite()) =>
+            {
+                Ok(())
+            }
+            outcome => Err(self.not_derivatives(x, dx, outcome.err())),
+        }
+    }
+
+    /// Why the derivatives at x are not: a singularity, or a value that is not finite.
+    #[cold]
+    #[inline(never)]
+    fn not_derivatives(&self, x: &State<M>, dx: &State<M>, s: Option<Singularity>) -> Refusal {
+        if let Some(s) = s {
+            return Refusal::discard(singular::<M>(s, self.t, x));
+        }
+        let i = dx.as_ref().iter().position(|v| !v.is_finite()).unwrap_or(0);
+        Refusal::discard(format!(
+            "der({}) = {} is not finite at t = {}, state {}",
+            self.name(Role::State(i)),
+            dx.as_ref()[i],
+            self.t,
+            M::System::named_state(x)
+        ))
     }
 
     /// z = (x, u, p, t) for the generated code's parametric functions.

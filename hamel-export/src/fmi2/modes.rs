@@ -25,6 +25,7 @@ pub enum Mode {
 }
 
 impl Mode {
+    #[inline]
     const fn bit(self) -> u16 {
         1 << self as u16
     }
@@ -114,6 +115,7 @@ pub enum Function {
 
 impl Function {
     /// The modes the function may be called in.
+    #[inline]
     pub fn allowed(self) -> u16 {
         use Function::*;
         match self {
@@ -158,6 +160,7 @@ impl Function {
     }
 
     /// The interface the function belongs to (`None`: both).
+    #[inline]
     pub fn interface(self) -> Option<Interface> {
         use Function::*;
         match self {
@@ -178,6 +181,12 @@ impl Function {
             | GetStatus => Some(Interface::CoSimulation),
             _ => None,
         }
+    }
+
+    /// Whether a call is allowed in `mode` for an instance of `interface`.
+    #[inline]
+    pub fn permits(self, interface: Interface, mode: Mode) -> bool {
+        self.interface().is_none_or(|own| own == interface) && self.allowed() & mode.bit() != 0
     }
 
     /// Why a call is refused in `mode` for an instance of `interface`, if it is.
