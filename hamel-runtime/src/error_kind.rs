@@ -35,6 +35,8 @@ impl Error {
             Error::SingularMassMatrix { .. } => "singular_mass_matrix",
             Error::UnboundedInertia { .. } => "unbounded_inertia",
             Error::UnphysicalBody { .. } => "unphysical_body",
+            Error::ImpossibleGeometry { .. } => "impossible_geometry",
+            Error::SingularOrientation { .. } => "singular_orientation",
             Error::SingularTransformation { .. } => "singular_transformation",
             Error::InverseMismatch { .. } => "inverse_mismatch",
             Error::StepSizeUnderflow { .. } => "step_size_underflow",

@@ -28,6 +28,7 @@ mod system_ode;
 pub mod tracking;
 mod trajectory;
 mod vector;
+pub mod whole_file;
 
 pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;

@@ -328,7 +328,9 @@ pub trait HamelSystem: Parameters {
     /// coordinates.
     ///
     /// Errors: [`Error::NonFiniteOperatingPoint`] naming a time (`t`), state component or
-    /// input that is not finite; [`Error::InvalidParameter`]; [`Error::HolonomicViolation`]
+    /// input that is not finite; [`Error::InvalidParameter`]; a body or contact that cannot be
+    /// ([`Error::UnphysicalBody`], [`Error::ImpossibleGeometry`], as [`Self::check_bodies`]
+    /// finds them); [`Error::HolonomicViolation`]
     /// when the configuration does not satisfy a holonomic constraint (to
     /// [`crate::HOLONOMIC_TOLERANCE`] of its scale, as for [`Self::state_from_speeds`]); the
     /// singularity met, named with the time and state ([`Self::singular`]);
@@ -341,8 +343,12 @@ pub trait HamelSystem: Parameters {
     /// That the model's rigid bodies (`#[bodies]`) at (t, q) are bodies matter could make: a
     /// positive mass, an inertia tensor positive semi-definite whose principal moments satisfy
     /// the triangle inequalities ([`crate::geometry::check_bodies`]); an
-    /// [`Error::UnphysicalBody`] names the first that is not. `#[hamel_system]` implements it
-    /// for a model with `#[bodies]`; the default checks nothing.
+    /// [`Error::UnphysicalBody`] names the first that is not. And that their orientations,
+    /// shapes and contacts (`#[contacts]`) are geometry a body can have: rotations, shapes
+    /// of positive size, surfaces of positive radius, points that exist
+    /// ([`crate::geometry::check_contacts`]); an [`Error::ImpossibleGeometry`] names the
+    /// first that is not. `#[hamel_system]` implements it for a model with `#[bodies]`; the
+    /// default checks nothing.
     fn check_bodies(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
         let _ = (t, q);
         Ok(())
@@ -398,6 +404,9 @@ pub trait HamelSystem: Parameters {
         }
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        // A body or contact that cannot be is named before Newton's method meets it as a
+        // residual that does not converge (a ball larger than its bowl).
+        self.check_bodies(t, q)?;
         assembly::newton(self, t, q)
     }
 

@@ -309,6 +309,7 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         constant_determinant: false,
         units: Vec::new(),
         check_bodies: None,
+        singular: None,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

@@ -333,6 +333,10 @@ pub fn generate(
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
         check_bodies: check_bodies(spec),
+        singular: spec
+            .geometry
+            .bodies
+            .and_then(|_| super::orientations::singular(imp, &spec.coordinates)),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
     let outputs = control
@@ -412,17 +416,31 @@ fn constraint_names(spec: &Spec<'_>) -> Vec<String> {
 }
 
 /// `HamelSystem::check_bodies` for a model stated from its bodies: the run-time check of
-/// each body's mass and inertia, on the model's own `#[bodies]` function.
+/// each body's mass, inertia, orientation and shape, on the model's own `#[bodies]`
+/// function, and of its contacts' surfaces and points, on its `#[contacts]`.
 fn check_bodies(spec: &Spec<'_>) -> Option<TokenStream> {
     let (f, _) = spec.geometry.bodies?;
-    let ident = &f.sig.ident;
-    let call = if spec.takes_time(f) {
-        quote!(Self::#ident(self, t, q))
-    } else {
-        quote!(Self::#ident(self, q))
+    let call = |f: &syn::ImplItemFn| {
+        let ident = &f.sig.ident;
+        if spec.takes_time(f) {
+            quote!(Self::#ident(self, t, q))
+        } else {
+            quote!(Self::#ident(self, q))
+        }
     };
+    let bodies = call(f);
     let names = &spec.body_names;
-    Some(quote!(::hamel::geometry::check_bodies(&#call, &[#(#names),*])))
+    let contacts = spec.geometry.contacts.as_ref().map(|c| {
+        let contacts = call(c.f);
+        quote!(::hamel::geometry::check_contacts(&#contacts, &bodies, names)?;)
+    });
+    Some(quote! {
+        let bodies = #bodies;
+        let names: &[&str] = &[#(#names),*];
+        ::hamel::geometry::check_bodies(&bodies, names)?;
+        #contacts
+        ::core::result::Result::Ok(())
+    })
 }
 
 /// `impl Mechanism` for a model stated from its bodies.

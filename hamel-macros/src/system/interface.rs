@@ -33,6 +33,9 @@ pub struct Header<'a> {
     pub units: Vec<(String, String)>,
     /// `check_bodies`'s body, for a model with `#[bodies]` (the default checks nothing).
     pub check_bodies: Option<TokenStream>,
+    /// `singular`'s body, for a model oriented by three turns (the default names the
+    /// singularity alone).
+    pub singular: Option<TokenStream>,
 }
 
 /// The body of each method (a block's contents).
@@ -155,6 +158,13 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             }
         }
     });
+    let singular = h.singular.as_ref().map(|body| {
+        quote! {
+            fn singular(s: ::hamel::Singularity, t: f64, x: &Self::State) -> ::hamel::Error {
+                #body
+            }
+        }
+    });
     // `do_not_recommend`: rustc's "the trait `HamelSystem` is not implemented for `Model`"
     // would otherwise list every model of the program (the catalogue's too) as the types that
     // do implement it, ten lines of no help under each such error.
@@ -169,6 +179,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #rows
             #matrices
             #check_bodies
+            #singular
         }
     }
 }

@@ -18,6 +18,7 @@ mod linearity;
 mod mechanism;
 mod model;
 mod notes;
+mod orientations;
 mod parameters;
 mod parametric;
 mod rank;

@@ -32,6 +32,7 @@ mod contacts;
 pub use contacts::{ContactReading, read as read_contacts};
 mod gamma;
 mod hamel;
+mod impossible;
 mod inverse;
 mod lagrangian;
 mod projected;
