@@ -57,7 +57,7 @@ BICYCLE = ("whipple_bicycle", "WhippleBicycle",
 
 # FMPy's CVode is BDF with an absolute tolerance of rtol times the nominal (1 here): its
 # global error at a relative tolerance of 1e-9 is 4e-5 on the robot, whose body falls over in
-# these 3 s (pitch rate up to 14 rad/s), and 3e-7 on the bicycle; at 1e-12 it is within 1e-6
+# these 3 s (pitch rate up to 14 rad/s), and 1.5e-7 on the bicycle; at 1e-12 it is within 1e-6
 # of hamel's run of both (see test_cvode_converges_to_hamel_s_run). Co-Simulation runs
 # hamel's Dormand-Prince at the tolerance given, 1e-9 as hamel's own run.
 TOLERANCE = {"ModelExchange": 1e-12, "CoSimulation": 1e-9}
