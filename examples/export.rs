@@ -237,8 +237,8 @@ fn write_if_changed(path: &Path, text: &str) -> Result<(), String> {
 
 /// The `fmu` export: a crate of its own, `target/hamel-export/<model>-fmu/`, that exports
 /// the model's FMI functions (`hamel_export::fmi2!`) and nothing else, so that the FMU holds
-/// no CasADi functions and builds in seconds after the catalogue; its binary writes the FMU
-/// (`hamel_export::fmi2::tool`).
+/// no CasADi functions and builds in 15-30 s of CPU once hamel's crates are built for it; its
+/// binary writes the FMU (`hamel_export::fmi2::tool`).
 mod fmu {
     use super::{repository, target_dir, write_if_changed};
     use std::path::Path;
