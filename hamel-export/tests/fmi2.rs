@@ -56,6 +56,17 @@ unsafe extern "C" {
     ) -> Status;
     fn fmi2DoStep(c: Component, t: f64, h: f64, no_set: c_int) -> Status;
     fn fmi2GetRealStatus(c: Component, kind: c_int, value: *mut f64) -> Status;
+    fn fmi2GetFMUstate(c: Component, s: *mut *mut c_void) -> Status;
+    fn fmi2SetFMUstate(c: Component, s: *mut c_void) -> Status;
+    fn fmi2FreeFMUstate(c: Component, s: *mut *mut c_void) -> Status;
+    fn fmi2SerializedFMUstateSize(c: Component, s: *mut c_void, size: *mut usize) -> Status;
+    fn fmi2SerializeFMUstate(c: Component, s: *mut c_void, b: *mut c_char, n: usize) -> Status;
+    fn fmi2DeSerializeFMUstate(
+        c: Component,
+        b: *const c_char,
+        n: usize,
+        s: *mut *mut c_void,
+    ) -> Status;
     fn fmi2GetBooleanStatus(c: Component, kind: c_int, value: *mut c_int) -> Status;
 }
 
@@ -379,4 +390,52 @@ fn a_step_that_fails_is_discarded_and_says_where() {
     }
     assert_eq!((time, terminated), (0.0, 1));
     assert_eq!(unsafe { fmi2DoStep(fmu.c, 0.0, 0.01, 1) }, Status::Error);
+}
+
+#[test]
+fn a_saved_state_runs_again_to_the_same_bits() {
+    let fmu = Fmu::new(CS);
+    fmu.start(&STATE);
+    assert_eq!(fmu.set(Role::Input(0), 0.1), Status::Ok);
+    let state = |fmu: &Fmu| -> Vec<f64> { (0..8).map(|i| fmu.get(Role::State(i)).1).collect() };
+    unsafe {
+        assert_eq!(fmi2DoStep(fmu.c, 0.0, 0.01, 1), Status::Ok);
+        let mut saved = core::ptr::null_mut();
+        assert_eq!(fmi2GetFMUstate(fmu.c, &mut saved), Status::Ok);
+        assert_eq!(fmi2DoStep(fmu.c, 0.01, 0.01, 1), Status::Ok);
+        let first = state(&fmu);
+        // Back, and the same step again; then through bytes, into another instance.
+        assert_eq!(fmi2SetFMUstate(fmu.c, saved), Status::Ok);
+        assert_eq!(fmi2DoStep(fmu.c, 0.01, 0.01, 1), Status::Ok);
+        assert_eq!(state(&fmu), first);
+        let mut size = 0;
+        assert_eq!(
+            fmi2SerializedFMUstateSize(fmu.c, saved, &mut size),
+            Status::Ok
+        );
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(
+            fmi2SerializeFMUstate(fmu.c, saved, bytes.as_mut_ptr(), size),
+            Status::Ok
+        );
+        let other = Fmu::new(CS);
+        let mut restored = core::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size, &mut restored),
+            Status::Ok
+        );
+        assert_eq!(fmi2SetFMUstate(other.c, restored), Status::Ok);
+        assert_eq!(fmi2DoStep(other.c, 0.01, 0.01, 1), Status::Ok);
+        assert_eq!(state(&other), first);
+        // Bytes cut short are refused, and freeing sets the pointer to null.
+        let mut cut = core::ptr::null_mut();
+        assert_eq!(
+            fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size - 1, &mut cut),
+            Status::Error
+        );
+        assert!(other.last().contains("cut short"), "{}", other.last());
+        assert_eq!(fmi2FreeFMUstate(fmu.c, &mut saved), Status::Ok);
+        assert!(saved.is_null());
+        assert_eq!(fmi2FreeFMUstate(fmu.c, &mut restored), Status::Ok);
+    }
 }

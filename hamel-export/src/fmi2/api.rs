@@ -8,6 +8,7 @@ use super::description::guid;
 use super::instance::{Instance, Outcome, Refusal};
 use super::logger::{Category, Logger};
 use super::modes::{Function, Mode};
+use super::snapshot::{Snapshot, sizes};
 use super::types::*;
 use crate::model::Model;
 use core::ffi::{CStr, c_char};
@@ -480,17 +481,125 @@ pub unsafe fn no_variables<M: Model>(
     }
 }
 
-/// The FMU-state functions: not offered (`canGetAndSetFMUstate="false"`).
+/// The snapshot an `fmi2FMUstate` points to (null refused).
 ///
 /// # Safety
-/// `c` as for [`call`].
-pub unsafe fn no_fmu_state<M: Model>(c: Component, name: &str) -> Status {
+/// `state` is null or from [`get_fmu_state`] or [`deserialize_fmu_state`], not yet freed.
+unsafe fn snapshot<'a>(state: FmuState) -> Result<&'a Snapshot, Refusal> {
+    // SAFETY: the caller's contract.
+    unsafe { (state as *const Snapshot).as_ref() }
+        .ok_or_else(|| Refusal::error("the FMU state is a null pointer"))
+}
+
+/// Store `snapshot` where `slot` points: over the snapshot there, or in a new one.
+///
+/// # Safety
+/// `*slot` is null or a snapshot from this module, not yet freed.
+unsafe fn store(slot: &mut FmuState, snapshot: Snapshot) {
+    match unsafe { (*slot as *mut Snapshot).as_mut() } {
+        Some(old) => *old = snapshot,
+        None => *slot = Box::into_raw(Box::new(snapshot)) as FmuState,
+    }
+}
+
+/// `fmi2GetFMUstate`: a new snapshot, or the one `*state` points to overwritten.
+///
+/// # Safety
+/// `c` as for [`call`]; `state` null or writable, `*state` null or a live snapshot.
+pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FmuState) -> Status {
     // SAFETY: the caller's contract.
     unsafe {
-        call::<M>(c, Function::FmuState, name, |_| {
-            Err(Refusal::error(
-                "this FMU does not get, set or serialize its state (canGetAndSetFMUstate=\"false\")",
-            ))
+        call::<M>(c, Function::FmuState, "fmi2GetFMUstate", |inst| {
+            store(write_one(state, "FMUstate")?, inst.snapshot());
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2SetFMUstate`.
+///
+/// # Safety
+/// `c` as for [`call`]; `state` null or a live snapshot.
+pub unsafe fn set_fmu_state<M: Model>(c: Component, state: FmuState) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::FmuState, "fmi2SetFMUstate", |inst| {
+            inst.restore(snapshot(state)?)
+        })
+    }
+}
+
+/// `fmi2FreeFMUstate`: the snapshot freed and `*state` set to null.
+///
+/// # Safety
+/// `c` as for [`call`]; `state` null or writable, `*state` null or a live snapshot.
+pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FmuState) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::FmuState, "fmi2FreeFMUstate", |_| {
+            let slot = write_one(state, "FMUstate")?;
+            if !slot.is_null() {
+                drop(Box::from_raw(*slot as *mut Snapshot));
+                *slot = core::ptr::null_mut();
+            }
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2SerializedFMUstateSize`.
+///
+/// # Safety
+/// `c` as for [`call`]; `state` null or a live snapshot; `size` null or writable.
+pub unsafe fn serialized_size<M: Model>(c: Component, state: FmuState, size: *mut usize) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::FmuState, "fmi2SerializedFMUstateSize", |_| {
+            *write_one(size, "size")? = snapshot(state)?.to_bytes().len();
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2SerializeFMUstate`: the bytes into the importer's array of the size it asked.
+///
+/// # Safety
+/// `c` as for [`call`]; `state` null or a live snapshot; `bytes` null or of `size` entries.
+pub unsafe fn serialize<M: Model>(
+    c: Component,
+    state: FmuState,
+    bytes: *mut Byte,
+    size: usize,
+) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::FmuState, "fmi2SerializeFMUstate", |_| {
+            let serialized = snapshot(state)?.to_bytes();
+            check_count("serializedState", size, serialized.len())?;
+            let out = write(bytes as *mut u8, size, "serializedState")?;
+            out.copy_from_slice(&serialized);
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2DeSerializeFMUstate`: a snapshot from bytes, checked, into `*state`.
+///
+/// # Safety
+/// `c` as for [`call`]; `bytes` null or of `size` entries; `state` as for [`get_fmu_state`].
+pub unsafe fn deserialize_fmu_state<M: Model>(
+    c: Component,
+    bytes: *const Byte,
+    size: usize,
+    state: *mut FmuState,
+) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::FmuState, "fmi2DeSerializeFMUstate", |_| {
+            let given = read(bytes as *const u8, size, "serializedState")?;
+            let restored = Snapshot::from_bytes(given, sizes::<M>())?;
+            store(write_one(state, "FMUstate")?, restored);
+            Ok(())
         })
     }
 }

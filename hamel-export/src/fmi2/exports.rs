@@ -187,47 +187,47 @@ macro_rules! fmi2 {
             }
 
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, _s: *mut FmuState) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2GetFMUstate") }
+            pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, s: *mut FmuState) -> Status {
+                unsafe { api::get_fmu_state::<M>(c, s) }
             }
 
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, _s: FmuState) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2SetFMUstate") }
+            pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, s: FmuState) -> Status {
+                unsafe { api::set_fmu_state::<M>(c, s) }
             }
 
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, _s: *mut FmuState) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2FreeFMUstate") }
+            pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, s: *mut FmuState) -> Status {
+                unsafe { api::free_fmu_state::<M>(c, s) }
             }
 
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
                 c: Component,
-                _s: FmuState,
-                _size: *mut usize,
+                s: FmuState,
+                size: *mut usize,
             ) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2SerializedFMUstateSize") }
+                unsafe { api::serialized_size::<M>(c, s, size) }
             }
 
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2SerializeFMUstate(
                 c: Component,
-                _s: FmuState,
-                _bytes: *mut Byte,
-                _size: usize,
+                s: FmuState,
+                bytes: *mut Byte,
+                size: usize,
             ) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2SerializeFMUstate") }
+                unsafe { api::serialize::<M>(c, s, bytes, size) }
             }
 
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
                 c: Component,
-                _bytes: *const Byte,
-                _size: usize,
-                _s: *mut FmuState,
+                bytes: *const Byte,
+                size: usize,
+                s: *mut FmuState,
             ) -> Status {
-                unsafe { api::no_fmu_state::<M>(c, "fmi2DeSerializeFMUstate") }
+                unsafe { api::deserialize_fmu_state::<M>(c, bytes, size, s) }
             }
 
             #[unsafe(no_mangle)]

@@ -17,7 +17,8 @@
 //!   through the importer's callback; [`api`]: the boundary (pointers checked, modes
 //!   checked, panics caught); [`instance`]: one instance's data and variables;
 //!   [`exchange`] and [`cosim`]: the functions of each interface; [`directional`]: exact
-//!   directional derivatives; [`exports`]: the macro that exports the symbols.
+//!   directional derivatives; [`snapshot`]: the FMU state, saved, restored and serialized;
+//!   [`exports`]: the macro that exports the symbols.
 //!
 //! `hamel::docs::export` has the guide (its FMI section), and `cargo run --release --example
 //! export -- fmu mobile_robot OUTDIR` writes any catalogue model's FMU.
@@ -33,6 +34,7 @@ pub mod exports;
 pub mod instance;
 pub mod logger;
 pub mod modes;
+pub mod snapshot;
 #[cfg(feature = "fmu")]
 pub mod tool;
 pub mod types;

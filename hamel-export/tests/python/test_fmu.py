@@ -300,3 +300,38 @@ def test_refused_calls_reach_the_logger():
         slave.setReal([100000], [1.0])
     assert "unknown value reference 100000" in messages.messages[-1][1]
     slave.freeInstance()
+
+
+def test_a_saved_state_runs_again_as_before():
+    """FMPy saves the Co-Simulation FMU's state half way, runs on, goes back (through the
+    state, and through its serialized bytes in a second instance) and runs the same steps
+    again: the same states, bit for bit."""
+    fmu = fmu_path(ROBOT[1])
+    names = states(fmu)
+    messages = Messages()
+    first, vr = instance(fmu, FMU2Slave, messages)
+    first.setupExperiment(startTime=0.0)
+    for k, v in ROBOT[2].items():
+        first.setReal([vr[k]], [v])
+    first.enterInitializationMode()
+    first.exitInitializationMode()
+    references = [vr[n] for n in names]
+
+    def run(slave, start, steps):
+        for i in range(steps):
+            slave.doStep(currentCommunicationPoint=start + i * 0.01, communicationStepSize=0.01)
+        return slave.getReal(references)
+
+    run(first, 0.0, 50)
+    saved = first.getFMUstate()
+    after = run(first, 0.5, 50)
+    first.setFMUstate(saved)
+    assert run(first, 0.5, 50) == after
+    second, _ = instance(fmu, FMU2Slave, messages)
+    restored = second.deSerializeFMUstate(first.serializeFMUstate(saved))
+    second.setFMUstate(restored)
+    assert run(second, 0.5, 50) == after
+    first.freeFMUstate(saved)
+    second.freeFMUstate(restored)
+    first.freeInstance()
+    second.freeInstance()
