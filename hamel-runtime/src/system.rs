@@ -325,6 +325,19 @@ pub trait HamelSystem: Parameters {
         u: &Self::Inputs,
     ) -> Result<(Self::StateJacobian, Self::InputJacobian), Singularity>;
 
+    /// ∂F/∂t of the right-hand side at (t, x, u), for the Rosenbrock integrators: generated as
+    /// one more pass of dual numbers with t seeded (`time_derivative_by_duals`), or zeros
+    /// without a pass for a right-hand side that does not depend on t. `None`, the default of
+    /// a hand-written implementation, lets the integrators difference F in t.
+    fn time_derivative(
+        &self,
+        _t: f64,
+        _x: &Self::State,
+        _u: &Self::Inputs,
+    ) -> Result<Option<Self::State>, Singularity> {
+        Ok(None)
+    }
+
     /// The linearization δẋ = A δx + B δu of the right-hand side at the operating point
     /// (t, x, u), with the state and input names (from [`Self::jacobian`]), and the holonomic
     /// constraints' ∂f/∂q there, with which [`Linearization::reduce`] eliminates dependent
