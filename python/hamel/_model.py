@@ -181,8 +181,9 @@ class Model:
         """Runs the model from ``x0`` (at ``t0``) to ``t_end``, sampled every ``dt``, the whole
         solve in Rust with the interpreter released (Ctrl-C stops it).
 
-        ``method``: ``dopri5`` (``rtol``, ``atol``; defaults 1e-9, 1e-12), ``radau5`` (stiff),
-        ``rk4``, ``midpoint``, ``gauss2``, ``gauss3`` (fixed ``step``, default ``dt``).
+        ``method``: ``dopri5`` (``rtol``, ``atol``; defaults 1e-9, 1e-12), ``radau5``,
+        ``rodas5p``, ``rodas4`` (stiff), ``rk4``, ``midpoint``, ``gauss2``, ``gauss3`` (fixed
+        ``step``, default ``dt``).
         ``inputs``: constants (a number per input, or a dict by name), a function ``u(t, x)``,
         sampled arrays (a dict with the times under ``"t"``, linearly interpolated), or an
         :class:`~hamel.Lqr` design. ``events``: functions ``g(t, x)`` (scipy's form, with the

@@ -77,6 +77,7 @@ _KINDS = {
     "span_too_short": ValueError,
     "too_many_steps": None,
     "non_finite_state": None,
+    "non_finite_rate": None,
     "invalid_setting": ValueError,
     "too_many_samples": ValueError,
     "table": ValueError,

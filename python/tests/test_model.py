@@ -52,7 +52,8 @@ def test_state_from_velocities():
     assert x[sleigh.state_names.index("omega")] == pytest.approx(0.5)
 
 
-@pytest.mark.parametrize("method", ["dopri5", "radau5", "rk4", "midpoint", "gauss2", "gauss3"])
+@pytest.mark.parametrize("method", ["dopri5", "radau5", "rodas5p", "rodas4", "rk4", "midpoint",
+                                    "gauss2", "gauss3"])
 def test_every_integrator_by_name(method):
     robot = MobileRobot()
     x0 = robot.state(alpha=0.3, w4=0.5, w5=0.4)

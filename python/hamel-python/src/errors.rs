@@ -42,6 +42,7 @@ fn time_and_state(e: &Error) -> (Option<f64>, Option<&NamedValues>) {
         | Error::SingularIterationMatrix { t, state, .. }
         | Error::TooManySteps { t, state, .. }
         | Error::NonFiniteState { t, state }
+        | Error::NonFiniteRate { t, state, .. }
         | Error::NonFiniteInput { t, state, .. }
         | Error::NonFiniteEvent { t, state, .. }
         | Error::IndefiniteMassMatrix { t, state, .. }

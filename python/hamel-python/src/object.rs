@@ -279,6 +279,8 @@ pub fn run<S: Model>(
         return match &setup.method {
             Method::Dopri5(a) => sim.run_constant(&a.dopri5(), u),
             Method::Radau5(a) => sim.run_constant(&a.radau5(), u),
+            Method::Rodas5P(a) => sim.run_constant(&a.rodas5p(), u),
+            Method::Rodas4(a) => sim.run_constant(&a.rodas4(), u),
             Method::Rk4(f) => sim.run_constant(&f.rk4(), u),
             Method::Midpoint(f) => sim.run_constant(&f.midpoint(), u),
             Method::Gauss(stages, f) => sim.run_constant(&f.gauss(*stages), u),
@@ -289,6 +291,8 @@ pub fn run<S: Model>(
     match &setup.method {
         Method::Dopri5(a) => sim.run(&a.dopri5(), u),
         Method::Radau5(a) => sim.run(&a.radau5(), u),
+        Method::Rodas5P(a) => sim.run(&a.rodas5p(), u),
+        Method::Rodas4(a) => sim.run(&a.rodas4(), u),
         Method::Rk4(f) => sim.run(&f.rk4(), u),
         Method::Midpoint(f) => sim.run(&f.midpoint(), u),
         Method::Gauss(stages, f) => sim.run(&f.gauss(*stages), u),

@@ -4,19 +4,26 @@
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use hamel::{DormandPrince, GaussLegendre, ImplicitMidpoint, Radau5, Rk4};
+use hamel::{DormandPrince, GaussLegendre, ImplicitMidpoint, Radau5, Rk4, Rodas4, Rodas5P};
 
 use crate::events::EventSpec;
 use crate::inputs::InputSpec;
 
 /// The integrators, by the names `method=` takes (the robot example's `--integrator`).
-pub const METHODS: [&str; 6] = ["dopri5", "rk4", "midpoint", "gauss2", "gauss3", "radau5"];
+pub const METHODS: [&str; 8] = [
+    "dopri5", "rk4", "midpoint", "gauss2", "gauss3", "radau5", "rodas5p", "rodas4",
+];
+
+/// The adaptive methods among them: they take tolerances, not a step.
+const ADAPTIVE: [&str; 4] = ["dopri5", "radau5", "rodas5p", "rodas4"];
 
 /// An integrator with its settings.
 #[derive(Clone, Debug)]
 pub enum Method {
     Dopri5(Adaptive),
     Radau5(Adaptive),
+    Rodas5P(Adaptive),
+    Rodas4(Adaptive),
     Rk4(Fixed),
     Midpoint(Fixed),
     Gauss(usize, Fixed),
@@ -40,39 +47,43 @@ pub struct Fixed {
     pub max_steps: Option<usize>,
 }
 
-impl Adaptive {
-    pub fn dopri5(&self) -> DormandPrince {
-        let mut m = DormandPrince::new(self.rtol, self.atol);
-        if let Some(n) = self.max_steps {
+/// An adaptive method made with `new(rtol, atol)`, its optional settings applied (the
+/// adaptive integrators share these builder methods).
+macro_rules! adaptive {
+    ($settings:expr, $method:ident) => {{
+        let a = $settings;
+        let mut m = $method::new(a.rtol, a.atol);
+        if let Some(n) = a.max_steps {
             m = m.with_max_steps(n);
         }
-        if let Some(h) = self.max_step {
+        if let Some(h) = a.max_step {
             m = m.with_max_step(h);
         }
-        if let Some(h) = self.initial_step {
+        if let Some(h) = a.initial_step {
             m = m.with_initial_step(h);
         }
-        if let Some(r) = self.min_step {
+        if let Some(r) = a.min_step {
             m = m.with_min_step(r);
         }
         m
+    }};
+}
+
+impl Adaptive {
+    pub fn dopri5(&self) -> DormandPrince {
+        adaptive!(self, DormandPrince)
     }
 
     pub fn radau5(&self) -> Radau5 {
-        let mut m = Radau5::new(self.rtol, self.atol);
-        if let Some(n) = self.max_steps {
-            m = m.with_max_steps(n);
-        }
-        if let Some(h) = self.max_step {
-            m = m.with_max_step(h);
-        }
-        if let Some(h) = self.initial_step {
-            m = m.with_initial_step(h);
-        }
-        if let Some(r) = self.min_step {
-            m = m.with_min_step(r);
-        }
-        m
+        adaptive!(self, Radau5)
+    }
+
+    pub fn rodas5p(&self) -> Rodas5P {
+        adaptive!(self, Rodas5P)
+    }
+
+    pub fn rodas4(&self) -> Rodas4 {
+        adaptive!(self, Rodas4)
     }
 }
 
@@ -119,7 +130,7 @@ pub struct MethodArgs<'a> {
 impl MethodArgs<'_> {
     /// The method, or a `ValueError` for an unknown name or a setting the method has not.
     pub fn method(&self) -> PyResult<Method> {
-        let adaptive = matches!(self.method, "dopri5" | "radau5");
+        let adaptive = ADAPTIVE.contains(&self.method);
         let refuse = |name: &str, given: bool| -> PyResult<()> {
             if given {
                 let kind = if adaptive {
@@ -128,9 +139,9 @@ impl MethodArgs<'_> {
                     "a fixed-step"
                 };
                 Err(PyValueError::new_err(format!(
-                    "{name}: the method `{}` is {kind} method and has no `{name}` (dopri5 and \
-                     radau5 take rtol, atol, max_step, initial_step, min_step; rk4, midpoint, \
-                     gauss2 and gauss3 take step; all take max_steps)",
+                    "{name}: the method `{}` is {kind} method and has no `{name}` (dopri5, \
+                     radau5, rodas5p and rodas4 take rtol, atol, max_step, initial_step, \
+                     min_step; rk4, midpoint, gauss2 and gauss3 take step; all take max_steps)",
                     self.method
                 )))
             } else {
@@ -149,7 +160,9 @@ impl MethodArgs<'_> {
             };
             return Ok(match self.method {
                 "dopri5" => Method::Dopri5(a),
-                _ => Method::Radau5(a),
+                "radau5" => Method::Radau5(a),
+                "rodas5p" => Method::Rodas5P(a),
+                _ => Method::Rodas4(a),
             });
         }
         if !METHODS.contains(&self.method) {
