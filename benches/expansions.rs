@@ -141,7 +141,7 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     std::fs::create_dir_all(&out).expect("the output directory can be made");
     let mut sources: Vec<(String, String)> = Vec::new();
-    for dir in ["src", "examples", "tests", "benches"] {
+    for dir in ["src", "hamel-models/src", "examples", "tests", "benches"] {
         for path in rust_files(&root.join(dir)) {
             let label = path
                 .strip_prefix(&root)

@@ -1,6 +1,8 @@
 //! A study's [`Table`] as Apache Parquet (feature `parquet`), with the arrow-rs `parquet`
-//! crate: a column `case` (int64), one `double` column per value column, and `error_kind` and
-//! `error`, nullable UTF-8 strings (null for a case that succeeded). Compressed with Snappy
+//! crate: a column `case_index` (int64), one nullable `double` column per value column (null
+//! where a failed case has no value, so that DuckDB's `avg` and polars' `mean` skip failed
+//! cases), and `error_kind` and `error`, nullable UTF-8 strings (null for a case that
+//! succeeded). Compressed with Snappy
 //! (pure Rust), in row groups of [`ROW_GROUP`] rows; each column's unit and description are
 //! in the file's key-value metadata (`<column>.unit`, `<column>.description`), which pyarrow
 //! reads with `pq.read_metadata(path).metadata`. pandas (`read_parquet`) and polars
@@ -35,10 +37,10 @@ use ::parquet::file::reader::{FileReader, SerializedFileReader};
 use ::parquet::file::writer::{
     SerializedColumnWriter, SerializedFileWriter, SerializedRowGroupWriter,
 };
-use ::parquet::record::RowAccessor;
+use ::parquet::record::{Field, RowAccessor};
 use ::parquet::schema::types::Type;
 
-use crate::ensemble::CaseError;
+use crate::ensemble::{CASE_COLUMN, CaseError};
 use crate::{Error, Table};
 
 /// Rows per row group: a study's rows are buffered until a group is full, so this bounds
@@ -68,9 +70,15 @@ fn schema(names: &[String]) -> Result<Type, ParquetError> {
             .build()
             .map(Arc::new)
     };
-    let mut fields = vec![required("case", Physical::INT64)?];
+    let optional = |name: &str, physical| {
+        Type::primitive_type_builder(name, physical)
+            .with_repetition(Repetition::OPTIONAL)
+            .build()
+            .map(Arc::new)
+    };
+    let mut fields = vec![required(CASE_COLUMN, Physical::INT64)?];
     for name in names {
-        fields.push(required(name, Physical::DOUBLE)?);
+        fields.push(optional(name, Physical::DOUBLE)?);
     }
     fields.push(text("error_kind")?);
     fields.push(text("error")?);
@@ -83,7 +91,7 @@ fn schema(names: &[String]) -> Result<Type, ParquetError> {
 fn metadata(columns: &[ColumnInfo]) -> Vec<KeyValue> {
     let mut all = vec![
         KeyValue::new(
-            "case.description".into(),
+            format!("{CASE_COLUMN}.description"),
             "the case's row in the parameter table".to_string(),
         ),
         KeyValue::new(
@@ -173,10 +181,18 @@ impl<W: Write + Send> Writer<W> {
         column.close()?;
         for name in &self.names {
             let values = rows.column(name).unwrap_or_default();
+            // Definition level 0: null, a value a failed case could not compute (NaN); 1: the
+            // value, which a successful case's NaN is.
+            let present = |i: usize| rows.errors()[i].is_none() || !values[i].is_nan();
+            let levels: Vec<i16> = (0..values.len()).map(|i| i16::from(present(i))).collect();
+            let written: Vec<f64> = (0..values.len())
+                .filter(|&i| present(i))
+                .map(|i| values[i])
+                .collect();
             let mut column = next_column(&mut group)?;
             column
                 .typed::<DoubleType>()
-                .write_batch(values, None, None)?;
+                .write_batch(&written, Some(&levels), None)?;
             column.close()?;
         }
         // Definition level 1: the text is there; 0: null, the case succeeded.
@@ -246,12 +262,12 @@ pub fn read(path: impl AsRef<Path>) -> Result<Table, Error> {
     let width = fields.len();
     let names: Vec<String> = fields.iter().map(|f| f.name().to_string()).collect();
     if width < 3
-        || names[0] != "case"
+        || names[0] != CASE_COLUMN
         || names[width - 2] != "error_kind"
         || names[width - 1] != "error"
     {
         return Err(io(format!(
-            "its columns ({}) are not a study table's (case, …, error_kind, error)",
+            "its columns ({}) are not a study table's ({CASE_COLUMN}, …, error_kind, error)",
             names.join(", ")
         )));
     }
@@ -260,10 +276,19 @@ pub fn read(path: impl AsRef<Path>) -> Result<Table, Error> {
     for row in rows {
         let row = row.map_err(|e| io(e.to_string()))?;
         let case = row.get_long(0).map_err(|e| io(e.to_string()))? as u64;
-        let values = (1..width - 2)
-            .map(|j| row.get_double(j))
-            .collect::<Result<Vec<f64>, _>>()
-            .map_err(|e| io(e.to_string()))?;
+        let values = row
+            .get_column_iter()
+            .skip(1)
+            .take(width - 3)
+            .map(|(name, field)| match field {
+                Field::Double(v) => Ok(*v),
+                // A value a failed case could not compute.
+                Field::Null => Ok(f64::NAN),
+                other => Err(io(format!(
+                    "the column `{name}` holds {other}, not a number"
+                ))),
+            })
+            .collect::<Result<Vec<f64>, Error>>()?;
         let error = match (row.get_string(width - 2), row.get_string(width - 1)) {
             (Ok(kind), Ok(message)) => Some(CaseError {
                 kind: kind.clone(),
@@ -311,6 +336,26 @@ mod tests {
             back.column("x@0.25").unwrap()[1],
             0.5,
             "a failed row keeps its values"
+        );
+        // Its value it could not compute is null (before, NaN, which made DuckDB's `avg` and
+        // polars' `mean` NaN); the first column is `case_index` (`case` is SQL's keyword).
+        let reader = SerializedFileReader::new(std::fs::File::open(&path).unwrap()).unwrap();
+        let rows: Vec<Vec<(String, Field)>> = reader
+            .get_row_iter(None)
+            .unwrap()
+            .map(|r| {
+                r.unwrap()
+                    .get_column_iter()
+                    .map(|(n, f)| (n.clone(), f.clone()))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(rows[0][0].0, "case_index");
+        assert_eq!(rows[1][2], ("final_w4".to_string(), Field::Null));
+        assert_eq!(rows[1][1], ("x@0.25".to_string(), Field::Double(0.5)));
+        assert_eq!(
+            rows[2][2],
+            ("final_w4".to_string(), Field::Double(f64::INFINITY))
         );
         // The file begins and ends with Parquet's magic; its columns are Snappy-compressed
         // and the units in its metadata.

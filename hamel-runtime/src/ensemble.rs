@@ -17,16 +17,17 @@
 //!
 //! `hamel::study` (in the `hamel` crate) builds a study's command line on these.
 
+mod quotes;
 mod select;
-mod shard;
+pub(crate) mod shard;
 mod table;
 
 pub use select::{ModeColumns, Outputs};
 pub use shard::{
-    Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path,
+    Program, Shard, ShardFile, ShardStamp, ShardState, Written, check_writable, manifest_path,
     remove_leftovers, shard_state, write_complete, write_shard,
 };
-pub use table::{CaseError, CsvWriter, ParameterTable, Table};
+pub use table::{CASE_COLUMN, CaseError, CsvWriter, ParameterTable, Table};
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
@@ -79,6 +80,8 @@ type StudyProgressFn<'a> = Box<dyn Fn(&StudyProgress) + Send + Sync + 'a>;
 /// ```
 pub struct Ensemble<'a> {
     cases: usize,
+    /// The number of the first case in a larger study, for messages ([`Self::first_case`]).
+    first: usize,
     threads: Option<usize>,
     progress: Option<StudyProgressFn<'a>>,
 }
@@ -89,9 +92,29 @@ impl<'a> Ensemble<'a> {
     pub fn new(cases: usize) -> Self {
         Ensemble {
             cases,
+            first: 0,
             threads: None,
             progress: None,
         }
+    }
+
+    /// Numbers the cases from `first` in messages ([`Error::CasePanicked`]): for a block of a
+    /// larger study, whose case 8 is the study's case `first + 8`. `case(i)` still gets
+    /// i = 0 … cases − 1.
+    ///
+    /// ```
+    /// use hamel_runtime::{Ensemble, Error};
+    ///
+    /// let block = Ensemble::new(10).first_case(20).run(|i| {
+    ///     if i == 8 { panic!("no") } else { Ok(i) }
+    /// })?;
+    /// let e = block[8].as_ref().unwrap_err();
+    /// assert!(matches!(e, Error::CasePanicked { case: 28, .. }), "{e}");
+    /// # Ok::<(), Error>(())
+    /// ```
+    pub fn first_case(mut self, first: usize) -> Self {
+        self.first = first;
+        self
     }
 
     /// Runs the study on a pool of its own with `n` threads (≥ 1): for a study that must
@@ -134,7 +157,7 @@ impl<'a> Ensemble<'a> {
                             message: String::new(),
                         });
                     }
-                    let result = guarded(i, &case);
+                    let result = guarded(i, self.first, &case);
                     tracker.finished(result.is_err());
                     result
                 })
@@ -212,23 +235,40 @@ impl<'a> Ensemble<'a> {
                 Ok(values)
             } else {
                 Err(Error::DimensionMismatch {
-                    what: format!("case {i} gave {} values for {width} columns", values.len()),
+                    what: format!(
+                        "case {} gave {} values for {width} columns",
+                        indices[i],
+                        values.len()
+                    ),
                 })
             }
         })?;
-        for (index, row) in indices.into_iter().zip(rows) {
-            table.push(index, row)?;
+        for (index, row) in indices.iter().zip(rows) {
+            // A panic is named by the case's index in the study, not its place here.
+            let row = row.map_err(|e| match e {
+                Error::CasePanicked { message, .. } => Error::CasePanicked {
+                    case: *index as usize,
+                    message,
+                },
+                other => other,
+            });
+            table.push(*index, row)?;
         }
         Ok(table)
     }
 }
 
-/// `case(i)`, its panic caught and turned into an error: one case must not end the study.
-fn guarded<T>(i: usize, case: &(impl Fn(usize) -> Result<T, Error> + Sync)) -> Result<T, Error> {
+/// `case(i)`, its panic caught and turned into an error naming the case `first + i`: one
+/// case must not end the study.
+fn guarded<T>(
+    i: usize,
+    first: usize,
+    case: &(impl Fn(usize) -> Result<T, Error> + Sync),
+) -> Result<T, Error> {
     match catch_unwind(AssertUnwindSafe(|| case(i))) {
         Ok(result) => result,
         Err(payload) => Err(Error::CasePanicked {
-            case: i,
+            case: first + i,
             message: panic_message(payload.as_ref()),
         }),
     }

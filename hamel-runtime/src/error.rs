@@ -398,6 +398,25 @@ pub enum Error {
     #[error("the state became non-finite at t = {}: {state}", Num(*t))]
     NonFiniteState { t: f64, state: NamedValues },
 
+    /// The right-hand side returned a value that is not a number (`value`, NaN) for the rate
+    /// of the component `rate` at (t, `state`), a finite state: an integration that met it
+    /// where no smaller step avoided it ends here, rather than with a step that shrank to
+    /// nothing (a step-size underflow) or a Newton iteration that failed, which would blame
+    /// the method.
+    #[error(
+        "the right-hand side returned {} for the rate of `{rate}` at t = {}, in a state \
+         whose components are all finite; check the model's equations (a division by zero, \
+         a square root or logarithm of a negative number, an overflow) at this state; \
+         state: {state}",
+        Num(*value), Num(*t)
+    )]
+    NonFiniteRate {
+        t: f64,
+        rate: String,
+        value: f64,
+        state: NamedValues,
+    },
+
     #[error("invalid setting `{name}` = {}: {reason}", Num(*value))]
     InvalidSetting {
         name: &'static str,
@@ -717,6 +736,31 @@ pub enum Error {
          and inertia are made of"
     )]
     UnphysicalBody { body: String, reason: String },
+
+    /// A singular velocity transformation or mass matrix met where an orientation of three
+    /// turns (Euler or Tait–Bryan angles) is at its own singularity: two of its turns are
+    /// about one axis, and its angular velocity does not determine their rates. No choice of
+    /// quasi-velocities helps; a quaternion orientation has no singularity.
+    #[error(
+        "{cause}. Here the orientation `{orientation}` is at its singularity: two of its turns \
+         are about one axis, so its angular velocity does not determine their rates, whatever \
+         the quasi-velocities; orient the body by a quaternion, `Rotation3::from_quaternion(w, \
+         x, y, z)` with the row q·q̇ = 0 in `#[constraints]` (hamel::docs::geometry, \
+         \"Choosing an orientation parametrization\"), or keep the motion away from it"
+    )]
+    SingularOrientation {
+        /// The orientation as the model writes it, by the coordinates' names.
+        orientation: String,
+        /// The singularity met.
+        cause: Box<Error>,
+    },
+
+    /// A body's orientation or shape, or a contact's surface, is no geometry a body can
+    /// have (a radius that is not positive, a frame that is not a rotation, a ball larger
+    /// than its bowl, a contact point that does not exist): refused when a state is built,
+    /// when a run starts and when the model is linearized.
+    #[error("{what} is impossible: {reason}")]
+    ImpossibleGeometry { what: String, reason: String },
 
     /// No input acts on an output within the order of Lie derivatives the model generates
     /// (`control(order = k)`): every L_{g_j} L_f^i h of the output, i < k, is zero at the

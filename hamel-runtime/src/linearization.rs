@@ -111,7 +111,9 @@ pub(crate) fn linearize<S: HamelSystem + ?Sized>(
             });
         }
     }
-    system.validate()?;
+    // The parameters, and the bodies and contacts they make, as a run's start checks them:
+    // a linearization of a body no matter makes is as meaningless as its run.
+    system.check_configuration(t, &S::coordinates_of(x))?;
     // Eliminating a dependent coordinate through the constraints' linearization assumes
     // f = 0 at the operating point, as every state a simulation starts from satisfies.
     assembly::check(system, t, &S::coordinates_of(x))?;

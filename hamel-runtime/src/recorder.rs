@@ -2,13 +2,12 @@
 //! constraint and holonomic residuals, the energy drift and the energy balance. Everything
 //! here runs at the samples only, never at the integrator's stages.
 
-use std::cell::RefCell;
-
 use crate::error::{Error, Singularity};
 use crate::events::{EventRecord, StateFunction};
 use crate::integrate::Stats;
 use crate::sink::Sink;
 use crate::system::HamelSystem;
+use crate::system_ode::RunInputs;
 use crate::trajectory::{EnergyScale, Stopped, Summary};
 use crate::vector::Vector;
 
@@ -114,7 +113,7 @@ fn non_finite_input<S: HamelSystem>(u: &S::Inputs, t: f64, x: &S::State) -> Erro
 /// Records the samples and keeps the monitors' running maxima.
 pub(crate) struct Recorder<'a, 's, S: HamelSystem, F> {
     system: &'s S,
-    inputs: &'a RefCell<F>,
+    inputs: &'a RunInputs<S, F>,
     columns: Columns<'a, 's, S>,
     sink: &'a mut dyn Sink,
     summary: Summary,
@@ -134,7 +133,7 @@ where
     /// A recording into `sink`, whose columns it announces.
     pub fn new(
         system: &'s S,
-        inputs: &'a RefCell<F>,
+        inputs: &'a RunInputs<S, F>,
         columns: Columns<'a, 's, S>,
         sink: &'a mut dyn Sink,
     ) -> Result<Self, Error> {
@@ -157,8 +156,7 @@ where
     pub fn record(&mut self, t: f64, x: &S::State, work: f64) -> Result<(), Error> {
         let at = |s: Singularity| S::singular(s, t, x);
         let system = self.system;
-        let u = (self.inputs.borrow_mut())(t, x);
-        check_inputs::<S>(&u, t, x)?;
+        let u = self.inputs.at(t, x)?;
         let energy = system.energy(t, x).map_err(at)?;
         let q = S::coordinates_of(x);
         let qd = system.generalized_velocities(t, x).map_err(at)?;

@@ -4,7 +4,6 @@
 //! progress callback that can cancel the run. What the integrator reports goes to the
 //! run's observer ([`crate::driver`]).
 
-use std::cell::RefCell;
 use std::ops::ControlFlow;
 use std::time::Duration;
 
@@ -14,11 +13,11 @@ use crate::driver::{Driver, ProgressFn, States};
 use crate::error::Error;
 use crate::events::{EVENT_TOLERANCE, Event, Watch};
 use crate::integrate::{Grid, Integrator, SampleTimes};
-use crate::recorder::{Columns, Output, Recorder, check_inputs};
+use crate::recorder::{Columns, Output, Recorder};
 use crate::sink::Sink;
 use crate::system::HamelSystem;
 use crate::system_ode::{
-    BalanceOde, PlainOde, extend, inertia_diagonal, prepared, project_coordinates, split,
+    BalanceOde, PlainOde, RunInputs, extend, inertia_diagonal, prepared, project_coordinates, split,
 };
 use crate::trajectory::{Summary, Trajectory};
 
@@ -257,30 +256,31 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
         inputs: impl FnMut(f64, &S::State) -> S::Inputs,
     ) -> Result<Trajectory, Error> {
         let grid = self.samples()?;
-        let columns = self.columns();
-        columns.check()?;
-        let size = grid.count() as f64 * columns.names().len() as f64;
-        if size > MAX_IN_MEMORY {
-            return Err(Error::InvalidSetting {
-                name: "sample interval",
-                value: self.dt_out,
-                reason: "the samples would take more than 4 GiB in memory: stream them to a \
-                         file with `Simulation::stream` and a `CsvSink`, or sample less often",
-            });
-        }
+        self.check_columns(&grid)?;
         let mut trajectory = Trajectory::expecting(grid.count(), Summary::new::<S>());
-        let summary = self.drive(integrator, inputs, &grid, &mut trajectory)?;
+        let inputs = RunInputs::function(inputs);
+        let summary = self.drive(integrator, &inputs, &grid, &mut trajectory)?;
         trajectory.set_summary(summary);
         Ok(trajectory)
     }
 
-    /// Runs with constant inputs.
+    /// Runs with constant inputs: [`Simulation::run`] with `|_, _| u`, to the same bits, but
+    /// the inputs are checked once instead of at every stage, and when they are zero and the
+    /// model's power vanishes without inputs
+    /// ([`HamelSystem::POWER_VANISHES_WITHOUT_INPUTS`]) the work done on the system, zero,
+    /// is not integrated.
     pub fn run_constant<I: Integrator>(
         &self,
         integrator: &I,
         u: S::Inputs,
     ) -> Result<Trajectory, Error> {
-        self.run(integrator, move |_, _| u)
+        let grid = self.samples()?;
+        self.check_columns(&grid)?;
+        let mut trajectory = Trajectory::expecting(grid.count(), Summary::new::<S>());
+        let inputs = RunInputs::constant(u);
+        let summary = self.drive(integrator, &inputs, &grid, &mut trajectory)?;
+        trajectory.set_summary(summary);
+        Ok(trajectory)
     }
 
     /// Runs as [`Simulation::run`] does, but hands every sample to `sink` as it is produced
@@ -294,7 +294,23 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     ) -> Result<Summary, Error> {
         let grid = self.samples()?;
         self.columns().check()?;
-        self.drive(integrator, inputs, &grid, sink)
+        self.drive(integrator, &RunInputs::function(inputs), &grid, sink)
+    }
+
+    /// The extra columns' names, and that the samples fit in memory.
+    fn check_columns(&self, grid: &Grid) -> Result<(), Error> {
+        let columns = self.columns();
+        columns.check()?;
+        let size = grid.count() as f64 * columns.names().len() as f64;
+        if size > MAX_IN_MEMORY {
+            return Err(Error::InvalidSetting {
+                name: "sample interval",
+                value: self.dt_out,
+                reason: "the samples would take more than 4 GiB in memory: stream them to a \
+                         file with `Simulation::stream` and a `CsvSink`, or sample less often",
+            });
+        }
+        Ok(())
     }
 
     /// What the run records besides the time and the state.
@@ -310,14 +326,13 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
     fn drive<I: Integrator, F: FnMut(f64, &S::State) -> S::Inputs>(
         &self,
         integrator: &I,
-        mut inputs: F,
+        inputs: &RunInputs<S, F>,
         grid: &Grid,
         sink: &mut dyn Sink,
     ) -> Result<Summary, Error> {
         let x0 = self.initial_state()?;
-        check_inputs::<S>(&inputs(self.t0, &x0), self.t0, &x0)?;
-        let inputs = RefCell::new(inputs);
-        let recorder = Recorder::new(self.system, &inputs, self.columns(), sink)?;
+        inputs.check_start(self.t0, &x0)?;
+        let recorder = Recorder::new(self.system, inputs, self.columns(), sink)?;
         let watch = Watch::new(&self.events, self.event_tolerance, self.t0, &x0)?;
         let crossings = (self.watch_crossings && !S::TRANSFORMATION_DETERMINANT_CONSTANT)
             .then(|| CrossingWatch::new(self.system, self.t0, &x0));
@@ -330,11 +345,13 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             (self.t0, self.t_end),
         );
         let (system, project) = (self.system, self.project);
-        let stats = if S::CONSERVATIVE {
+        // No work is done on a conservative system, nor on one whose power vanishes without
+        // inputs when they are zero: its energy balance is its energy drift.
+        let stats = if S::CONSERVATIVE || (S::POWER_VANISHES_WITHOUT_INPUTS && inputs.are_zero()) {
             let mut ode = PlainOde {
                 system,
                 prepared: prepared(system),
-                inputs: &inputs,
+                inputs,
                 project,
                 start_inertia: inertia_diagonal(system, self.t0, &x0),
             };
@@ -347,7 +364,7 @@ impl<'s, S: HamelSystem> Simulation<'s, S> {
             let mut ode = BalanceOde {
                 system,
                 prepared: prepared(system),
-                inputs: &inputs,
+                inputs,
                 project,
                 start_inertia: inertia_diagonal(system, self.t0, &x0),
             };

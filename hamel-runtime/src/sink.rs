@@ -6,6 +6,7 @@ use std::io::Write;
 
 use crate::error::Error;
 use crate::events::EventRecord;
+use crate::whole_file::WholeFile;
 
 /// A destination of a simulation's samples: the column names first, then one row per sample
 /// in time order, and the events as they are located (between the rows of their step).
@@ -31,7 +32,13 @@ pub struct CsvSink<W: Write> {
     out: std::io::BufWriter<W>,
     name: String,
     rows: usize,
+    /// What the end of the run does to the writer besides flushing it: a file of
+    /// [`CsvSink::create`] is renamed to its path and given its manifest.
+    finish: Option<Finish<W>>,
 }
+
+/// What ends a file sink's run: the writer and the rows written.
+type Finish<W> = fn(&mut W, u64) -> Result<(), Error>;
 
 impl<W: Write> CsvSink<W> {
     /// A CSV stream into `writer`; `name` names it in I/O errors (a path, "standard output").
@@ -40,6 +47,7 @@ impl<W: Write> CsvSink<W> {
             out: std::io::BufWriter::new(writer),
             name: name.into(),
             rows: 0,
+            finish: None,
         }
     }
 
@@ -56,15 +64,17 @@ impl<W: Write> CsvSink<W> {
     }
 }
 
-impl CsvSink<std::fs::File> {
-    /// A CSV stream into a new file (created or truncated).
+impl CsvSink<WholeFile> {
+    /// A CSV stream into the file `path`, whole or not at all: the rows go to a file of its
+    /// own beside `path`, which the end of the run flushes to disk and renames to `path`
+    /// (replacing a file there), with its manifest `<path>.manifest` (the row count, size and
+    /// checksum, [`crate::whole_file`]). A run that fails or is stopped leaves no file (and
+    /// what was at `path` before).
     pub fn create(path: impl AsRef<std::path::Path>) -> Result<Self, Error> {
         let path = path.as_ref();
-        let file = std::fs::File::create(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
-        Ok(CsvSink::new(file, path.display().to_string()))
+        let mut sink = CsvSink::new(WholeFile::create(path)?, path.display().to_string());
+        sink.finish = Some(|file, rows| file.commit(rows));
+        Ok(sink)
     }
 }
 
@@ -89,6 +99,10 @@ impl<W: Write> Sink for CsvSink<W> {
     }
 
     fn end(&mut self) -> Result<(), Error> {
-        self.out.flush().map_err(|e| self.io(e))
+        self.out.flush().map_err(|e| self.io(e))?;
+        match self.finish.take() {
+            Some(finish) => finish(self.out.get_mut(), self.rows as u64),
+            None => Ok(()),
+        }
     }
 }

@@ -19,6 +19,9 @@ pub trait Parameters {
     const NAMES: &'static [&'static str];
     /// The fields' doc comments (empty where there is none), for `--help` texts.
     const DOCS: &'static [&'static str];
+    /// The parameter struct's own doc comment, its lines kept (empty where there is none):
+    /// the model's description, which the Python package makes its class's docstring.
+    const DOC: &'static str = "";
 
     /// The value of the parameter `name`.
     fn get(&self, name: &str) -> Option<f64>;
@@ -132,6 +135,13 @@ pub trait HamelSystem: Parameters {
     /// rows, nothing that depends on the time explicitly. Otherwise a simulation checks the
     /// energy balance E(t) − E(t₀) = ∫ P dt with the power [`Self::power`].
     const CONSERVATIVE: bool;
+    /// Whether the power [`Self::power`] vanishes identically when every input is zero: the
+    /// model is driven by its inputs alone (motor torques), with no other force, no affine
+    /// part in the rows and no explicit time dependence doing work. A run with zero constant
+    /// inputs then does no work on it, and its energy balance is its energy drift
+    /// ([`crate::Simulation::run_constant`] integrates no work). `#[hamel_system]` finds it on
+    /// the power's expression; the default, `false`, claims nothing.
+    const POWER_VANISHES_WITHOUT_INPUTS: bool = false;
     /// Whether the reduced ODE is reversible: ρ(q, ω) = (q, −ω) maps its solutions to
     /// solutions run backwards in time, so that a symmetric integrator
     /// ([`crate::GaussLegendre`], [`crate::ImplicitMidpoint`]) is ρ-reversible on it and keeps
@@ -315,13 +325,28 @@ pub trait HamelSystem: Parameters {
         u: &Self::Inputs,
     ) -> Result<(Self::StateJacobian, Self::InputJacobian), Singularity>;
 
+    /// ∂F/∂t of the right-hand side at (t, x, u), for the Rosenbrock integrators: generated as
+    /// one more pass of dual numbers with t seeded (`time_derivative_by_duals`), or zeros
+    /// without a pass for a right-hand side that does not depend on t. `None`, the default of
+    /// a hand-written implementation, lets the integrators difference F in t.
+    fn time_derivative(
+        &self,
+        _t: f64,
+        _x: &Self::State,
+        _u: &Self::Inputs,
+    ) -> Result<Option<Self::State>, Singularity> {
+        Ok(None)
+    }
+
     /// The linearization δẋ = A δx + B δu of the right-hand side at the operating point
     /// (t, x, u), with the state and input names (from [`Self::jacobian`]), and the holonomic
     /// constraints' ∂f/∂q there, with which [`Linearization::reduce`] eliminates dependent
     /// coordinates.
     ///
     /// Errors: [`Error::NonFiniteOperatingPoint`] naming a time (`t`), state component or
-    /// input that is not finite; [`Error::InvalidParameter`]; [`Error::HolonomicViolation`]
+    /// input that is not finite; [`Error::InvalidParameter`]; a body or contact that cannot be
+    /// ([`Error::UnphysicalBody`], [`Error::ImpossibleGeometry`], as [`Self::check_bodies`]
+    /// finds them); [`Error::HolonomicViolation`]
     /// when the configuration does not satisfy a holonomic constraint (to
     /// [`crate::HOLONOMIC_TOLERANCE`] of its scale, as for [`Self::state_from_speeds`]); the
     /// singularity met, named with the time and state ([`Self::singular`]);
@@ -334,8 +359,12 @@ pub trait HamelSystem: Parameters {
     /// That the model's rigid bodies (`#[bodies]`) at (t, q) are bodies matter could make: a
     /// positive mass, an inertia tensor positive semi-definite whose principal moments satisfy
     /// the triangle inequalities ([`crate::geometry::check_bodies`]); an
-    /// [`Error::UnphysicalBody`] names the first that is not. `#[hamel_system]` implements it
-    /// for a model with `#[bodies]`; the default checks nothing.
+    /// [`Error::UnphysicalBody`] names the first that is not. And that their orientations,
+    /// shapes and contacts (`#[contacts]`) are geometry a body can have: rotations, shapes
+    /// of positive size, surfaces of positive radius, points that exist
+    /// ([`crate::geometry::check_contacts`]); an [`Error::ImpossibleGeometry`] names the
+    /// first that is not. `#[hamel_system]` implements it for a model with `#[bodies]`; the
+    /// default checks nothing.
     fn check_bodies(&self, t: f64, q: &Self::Coordinates) -> Result<(), Error> {
         let _ = (t, q);
         Ok(())
@@ -391,6 +420,9 @@ pub trait HamelSystem: Parameters {
         }
         self.validate()?;
         check_finite(Self::COORDINATES, q.as_ref(), "")?;
+        // A body or contact that cannot be is named before Newton's method meets it as a
+        // residual that does not converge (a ball larger than its bowl).
+        self.check_bodies(t, q)?;
         assembly::newton(self, t, q)
     }
 

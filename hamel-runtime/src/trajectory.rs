@@ -10,6 +10,7 @@ use crate::error::{Error, Num};
 use crate::events::EventRecord;
 use crate::sink::Sink;
 use crate::system::HamelSystem;
+use crate::whole_file::WholeFile;
 
 /// What a run cost and how well it kept energy and constraints.
 #[derive(Clone, Debug, PartialEq)]
@@ -416,17 +417,17 @@ impl Trajectory {
         Ok(())
     }
 
-    /// Writes the CSV to a file (created or truncated).
+    /// Writes the CSV to a file, whole or not at all: under a name of its own, flushed to disk
+    /// and renamed to `path` (replacing a file there), then its manifest `<path>.manifest`
+    /// (the row count, the size and checksum), by which a reader tells a file cut short
+    /// afterwards from a shorter run ([`crate::whole_file`]). A failed write leaves what was
+    /// at `path` before.
     pub fn save_csv(&self, path: impl AsRef<Path>) -> Result<(), Error> {
         let path = path.as_ref();
-        let io_error = |e: std::io::Error| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        };
-        let file = std::fs::File::create(path).map_err(io_error)?;
-        let mut w = std::io::BufWriter::new(file);
-        self.write_csv(&mut w).map_err(io_error)?;
-        w.flush().map_err(io_error)
+        let mut file = WholeFile::create(path)?;
+        self.write_csv(&mut file)
+            .map_err(|e| crate::whole_file::io(path, e))?;
+        file.commit(self.len() as u64)
     }
 }
 

@@ -831,3 +831,97 @@ fn a_span_too_short_to_integrate_says_so() {
         .run_constant(&Rk4::new(0.1), [0.0, 0.0])
         .unwrap();
 }
+
+/// A directory of its own for a test's files, emptied.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("hamel-runtime-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The names in a directory, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Before: `Trajectory::save_csv` and `CsvSink::create` wrote in place, so a crash or a full
+/// disk left a partial file under the final name (and a stream that failed, the rows until
+/// the failure). Now the final name appears only when the file is whole, with its manifest,
+/// and a failed stream leaves no file at all.
+#[test]
+fn files_are_written_whole_or_not_at_all() {
+    use hamel_runtime::CsvSink;
+    use hamel_runtime::whole_file::check_manifest;
+    let dir = scratch("whole");
+    let run = Simulation::new(&SKATE, X0)
+        .end_time(1.0)
+        .sample_interval(0.1)
+        .run(&DormandPrince::new(1e-9, 1e-9), |_, _| [0.0, 0.0])
+        .unwrap();
+    let saved = dir.join("run.csv");
+    run.save_csv(&saved).unwrap();
+    assert_eq!(listing(&dir), ["run.csv", "run.csv.manifest"]);
+    assert_eq!(
+        check_manifest(&saved).unwrap().unwrap().rows,
+        run.len() as u64
+    );
+    // Cut after its first rows, at a row boundary: a valid CSV, but not the file written.
+    let text = std::fs::read_to_string(&saved).unwrap();
+    let cut: String = text.lines().take(4).map(|l| format!("{l}\n")).collect();
+    std::fs::write(&saved, cut).unwrap();
+    let e = check_manifest(&saved).unwrap_err();
+    assert!(e.to_string().contains("truncated"), "{e}");
+
+    // A stream into a file: absent while the run writes it, whole with its manifest after.
+    let streamed = dir.join("stream.csv");
+    let mut sink = CsvSink::create(&streamed).unwrap();
+    let summary = Simulation::new(&SKATE, X0)
+        .end_time(1.0)
+        .sample_interval(0.01)
+        .on_progress(|_| {
+            assert!(!streamed.exists(), "the file appeared before the run ended");
+            ControlFlow::Continue(())
+        })
+        .stream(
+            &DormandPrince::new(1e-9, 1e-9),
+            |_, _| [0.0, 0.0],
+            &mut sink,
+        )
+        .unwrap();
+    drop(sink);
+    let manifest = check_manifest(&streamed).unwrap().expect("a manifest");
+    assert_eq!(manifest.rows, summary.samples as u64);
+    assert_eq!(
+        listing(&dir),
+        [
+            "run.csv",
+            "run.csv.manifest",
+            "stream.csv",
+            "stream.csv.manifest"
+        ]
+    );
+
+    // A stream that fails (a NaN force half way) leaves no file, and no temporary one.
+    let failed = dir.join("failed.csv");
+    let mut sink = CsvSink::create(&failed).unwrap();
+    let e = Simulation::new(&SKATE, X0)
+        .end_time(1.0)
+        .sample_interval(0.01)
+        .stream(
+            &DormandPrince::new(1e-9, 1e-9),
+            |t, _| [if t > 0.5 { f64::NAN } else { 0.0 }, 0.0],
+            &mut sink,
+        )
+        .unwrap_err();
+    drop(sink);
+    assert!(!failed.exists(), "{e}");
+    assert_eq!(listing(&dir).len(), 4, "{:?}", listing(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

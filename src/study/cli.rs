@@ -315,7 +315,7 @@ fn local(study: &Study, s: &Settings) -> Result<(), Error> {
         all.failed(),
         elapsed.as_secs_f64(),
         path.display(),
-        ["case"]
+        [crate::ensemble::CASE_COLUMN]
             .into_iter()
             .map(String::from)
             .chain(study.columns())

@@ -77,6 +77,7 @@ pub struct Study<'a> {
     outputs: Vec<Column>,
     case: Option<CaseFn<'a>>,
     report: Option<ReportFn<'a>>,
+    version: Option<String>,
 }
 
 /// One row of a study's parameter table, as its case sees it.
@@ -136,7 +137,23 @@ impl<'a> Study<'a> {
             outputs: Vec::new(),
             case: None,
             report: None,
+            version: None,
         }
+    }
+
+    /// The program's version, as its shards' manifests record it: shards of one study
+    /// computed by programs of different versions are never mixed (a shard of another version
+    /// is computed again, and a merge refuses it). Without it, the version is a hash of the
+    /// running executable, so that any rebuild that changes the program counts as another;
+    /// set it to resume or merge with a rebuilt program whose cases compute the same.
+    pub fn version(mut self, version: &str) -> Self {
+        self.version = Some(version.to_string());
+        self
+    }
+
+    /// The program that computes the study's shards: its name and version, and hamel's.
+    pub(crate) fn program(&self) -> crate::ensemble::Program {
+        crate::ensemble::Program::new(&self.name, self.version.as_deref())
     }
 
     /// A parameter, its unit and description, and its values on the default grid (every

@@ -140,6 +140,7 @@ pub(crate) fn stamp(
         shard,
         &study.columns(),
         format.extension(),
+        study.program(),
     )
 }
 

@@ -134,7 +134,9 @@ impl Plan<'_> {
     ) -> Result<Table, Error> {
         let width = self.outputs.len();
         let before = block.start - first;
-        let ensemble = Ensemble::new(block.len()).on_progress(|p| progress.set(before + p.done));
+        let ensemble = Ensemble::new(block.len())
+            .first_case(block.start)
+            .on_progress(|p| progress.set(before + p.done));
         let results = ensemble.run(|i| {
             let values = self.parameters(table, block.start + i);
             (self.case)(&Row {

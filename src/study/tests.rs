@@ -8,8 +8,8 @@ use std::process::{Command, ExitCode, Stdio};
 use super::*;
 use crate::ensemble::{Shard, manifest_path};
 
-/// z = x² + y; the case x = 0.5, y = 2 fails with a kind of its own and x = 1, y = 3 panics
-/// with a message of two lines. With `HAMEL_STUDY_SLOW` set, each case sleeps a millisecond.
+/// z = x² + y; the case x = 0.5, y = 2 fails with a kind of its own, x = 1, y = 3 panics
+/// with a message of two lines and x = 20, y = 5 (case 804) with one. With `HAMEL_STUDY_SLOW` set, each case sleeps a millisecond.
 fn study() -> Study<'static> {
     let slow = std::env::var_os("HAMEL_STUDY_SLOW").is_some();
     Study::new("squares", "x² + y")
@@ -28,6 +28,9 @@ fn study() -> Study<'static> {
                 });
             }
             assert!((x, y) != (1.0, 3.0), "x = 1 and y = 3:\nno such square");
+            // Case 804, in the seventh of eight shards: its message must name it as the
+            // study's case, as one task names it.
+            assert!((x, y) != (20.0, 5.0), "x = 20 and y = 5");
             Ok(vec![x * x + y])
         })
 }
@@ -159,7 +162,10 @@ fn one_shard_and_eight_joined_are_the_same_bytes_on_any_threads() {
             "{panicked}"
         );
         assert_eq!(table.row(42).unwrap()[..2], [1.0, 3.0]);
-        assert_eq!(table.failed(), 2);
+        // Before, the merged file named it "case 54", its place in its shard's block.
+        let late = table.errors()[804].as_ref().unwrap();
+        assert_eq!(late.message, "case 804 panicked: x = 20 and y = 5");
+        assert_eq!(table.failed(), 3);
         assert_eq!(table.row(999).unwrap(), [24.5, 20.0, 24.5 * 24.5 + 20.0]);
     }
     std::fs::remove_dir_all(dir).unwrap();

@@ -60,6 +60,23 @@ pub enum Func {
 }
 
 impl Func {
+    /// Whether f(0) = 0 (and so f of a zero is zero).
+    pub fn odd_through_zero(self) -> bool {
+        matches!(
+            self,
+            Func::Sin
+                | Func::Tan
+                | Func::Asin
+                | Func::Atan
+                | Func::Sinh
+                | Func::Tanh
+                | Func::Sqrt
+                | Func::Cbrt
+                | Func::Abs
+                | Func::Signum
+        )
+    }
+
     pub fn apply(self, x: f64) -> f64 {
         match self {
             Func::Sin => x.sin(),
@@ -747,6 +764,35 @@ impl Graph {
             }
         }
         active
+    }
+
+    /// Which nodes are zero whenever every node of `zero` (inputs) is, whatever the other
+    /// inputs: a sound, incomplete reading of the expressions (a product with a zero factor, a
+    /// sum or select of zeros, an odd function of zero, a quotient of zero), in one forward
+    /// pass (operands come before their users), no recursion however deep the graph. A
+    /// quotient by zero, or a product with an infinite factor, would make the value NaN; the
+    /// generated code's checks report those where it computes them.
+    pub fn vanishes_with(&self, zero: &[NodeId]) -> Vec<bool> {
+        let mut vanishes = vec![false; self.nodes.len()];
+        for &i in zero {
+            vanishes[i.index()] = true;
+        }
+        for (i, node) in self.nodes.iter().enumerate() {
+            let z = |x: NodeId| vanishes[x.index()];
+            vanishes[i] = vanishes[i]
+                || match *node {
+                    Node::Const(bits) => f64::from_bits(bits) == 0.0,
+                    Node::Neg(a) => z(a),
+                    Node::Add(a, b) | Node::Sub(a, b) => z(a) && z(b),
+                    Node::Mul(a, b) => z(a) || z(b),
+                    Node::Div(a, _) => z(a),
+                    Node::Powi(a, n) => n > 0 && z(a),
+                    Node::Unary(f, a) => f.odd_through_zero() && z(a),
+                    Node::Select(_, a, b) => z(a) && z(b),
+                    _ => false,
+                };
+        }
+        vanishes
     }
 
     /// Evaluate every node below `roots` for given input values (indexed by slot). Booleans

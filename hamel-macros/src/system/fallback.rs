@@ -304,10 +304,12 @@ fn trait_impl(imp: &syn::ItemImpl, sketch: &Sketch, dims: (usize, usize, usize))
         constraints,
         dependent: Vec::new(),
         conservative: false,
+        power_vanishes_without_inputs: false,
         reversible: false,
         constant_determinant: false,
         units: Vec::new(),
         check_bodies: None,
+        singular: None,
     };
     interface::trait_impl(&header, &Bodies::unreachable())
 }

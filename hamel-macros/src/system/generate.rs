@@ -147,15 +147,35 @@ impl<'g> Context<'g> {
         checks: Checks,
         prepared: &[NodeId],
     ) -> syn::Result<(Code, TokenStream)> {
+        let bindings: Vec<(NodeId, TokenStream)> = prepared
+            .iter()
+            .enumerate()
+            .map(|(i, &node)| {
+                let i = lit(i);
+                let read = match &scalar {
+                    Scalar::F64 => quote!(prepared[#i]),
+                    Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(prepared[#i])),
+                };
+                (node, read)
+            })
+            .collect();
+        self.emit_bound(source, scalar, roots, checks, &bindings)
+    }
+
+    /// [`Self::emit`], reading the nodes of `bindings` as their tokens say (prepared values,
+    /// parameters read from a slice) instead of computing them or reading them from `self`.
+    pub(super) fn emit_bound(
+        &self,
+        source: Source,
+        scalar: Scalar,
+        roots: &[NodeId],
+        checks: Checks,
+        bindings: &[(NodeId, TokenStream)],
+    ) -> syn::Result<(Code, TokenStream)> {
         let generic = matches!(scalar, Scalar::Generic(_));
         let mut emitter = self.emitter(source, scalar.clone());
-        for (i, &node) in prepared.iter().enumerate() {
-            let i = lit(i);
-            let read = match &scalar {
-                Scalar::F64 => quote!(prepared[#i]),
-                Scalar::Generic(s) => quote!(<#s as ::hamel::Scalar>::from_f64(prepared[#i])),
-            };
-            emitter.bind(node, read);
+        for (node, read) in bindings {
+            emitter.bind(*node, read.clone());
         }
         let all = self.checked_roots(roots, checks);
         let transformation = self
@@ -308,12 +328,21 @@ pub fn generate(
         constraints,
         dependent: spec.dependent(),
         conservative: eq.conservative,
+        power_vanishes_without_inputs: eq.power_vanishes_without_inputs,
         reversible: eq.reversible,
         constant_determinant: constant_determinant(eq, graph),
         units: spec.units.clone(),
         check_bodies: check_bodies(spec),
+        singular: spec
+            .geometry
+            .bodies
+            .and_then(|_| super::orientations::singular(imp, &spec.coordinates)),
     };
     let (rhs_generic, prepared) = rhs_generic(&cx, dims)?;
+    let outputs = control
+        .and_then(|nodes| Some((nodes.outputs.as_slice(), nodes.lie.first()?.as_slice())))
+        .unwrap_or((&[], &[]));
+    let parametric = super::parametric::emit(&cx, dims, outputs)?;
     let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
     // A generic impl is of a generic parameter struct, an error of the struct's own: an array
@@ -338,6 +367,7 @@ pub fn generate(
         impl #impl_generics #ty #where_clause {
             #(#consts)*
             #rhs_generic
+            #parametric
             #bounds
         }
 
@@ -386,17 +416,31 @@ fn constraint_names(spec: &Spec<'_>) -> Vec<String> {
 }
 
 /// `HamelSystem::check_bodies` for a model stated from its bodies: the run-time check of
-/// each body's mass and inertia, on the model's own `#[bodies]` function.
+/// each body's mass, inertia, orientation and shape, on the model's own `#[bodies]`
+/// function, and of its contacts' surfaces and points, on its `#[contacts]`.
 fn check_bodies(spec: &Spec<'_>) -> Option<TokenStream> {
     let (f, _) = spec.geometry.bodies?;
-    let ident = &f.sig.ident;
-    let call = if spec.takes_time(f) {
-        quote!(Self::#ident(self, t, q))
-    } else {
-        quote!(Self::#ident(self, q))
+    let call = |f: &syn::ImplItemFn| {
+        let ident = &f.sig.ident;
+        if spec.takes_time(f) {
+            quote!(Self::#ident(self, t, q))
+        } else {
+            quote!(Self::#ident(self, q))
+        }
     };
+    let bodies = call(f);
     let names = &spec.body_names;
-    Some(quote!(::hamel::geometry::check_bodies(&#call, &[#(#names),*])))
+    let contacts = spec.geometry.contacts.as_ref().map(|c| {
+        let contacts = call(c.f);
+        quote!(::hamel::geometry::check_contacts(&#contacts, &bodies, names)?;)
+    });
+    Some(quote! {
+        let bodies = #bodies;
+        let names: &[&str] = &[#(#names),*];
+        ::hamel::geometry::check_bodies(&bodies, names)?;
+        #contacts
+        ::core::result::Result::Ok(())
+    })
 }
 
 /// `impl Mechanism` for a model stated from its bodies.
@@ -659,6 +703,7 @@ fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
         })?,
         inverse_defect,
         jacobian: dual_jacobian(cx),
+        time_derivative: dual_time_derivative(cx),
     })
 }
 
@@ -730,6 +775,27 @@ fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
         .map(|(i, _)| lit(i));
     quote! {
         ::hamel::jacobian_by_duals(t, x, u, &[#(#directions),*], |t, x, u, dx| self.rhs_generic(t, x, u, dx))
+    }
+}
+
+/// ∂F/∂t: one pass of dual numbers with t seeded, or zeros without a pass when the right-hand
+/// side does not depend on t (found on the graph, as the Jacobian's directions are).
+fn dual_time_derivative(cx: &Context<'_>) -> TokenStream {
+    let eq = cx.eq;
+    let mut roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
+    if let Some(t) = &eq.transformation {
+        roots.extend(t.checks.iter().map(|c| c.value));
+    }
+    if cx.graph.live_set(&roots).contains(&eq.inputs.t) {
+        quote! {
+            ::hamel::time_derivative_by_duals(t, x, u, |t, x, u, dx| self.rhs_generic(t, x, u, dx))
+                .map(::core::option::Option::Some)
+        }
+    } else {
+        quote! {
+            let _ = (t, x, u);
+            ::core::result::Result::Ok(::core::option::Option::Some(::core::array::from_fn(|_| 0.0)))
+        }
     }
 }
 

@@ -25,6 +25,7 @@ pub struct Header<'a> {
     pub constraints: Vec<String>,
     pub dependent: Vec<usize>,
     pub conservative: bool,
+    pub power_vanishes_without_inputs: bool,
     pub reversible: bool,
     /// det A(q, t) depends on the parameters alone (`TRANSFORMATION_DETERMINANT_CONSTANT`).
     pub constant_determinant: bool,
@@ -32,6 +33,9 @@ pub struct Header<'a> {
     pub units: Vec<(String, String)>,
     /// `check_bodies`'s body, for a model with `#[bodies]` (the default checks nothing).
     pub check_bodies: Option<TokenStream>,
+    /// `singular`'s body, for a model oriented by three turns (the default names the
+    /// singularity alone).
+    pub singular: Option<TokenStream>,
 }
 
 /// The body of each method (a block's contents).
@@ -54,6 +58,7 @@ pub struct Bodies {
     pub gamma: TokenStream,
     pub inverse_defect: TokenStream,
     pub jacobian: TokenStream,
+    pub time_derivative: TokenStream,
 }
 
 impl Bodies {
@@ -79,7 +84,8 @@ impl Bodies {
             mass_matrix: never.clone(),
             gamma: never.clone(),
             inverse_defect: never.clone(),
-            jacobian: never,
+            jacobian: never.clone(),
+            time_derivative: never,
         }
     }
 }
@@ -154,6 +160,13 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             }
         }
     });
+    let singular = h.singular.as_ref().map(|body| {
+        quote! {
+            fn singular(s: ::hamel::Singularity, t: f64, x: &Self::State) -> ::hamel::Error {
+                #body
+            }
+        }
+    });
     // `do_not_recommend`: rustc's "the trait `HamelSystem` is not implemented for `Model`"
     // would otherwise list every model of the program (the catalogue's too) as the types that
     // do implement it, ten lines of no help under each such error.
@@ -168,6 +181,7 @@ pub fn trait_impl(h: &Header<'_>, b: &Bodies) -> TokenStream {
             #rows
             #matrices
             #check_bodies
+            #singular
         }
     }
 }
@@ -211,6 +225,7 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
     let dependent = h.dependent.iter().map(|&i| lit(i));
     let (conservative, reversible) = (h.conservative, h.reversible);
     let constant_determinant = h.constant_determinant;
+    let power_vanishes = h.power_vanishes_without_inputs;
     let prepared_len = lit(prepared_len);
     let units = (!h.units.is_empty()).then(|| {
         let pairs = h.units.iter().map(|(name, unit)| quote!((#name, #unit)));
@@ -228,6 +243,7 @@ fn associated_consts(h: &Header<'_>, l: &Lengths, prepared_len: usize) -> TokenS
         const STATE: &'static [&'static str] = &[#(#state_names),*];
         const DEPENDENT: &'static [usize] = &[#(#dependent),*];
         const CONSERVATIVE: bool = #conservative;
+        const POWER_VANISHES_WITHOUT_INPUTS: bool = #power_vanishes;
         const REVERSIBLE: bool = #reversible;
         const PREPARED_LEN: usize = #prepared_len;
         const TRANSFORMATION_DETERMINANT_CONSTANT: bool = #constant_determinant;
@@ -368,6 +384,7 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         gamma,
         inverse_defect,
         jacobian,
+        time_derivative,
         ..
     } = b;
     quote! {
@@ -386,6 +403,10 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         #allow
         fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
             #jacobian
+        }
+        #allow
+        fn time_derivative(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<::core::option::Option<[f64; #state]>, #singularity> {
+            #time_derivative
         }
     }
 }

@@ -81,6 +81,43 @@ impl Role {
         !matches!(self, Role::Forces)
     }
 
+    /// The role an attribute that is not one was meant to be: `#[quasi_velocity]`,
+    /// `#[constraint]`, `#[kinetic]`, `#[bodys]` — a plural or singular of a role's name, its
+    /// first word, or two letters from it. rustc would report it as an unknown attribute
+    /// beside the macro's "missing role": the macro reports it once, as what it is.
+    pub fn misnamed(attr: &syn::Attribute) -> Option<Role> {
+        if Role::from_attribute(attr).is_some() {
+            return None;
+        }
+        let segments: Vec<&syn::PathSegment> = attr.path().segments.iter().collect();
+        let written = match segments.as_slice() {
+            [one] if attr.path().leading_colon.is_none() => one.ident.to_string(),
+            [krate, one] if krate.ident == "hamel" => one.ident.to_string(),
+            _ => return None,
+        };
+        let stem = |name: &str| -> String {
+            let name = name.to_lowercase();
+            if let Some(base) = name.strip_suffix("ies") {
+                format!("{base}y")
+            } else {
+                name.strip_suffix('s').unwrap_or(&name).to_string()
+            }
+        };
+        let mut meant = Role::ALL.into_iter().filter(|role| {
+            let name = role.attribute();
+            stem(&written) == stem(name)
+                || name
+                    .strip_prefix(written.as_str())
+                    .is_some_and(|rest| rest.starts_with('_'))
+                || (written.len() >= 5 && edit_distance(&written, name) <= 2)
+        });
+        // Only a name that can mean one role (`#[quasi]` could be two).
+        match (meant.next(), meant.next()) {
+            (Some(role), None) => Some(role),
+            _ => None,
+        }
+    }
+
     /// The role an attribute marks: `#[kinetic_energy]`, or by the path of its macro in
     /// `hamel`, `#[hamel::kinetic_energy]` (which outside the model says where it belongs).
     fn from_attribute(attr: &syn::Attribute) -> Option<Role> {
@@ -544,12 +581,39 @@ impl<'a> Roles<'a> {
         let mut unmarked = Vec::new();
         for item in items {
             let syn::ImplItem::Fn(f) = item else { continue };
-            if !f.attrs.iter().any(|a| Role::from_attribute(a).is_some()) {
+            let marked = f.attrs.iter().any(|a| Role::from_attribute(a).is_some());
+            // A misnamed role attribute is reported once, and the function read as the role
+            // it was meant to be, so that nothing else is reported for it ("missing role",
+            // rustc's unknown attribute, the uses of a model left without its impl).
+            let misnamed = (!marked)
+                .then(|| {
+                    f.attrs
+                        .iter()
+                        .find_map(|a| Role::misnamed(a).map(|role| (a, role)))
+                })
+                .flatten();
+            if let Some((attr, role)) = misnamed {
+                errors.push(syn::Error::new_spanned(
+                    attr,
+                    format!(
+                        "`#[{}]` is not a role of hamel; `#[{}]` is: write `#[{}]` (expected \
+                         signature `{}`)",
+                        attr.path().to_token_stream().to_string().replace(' ', ""),
+                        role.attribute(),
+                        role.attribute(),
+                        role.expected_signature()
+                    ),
+                ));
+            } else if !marked {
                 unmarked.push(f);
             }
             let mut mine: Option<Role> = None;
             for attr in &f.attrs {
-                let Some(role) = Role::from_attribute(attr) else {
+                let Some(role) = Role::from_attribute(attr).or_else(|| {
+                    misnamed
+                        .filter(|(a, _)| std::ptr::eq(*a, attr))
+                        .map(|(_, r)| r)
+                }) else {
                     continue;
                 };
                 let determines = if role == Role::Holonomic {
@@ -699,7 +763,8 @@ fn holonomic_arguments(
     names
 }
 
-/// The impl block with the role attributes removed (they are ours, not rustc's). A role
+/// The impl block with the role attributes removed (they are ours, not rustc's), and those
+/// misnamed (reported by `Roles::find`). A role
 /// function is used by the generated code even when nothing else calls it, so it gets
 /// `#[allow(dead_code)]` in their place: a private `fn lagrangian` should not warn.
 pub fn strip_role_attributes(imp: &syn::ItemImpl) -> syn::ItemImpl {
@@ -707,13 +772,32 @@ pub fn strip_role_attributes(imp: &syn::ItemImpl) -> syn::ItemImpl {
     for item in &mut imp.items {
         if let syn::ImplItem::Fn(f) = item {
             let before = f.attrs.len();
-            f.attrs.retain(|a| Role::from_attribute(a).is_none());
+            f.attrs
+                .retain(|a| Role::from_attribute(a).is_none() && Role::misnamed(a).is_none());
             if f.attrs.len() < before {
                 f.attrs.push(syn::parse_quote!(#[allow(dead_code)]));
             }
         }
     }
     imp
+}
+
+/// The Levenshtein distance between two names (a few letters each: the plain table).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1)
+                .min(row[j] + 1)
+                .min(diagonal + usize::from(ca != *cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
 }
 
 #[cfg(test)]

@@ -43,14 +43,27 @@ impl<'s, S: ControlAffine, R: Reference> ExactLinearization<'s, S, R> {
     /// The controller that drives the outputs of `system` to `reference`, each error
     /// decaying as the linear system with all its poles at −`rate`.
     ///
-    /// Errors: a `rate` that is not a positive finite number ([`Error::InvalidSetting`]); a
-    /// system with another number of outputs than inputs ([`Error::DimensionMismatch`]).
+    /// Errors: a `rate` that is not a positive finite number, or whose gains rate^r overflow
+    /// ([`Error::InvalidSetting`]); a system with another number of outputs than inputs
+    /// ([`Error::DimensionMismatch`]).
     pub fn new(system: &'s S, rate: f64, reference: R) -> Result<Self, Error> {
         if !(rate.is_finite() && rate > 0.0) {
             return Err(Error::InvalidSetting {
                 name: "rate",
                 value: rate,
                 reason: "the tracking errors decay as exp(-rate t): give a positive number",
+            });
+        }
+        // The gains c_k = C(r, k) rate^(r − k) for the largest relative degree the model
+        // generates (`control(order = ..)`): past `f64`, every input would be NaN.
+        let gains = coefficients(rate, S::ORDER.max(1));
+        if !gains.iter().all(|c| c.is_finite()) {
+            return Err(Error::InvalidSetting {
+                name: "rate",
+                value: rate,
+                reason: "the feedback gains, rate^r for the outputs' relative degrees r, are \
+                         beyond the range of f64 (every input would be NaN): give a smaller \
+                         rate",
             });
         }
         let (r, m) = (S::OUTPUTS.len(), S::Inputs::LEN);
@@ -73,15 +86,20 @@ impl<'s, S: ControlAffine, R: Reference> ExactLinearization<'s, S, R> {
 
     /// The coefficients c_0 … c_{r−1} of (s + λ)^r = s^r + c_{r−1} s^{r−1} + … + c_0.
     fn coefficients(&self, r: usize) -> Vec<f64> {
-        // Binomial: c_k = C(r, k) λ^(r − k).
-        let mut c = Vec::with_capacity(r);
-        let mut binomial = 1.0;
-        for k in 0..r {
-            c.push(binomial * self.rate.powi((r - k) as i32));
-            binomial = binomial * (r - k) as f64 / (k + 1) as f64;
-        }
-        c
+        coefficients(self.rate, r)
     }
+}
+
+/// The coefficients c_0 … c_{r−1} of (s + λ)^r = s^r + c_{r−1} s^{r−1} + … + c_0, binomial:
+/// c_k = C(r, k) λ^(r − k).
+fn coefficients(rate: f64, r: usize) -> Vec<f64> {
+    let mut c = Vec::with_capacity(r);
+    let mut binomial = 1.0;
+    for k in 0..r {
+        c.push(binomial * rate.powi((r - k) as i32));
+        binomial = binomial * (r - k) as f64 / (k + 1) as f64;
+    }
+    c
 }
 
 impl<S: ControlAffine, R: Reference> Controller<S> for ExactLinearization<'_, S, R> {
@@ -95,11 +113,25 @@ impl<S: ControlAffine, R: Reference> Controller<S> for ExactLinearization<'_, S,
         let lie = self.system.lie_derivatives(t, x)?;
         let decoupling = lie.decoupling()?;
         let reference = self.reference.at(t);
-        let mut v = DVector::zeros(decoupling.outputs.len());
-        for (i, name) in decoupling.outputs.iter().enumerate() {
+        let outputs = &decoupling.outputs;
+        if reference.len() > outputs.len() {
+            return Err(Error::DimensionMismatch {
+                what: format!(
+                    "the reference gives {} lists of values at t = {}, for the {} outputs ({}): \
+                     one list per output, in their order",
+                    reference.len(),
+                    crate::error::Num(t),
+                    outputs.len(),
+                    outputs.join(", ")
+                ),
+            });
+        }
+        let mut v = DVector::zeros(outputs.len());
+        for (i, name) in outputs.iter().enumerate() {
             let r = decoupling.relative_degrees[i];
+            // An output the reference has no list for gets none: it is the one named.
             let wanted = reference.get(i).map_or(0, Vec::len);
-            if wanted != r + 1 || reference.len() != decoupling.outputs.len() {
+            if wanted != r + 1 {
                 return Err(Error::InvalidReference {
                     output: name.clone(),
                     expected: r + 1,

@@ -9,6 +9,7 @@
 //! `hamel::docs::control` is the guide.
 
 mod accessibility;
+mod balance;
 mod exact;
 mod feedback;
 mod lie;

@@ -8,6 +8,7 @@ use core::cmp::Ordering;
 
 use nalgebra::{Cholesky, DMatrix, SVD, Schur};
 
+use super::balance::{Balance, why_not};
 use crate::error::{Error, Num};
 
 /// The sign iteration has converged when a step changes the iterate by at most this much
@@ -72,6 +73,25 @@ pub fn solve_care(
 ) -> Result<Riccati, Error> {
     check_sizes(a, b, q, r)?;
     let cholesky = check_weights(q, r)?;
+    let g = b * cholesky.solve(&b.transpose());
+    // The equation solved on matrices of norm near 1, so that weights of any magnitude
+    // neither overflow nor vanish in the Hamiltonian matrix (`balance`).
+    let scaling = Balance::of(a, &g, q);
+    let (sa, sb, sq) = scaling.apply(a, b, q);
+    match solve_balanced(&sa, &sb, &sq, &cholesky) {
+        Ok(riccati) => scaling.undo(riccati),
+        Err(e @ Error::NoStabilizingSolution { .. }) => Err(why_not(a, b, q, &scaling, e)),
+        Err(e) => Err(e),
+    }
+}
+
+/// [`solve_care`] on a balanced problem.
+fn solve_balanced(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    q: &DMatrix<f64>,
+    cholesky: &Cholesky<f64, nalgebra::Dyn>,
+) -> Result<Riccati, Error> {
     let r_inv_bt = cholesky.solve(&b.transpose());
     let g = b * &r_inv_bt;
     let (p, sign_steps) = sign_solution(a, &g, q)?;

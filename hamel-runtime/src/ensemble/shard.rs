@@ -11,14 +11,14 @@
 //! renames, so two tasks given the same shard leave one complete file.
 
 use std::hash::Hasher as _;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use twox_hash::XxHash3_64;
 
 use crate::error::Error;
+use crate::whole_file::{checksum, partial_path, sync_directory, with_suffix};
 
 /// Shard `index` of `count` (0 ≤ index < count): `Shard::parse("3/8")`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,23 +91,84 @@ impl Shard {
 
 /// What a shard's file must have been computed from to count as complete: a hash of the
 /// parameter table, the shard, the study's columns and the format
-/// ([`ShardStamp::new`]), and the number of rows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// ([`ShardStamp::new`]), the number of rows, and the program that computes it
+/// ([`Program`]). Two shards of one study from different programs are never mixed: a
+/// shard written by another program counts as incomplete, and is computed again, or makes a
+/// merge stop, naming the difference.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShardStamp {
     pub grid: u64,
     pub rows: u64,
+    pub program: Program,
+}
+
+/// The program a shard was computed by, as its manifest records it in words: the study's
+/// name, the program's version (the one its user set, or else a hash of the running
+/// executable, so that any rebuild that changes it counts as another program), and hamel's
+/// version.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Program {
+    pub study: String,
+    pub version: String,
+    pub hamel: String,
+}
+
+impl Program {
+    /// The program `version` of the study `study` (`None`: the running executable's hash,
+    /// [`Program::executable_version`]), with this hamel's version.
+    pub fn new(study: &str, version: Option<&str>) -> Program {
+        Program {
+            study: one_line(study),
+            version: version.map_or_else(Program::executable_version, one_line),
+            hamel: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+
+    /// `executable <xxh3>`: the hash of the running program's file, so that a rebuild that
+    /// changes the program changes it (`executable unknown` where the file cannot be read).
+    pub fn executable_version() -> String {
+        static HASH: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+        HASH.get_or_init(|| {
+            let hash = std::env::current_exe()
+                .and_then(|path| crate::whole_file::checksum(&path))
+                .map_or_else(|_| "unknown".to_string(), |(_, h)| format!("{h:016x}"));
+            format!("executable {hash}")
+        })
+        .clone()
+    }
+
+    /// Why a shard of `other` is not one of this program, if it is not.
+    fn differs(&self, other: &Program) -> Option<String> {
+        let pairs = [
+            ("the study", &self.study, &other.study),
+            ("the program's version", &self.version, &other.version),
+            ("hamel's version", &self.hamel, &other.hamel),
+        ];
+        let (what, ours, theirs) = pairs.into_iter().find(|(_, a, b)| a != b)?;
+        Some(format!(
+            "it was computed by another program: {what} is `{theirs}` in its manifest and \
+             `{ours}` here; shards of different programs are not mixed (run its task again with \
+             this program, or merge with the one that wrote it)"
+        ))
+    }
+}
+
+/// `text` on one line, for a manifest.
+fn one_line(text: &str) -> String {
+    text.replace(['\n', '\r'], " ")
 }
 
 impl ShardStamp {
-    /// The stamp of shard `shard` of a study of `columns`, written as `format`, whose
-    /// parameter table has the column names `names` and the rows `rows` (all of them, not
-    /// only the shard's: a table edited anywhere moves every shard's rows).
+    /// The stamp of shard `shard` of a study of `columns`, written as `format` by `program`,
+    /// whose parameter table has the column names `names` and the rows `rows` (all of them,
+    /// not only the shard's: a table edited anywhere moves every shard's rows).
     pub fn new<'a>(
         names: &[String],
         rows: impl IntoIterator<Item = &'a [f64]>,
         shard: Shard,
         columns: &[String],
         format: &str,
+        program: Program,
     ) -> ShardStamp {
         let mut h = XxHash3_64::with_seed(0);
         let text = |h: &mut XxHash3_64, s: &str| {
@@ -135,6 +196,7 @@ impl ShardStamp {
         ShardStamp {
             grid: h.finish(),
             rows: shard.rows(total).len() as u64,
+            program,
         }
     }
 }
@@ -155,19 +217,6 @@ pub fn manifest_path(path: &Path) -> PathBuf {
     with_suffix(path, ".manifest")
 }
 
-fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(suffix);
-    path.with_file_name(name)
-}
-
-/// A name no other writer uses, beside `path`: `<name>.partial-<pid>-<n>`.
-fn partial_path(path: &Path) -> PathBuf {
-    static NEXT: AtomicU64 = AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    with_suffix(path, &format!(".partial-{}-{n}", std::process::id()))
-}
-
 /// The state of the shard file at `path` against `stamp`.
 pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
     let path = path.as_ref();
@@ -180,9 +229,19 @@ pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
         }
         Err(_) => return ShardState::Missing,
     };
+    if manifest.starts_with(OLDER_SHARD_MANIFEST_HEADER) {
+        return ShardState::Incomplete(
+            "it was computed by an older hamel, whose manifest does not record the program; \
+             shards of different programs are not mixed"
+                .into(),
+        );
+    }
     let Some(m) = Manifest::parse(&manifest) else {
         return ShardState::Incomplete("its manifest is not one hamel wrote".into());
     };
+    if let Some(why) = stamp.program.differs(&m.program) {
+        return ShardState::Incomplete(why);
+    }
     if m.grid != stamp.grid {
         return ShardState::Incomplete(
             "it was computed from another parameter table or study (its manifest's grid hash \
@@ -209,54 +268,55 @@ pub fn shard_state(path: impl AsRef<Path>, stamp: &ShardStamp) -> ShardState {
     }
 }
 
-/// The size and XXH3 checksum of a file's bytes.
-fn checksum(path: &Path) -> std::io::Result<(u64, u64)> {
-    let mut file = std::fs::File::open(path)?;
-    let mut h = XxHash3_64::with_seed(0);
-    let mut buffer = vec![0u8; 1 << 16];
-    let mut bytes = 0u64;
-    loop {
-        let n = file.read(&mut buffer)?;
-        if n == 0 {
-            return Ok((bytes, h.finish()));
-        }
-        h.write(&buffer[..n]);
-        bytes += n as u64;
-    }
-}
-
 /// What a manifest records.
 struct Manifest {
+    program: Program,
     grid: u64,
     rows: u64,
     bytes: u64,
     checksum: u64,
 }
 
-const MANIFEST_HEADER: &str = "hamel shard manifest 1";
+/// How a shard manifest's first line begins, before its version.
+pub(crate) const SHARD_MANIFEST: &str = "hamel shard manifest ";
+/// A shard manifest's first line.
+const SHARD_MANIFEST_HEADER: &str = "hamel shard manifest 2";
+/// That of hamel's manifests before they recorded the program.
+const OLDER_SHARD_MANIFEST_HEADER: &str = "hamel shard manifest 1";
 
 impl Manifest {
     fn text(&self, file: &str) -> String {
+        let p = &self.program;
         format!(
-            "{MANIFEST_HEADER}\nfile {file}\ngrid {:016x}\nrows {}\nbytes {}\nxxh3 {:016x}\n",
-            self.grid, self.rows, self.bytes, self.checksum
+            "{SHARD_MANIFEST_HEADER}\nfile {file}\nstudy {}\nprogram {}\nhamel {}\ngrid \
+             {:016x}\nrows {}\nbytes {}\nxxh3 {:016x}\n",
+            p.study, p.version, p.hamel, self.grid, self.rows, self.bytes, self.checksum
         )
     }
 
     fn parse(text: &str) -> Option<Manifest> {
         let mut lines = text.lines();
-        if lines.next()? != MANIFEST_HEADER {
+        if lines.next()? != SHARD_MANIFEST_HEADER {
             return None;
         }
-        let mut field = |key: &str, radix: u32| -> Option<u64> {
+        let mut word = |key: &str| -> Option<String> {
             let line = lines.find(|l| l.starts_with(key))?;
-            u64::from_str_radix(line.strip_prefix(key)?.trim(), radix).ok()
+            Some(line.strip_prefix(key)?.to_string())
+        };
+        let program = Program {
+            study: word("study ")?,
+            version: word("program ")?,
+            hamel: word("hamel ")?,
+        };
+        let mut field = |key: &str, radix: u32| -> Option<u64> {
+            u64::from_str_radix(word(key)?.trim(), radix).ok()
         };
         Some(Manifest {
             grid: field("grid ", 16)?,
             rows: field("rows ", 10)?,
             bytes: field("bytes ", 10)?,
             checksum: field("xxh3 ", 16)?,
+            program,
         })
     }
 }
@@ -310,6 +370,7 @@ pub fn write_shard(
         None => return by_another(path, stamp),
     };
     let manifest = Manifest {
+        program: stamp.program.clone(),
         grid: stamp.grid,
         rows: stamp.rows,
         bytes,
@@ -374,17 +435,6 @@ fn write_renamed(
         Ok(()) => Ok(Some((shard.bytes, shard.hasher.finish()))),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound && !partial.exists() => Ok(None),
         Err(e) => Err(io(path, e)),
-    }
-}
-
-/// Flushes a directory's entries (the renames) to disk, where the system allows it.
-fn sync_directory(path: &Path) {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if let Ok(d) = std::fs::File::open(dir) {
-            let _ = d.sync_all();
-        }
-    } else if let Ok(d) = std::fs::File::open(".") {
-        let _ = d.sync_all();
     }
 }
 

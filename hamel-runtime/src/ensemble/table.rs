@@ -6,11 +6,14 @@ use std::collections::HashSet;
 use std::io::Write;
 use std::path::Path;
 
+use super::quotes::{QuoteScan, UNCLOSED};
 use crate::error::Error;
+use crate::whole_file::{WholeFile, check_manifest};
 
-/// The columns every study table has besides its own: the case index first, the error's
-/// kind and message last.
-const CASE: &str = "case";
+/// The columns every study table has besides its own: the case index first (not `case`,
+/// which SQL reserves: DuckDB needed it quoted), the error's kind and message last.
+pub const CASE_COLUMN: &str = "case_index";
+const CASE: &str = CASE_COLUMN;
 const ERROR_KIND: &str = "error_kind";
 const ERROR: &str = "error";
 
@@ -43,9 +46,11 @@ impl std::fmt::Display for CaseError {
 /// A study's results: one row per case, with the case's index (its row in the study's
 /// parameter table), a value for every named column, and the error of a case that failed
 /// (its values it could not compute are NaN). Written as CSV with the header
-/// `case,<columns>,error_kind,error`, numbers in Rust's shortest form that reads back to the
-/// same `f64` (bit for bit; `NaN`, `inf`), `error_kind` and `error` empty for a case that
-/// succeeded. Each case index appears once.
+/// `case_index,<columns>,error_kind,error`, numbers in Rust's shortest form that reads back
+/// to the same `f64` (bit for bit; `NaN`, `inf`), `error_kind` and `error` empty for a case
+/// that succeeded. A failed case's values that it could not compute (NaN) are empty fields,
+/// which pandas, polars and DuckDB read as missing (null): their means and averages skip the
+/// failed rows, where a `NaN` would make them NaN. Each case index appears once.
 ///
 /// Two tables are equal when their names, cases and errors are, and their values bit for
 /// bit, any NaN being equal to any other: a table read back from its CSV equals the table.
@@ -74,7 +79,7 @@ impl PartialEq for Table {
 
 impl Table {
     /// An empty table with these value columns. A name that is empty, holds a comma, quote or
-    /// line break, or repeats (or is `case`, `error_kind` or `error`) is an error.
+    /// line break, or repeats (or is `case_index`, `error_kind` or `error`) is an error.
     pub fn new(names: Vec<String>) -> Result<Table, Error> {
         check_names(&names)?;
         let columns = vec![Vec::new(); names.len()];
@@ -205,7 +210,7 @@ impl Table {
         (i < self.len()).then(|| self.columns.iter().map(|c| c[i]).collect())
     }
 
-    /// The CSV text: `case,<columns>,error_kind,error`, then a record per row.
+    /// The CSV text: `case_index,<columns>,error_kind,error`, then a record per row.
     pub fn write_csv<W: Write>(&self, w: W) -> std::io::Result<()> {
         let mut writer = CsvWriter::new(w, &self.names)?;
         writer.write(self)?;
@@ -214,11 +219,23 @@ impl Table {
 
     /// The table read back from [`Self::write_csv`]'s text (`source` names it in errors).
     /// Every mistake is an [`Error::Table`] naming the line and column: a header that is not
-    /// `case,<columns>,error_kind,error`, a record of another length, a case index that is not
-    /// a whole number or repeats, a value that is not a number, an error without its kind.
+    /// `case_index,<columns>,error_kind,error`, a record of another length, a case index that
+    /// is not a whole number or repeats, a value that is not a number (or missing in a row
+    /// that did not fail), an error without its kind, a quoted field whose quote is not
+    /// closed.
     pub fn parse_csv(text: &str, source: &str) -> Result<Table, Error> {
         let mut reader = reader(text.as_bytes());
-        let header = header(&mut reader, source, "a study table")?;
+        unless_unclosed(&mut reader, source, |reader| {
+            Table::read_records(reader, source)
+        })
+    }
+
+    /// The records of a study table's CSV.
+    fn read_records<R: std::io::Read>(
+        reader: &mut csv::Reader<R>,
+        source: &str,
+    ) -> Result<Table, Error> {
+        let header = header(reader, source, "a study table")?;
         let problem = |p: String| table_error(source, 1, "", p);
         let width = header.len();
         if width < 3
@@ -251,14 +268,27 @@ impl Table {
                     format!("`{}` is not a case index", fields[0]),
                 )
             })?;
+            let (kind, message) = (&fields[width - 2], &fields[width - 1]);
             let mut values = Vec::with_capacity(width - 3);
             for (name, field) in header[1..].iter().zip(&fields[1..width - 2]) {
-                let v = field.parse::<f64>().map_err(|_| {
-                    table_error(source, line, name, format!("`{field}` is not a number"))
-                })?;
+                // Empty: a value a failed case could not compute.
+                let v = match field.as_str() {
+                    "" if !kind.is_empty() => f64::NAN,
+                    "" => {
+                        return Err(table_error(
+                            source,
+                            line,
+                            name,
+                            "the value is missing, in a row that did not fail (no error_kind)"
+                                .into(),
+                        ));
+                    }
+                    _ => field.parse::<f64>().map_err(|_| {
+                        table_error(source, line, name, format!("`{field}` is not a number"))
+                    })?,
+                };
                 values.push(v);
             }
-            let (kind, message) = (&fields[width - 2], &fields[width - 1]);
             let error = match (kind.is_empty(), message.is_empty()) {
                 (true, true) => None,
                 (true, false) => {
@@ -281,22 +311,39 @@ impl Table {
         Ok(table)
     }
 
-    /// The table in the CSV file at `path`.
+    /// The table in the CSV file at `path`, checked against its manifest when it has one
+    /// ([`Self::save_csv`] writes it): a file cut short since it was written, even between two
+    /// rows, is an [`Error::Read`] saying so, not a shorter table.
     pub fn read_csv(path: impl AsRef<Path>) -> Result<Table, Error> {
         let path = path.as_ref();
-        Table::parse_csv(&read_text(path)?, &path.display().to_string())
+        let manifest = check_manifest(path)?;
+        let table = Table::parse_csv(&read_text(path)?, &path.display().to_string())?;
+        if let Some(m) = manifest
+            && m.rows != table.len() as u64
+        {
+            return Err(Error::Read {
+                path: path.display().to_string(),
+                message: format!(
+                    "it holds {} rows where its manifest says {}: it is not the file that was \
+                     written",
+                    table.len(),
+                    m.rows
+                ),
+            });
+        }
+        Ok(table)
     }
 
-    /// Writes the CSV to a file (created or truncated).
+    /// Writes the CSV to a file, whole or not at all: under a name of its own, flushed to disk
+    /// and renamed to `path`, then its manifest `<path>.manifest` (the row count, the size
+    /// and checksum), which [`Self::read_csv`] checks ([`crate::whole_file`]). The CSV itself
+    /// is plain RFC 4180, for any reader. A failed write leaves what was at `path` before.
     pub fn save_csv(&self, path: impl AsRef<Path>) -> Result<(), Error> {
         let path = path.as_ref();
-        let io = |e: std::io::Error| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        };
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-        self.write_csv(&mut w).map_err(io)?;
-        w.flush().map_err(io)
+        let mut file = WholeFile::create(path)?;
+        self.write_csv(&mut file)
+            .map_err(|e| crate::whole_file::io(path, e))?;
+        file.commit(self.len() as u64)
     }
 }
 
@@ -311,7 +358,7 @@ pub struct CsvWriter<W: Write> {
 }
 
 impl<W: Write> CsvWriter<W> {
-    /// Writes the header `case,<names>,error_kind,error` to `w`.
+    /// Writes the header `case_index,<names>,error_kind,error` to `w`.
     pub fn new(w: W, names: &[String]) -> std::io::Result<CsvWriter<W>> {
         let mut writer = csv::WriterBuilder::new()
             .quote_style(csv::QuoteStyle::Necessary)
@@ -343,10 +390,14 @@ impl<W: Write> CsvWriter<W> {
             number.clear();
             let _ = write!(number, "{case}");
             self.record.push_field(number.as_bytes());
+            let failed = block.errors[i].is_some();
             for column in &block.columns {
                 number.clear();
-                // `{:?}`: the shortest text that reads back to the same bits.
-                let _ = write!(number, "{:?}", column[i]);
+                // A failed case's missing value is an empty field (a null to other readers);
+                // otherwise `{:?}`, the shortest text that reads back to the same bits.
+                if !(failed && column[i].is_nan()) {
+                    let _ = write!(number, "{:?}", column[i]);
+                }
                 self.record.push_field(number.as_bytes());
             }
             match &block.errors[i] {
@@ -431,7 +482,7 @@ fn read_text(path: &Path) -> Result<String, Error> {
 
 /// A reader of RFC 4180 text: records of any length (checked here, to say which line),
 /// a byte-order mark (which spreadsheets write) skipped.
-fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
+fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<QuoteScan<R>> {
     if input
         .fill_buf()
         .is_ok_and(|b| b.starts_with("\u{feff}".as_bytes()))
@@ -441,7 +492,22 @@ fn reader<R: std::io::BufRead>(mut input: R) -> csv::Reader<R> {
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .from_reader(input)
+        .from_reader(QuoteScan::new(input))
+}
+
+/// `read`'s result, unless a quote in the input is never closed: then that is the error,
+/// naming the line it opened on (whatever `read` made of the rest of the file, read as one
+/// value).
+fn unless_unclosed<R: std::io::Read, T>(
+    reader: &mut csv::Reader<QuoteScan<R>>,
+    source: &str,
+    read: impl FnOnce(&mut csv::Reader<QuoteScan<R>>) -> Result<T, Error>,
+) -> Result<T, Error> {
+    let result = read(reader);
+    match reader.get_mut().unclosed() {
+        Some(line) => Err(table_error(source, line, "", UNCLOSED.into())),
+        None => result,
+    }
 }
 
 /// The first record, the header; `what` names the table in the message of an empty one.
@@ -536,7 +602,18 @@ impl ParameterTable {
         known: &[&str],
     ) -> Result<ParameterTable, Error> {
         let mut reader = reader(input);
-        let names = header(&mut reader, source, "a parameter table").map_err(|e| match e {
+        unless_unclosed(&mut reader, source, |reader| {
+            ParameterTable::read_records(reader, source, known)
+        })
+    }
+
+    /// The records of a parameter table's CSV.
+    fn read_records<R: std::io::Read>(
+        reader: &mut csv::Reader<R>,
+        source: &str,
+        known: &[&str],
+    ) -> Result<ParameterTable, Error> {
+        let names = header(reader, source, "a parameter table").map_err(|e| match e {
             Error::Table { file, line, .. } => Error::Table {
                 file,
                 line,

@@ -1,6 +1,7 @@
 //! Rigid bodies and rolling contacts, as a model's `#[bodies]` and `#[contacts]` state them.
 
-use super::{Rotation3, Shape, Surface, Vector3};
+use super::{Rotation3, Shape, Surface, Vector3, check_shapes};
+use crate::error::Error;
 
 /// The inertia tensor of a body about its centre of mass, in the body's own axes. The
 /// products are the tensor's off-diagonal entries (SymPy's `inertia(frame, ixx, iyy, izz,
@@ -184,7 +185,9 @@ impl Contact {
     /// point of the shape farthest along the surface's inward normal (on a sphere or in a
     /// bowl, towards or away from its centre: exact for a ball). A body without a shape is
     /// a point at its centre of mass. In a model, the macro requires the shape, and a ball
-    /// for a sphere or a bowl.
+    /// for a sphere or a bowl. Where the point does not exist (a ball at a sphere's centre, a
+    /// disk lying flat) it is NaN: [`Contact::try_rolling`] says why instead, and a model's
+    /// state builder and runs refuse such a contact ([`super::check_contacts`]).
     pub fn rolling(body: Body, surface: Surface) -> Self {
         let point = match body.shape {
             None => body.centre,
@@ -206,11 +209,38 @@ impl Contact {
     }
 }
 
+impl Contact {
+    /// [`Contact::rolling`], or an [`Error::ImpossibleGeometry`] saying why the body cannot
+    /// touch the surface: a shape of no size, a plane whose frame is not a rotation, a
+    /// sphere or bowl of no size, a ball no smaller than its bowl or at its sphere's centre, a
+    /// disk lying flat.
+    ///
+    /// ```
+    /// use hamel_runtime::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
+    /// let ball = Body::new(1.0, Inertia::principal(0.004, 0.004, 0.004), Vector3::zeros(),
+    ///     Rotation3::identity()).with_shape(Shape::sphere(0.1));
+    /// let sphere = Surface::sphere(Vector3::zeros(), 1.0);
+    /// let e = Contact::try_rolling(ball, sphere).unwrap_err();
+    /// assert!(e.to_string().contains("at the sphere's centre"), "{e}");
+    /// ```
+    pub fn try_rolling(body: Body, surface: Surface) -> Result<Contact, Error> {
+        if let Some(reason) = body.shape.as_ref().and_then(check_shapes::impossible_shape) {
+            return Err(Error::ImpossibleGeometry {
+                what: "the body's shape".into(),
+                reason,
+            });
+        }
+        let contact = Contact::rolling(body, surface);
+        check_shapes::check_contact(&contact)?;
+        Ok(contact)
+    }
+}
+
 /// The point of a thin disk (a knife-edge wheel) nearest a plane: the disk's centre `centre`,
 /// its axle `axle` and the plane's normal `up`, pointing from the plane to the disk, both
 /// unit vectors; the disk has radius `radius`. The point lies in the disk's plane, `radius`
 /// from the centre along the steepest descent, P = c − r (u − (u·a) a) / √(1 − (u·a)²).
-/// (Undefined when the disk lies flat, u·a = ±1.)
+/// (Undefined when the disk lies flat, u·a = ±1: NaN; [`try_disk_contact`] says why.)
 ///
 /// ```
 /// use hamel_runtime::geometry::{Rotation3, Vector3, disk_contact};
@@ -225,4 +255,45 @@ pub fn disk_contact(centre: Vector3, axle: Vector3, radius: f64, up: Vector3) ->
     let along = up.dot(&axle);
     let descent = up - along * axle;
     centre - (radius / (1.0 - along * along).sqrt()) * descent
+}
+
+/// [`disk_contact`], or an [`Error::ImpossibleGeometry`] saying why there is no such point:
+/// a radius that is not positive, an axle or a normal that is not a unit vector, or a disk
+/// lying flat on the plane (its axle along the normal).
+///
+/// ```
+/// use hamel_runtime::geometry::{Vector3, try_disk_contact};
+/// let e = try_disk_contact(Vector3::zeros(), Vector3::z(), 0.5, Vector3::z()).unwrap_err();
+/// assert!(e.to_string().contains("lies flat"), "{e}");
+/// ```
+pub fn try_disk_contact(
+    centre: Vector3,
+    axle: Vector3,
+    radius: f64,
+    up: Vector3,
+) -> Result<Vector3, Error> {
+    let impossible = |reason: String| Error::ImpossibleGeometry {
+        what: "the disk's contact point".into(),
+        reason,
+    };
+    let shape = Shape::Disk {
+        centre: Vector3::zeros(),
+        axle,
+        radius,
+    };
+    if let Some(reason) = check_shapes::impossible_shape(&shape) {
+        return Err(impossible(reason));
+    }
+    if let Some(reason) = check_shapes::not_a_unit_vector("the plane's normal", up) {
+        return Err(impossible(reason));
+    }
+    let point = disk_contact(centre, axle, radius, up);
+    if point.to_array().iter().all(|v| v.is_finite()) && up.dot(&axle).abs() < 1.0 {
+        return Ok(point);
+    }
+    Err(impossible(
+        "the disk lies flat on the plane (its axle along the normal), where its rim has no \
+         lowest point"
+            .into(),
+    ))
 }

@@ -1,9 +1,12 @@
 //! The bodies of a model must be bodies some matter could make: a positive mass, and an
 //! inertia tensor that is symmetric positive semi-definite with principal moments satisfying
-//! the triangle inequalities (each at most the sum of the other two). Checked when a state is
-//! built and when a run starts, so that a negative moment of inertia is an error naming the
-//! body instead of an indefinite mass matrix, or a step size underflow, somewhere in a run.
+//! the triangle inequalities (each at most the sum of the other two), an orientation that is a
+//! rotation and a shape of positive size (`check_shapes`). Checked when a state is built, when
+//! a run starts and when the model is linearized, so that a negative moment of inertia is an
+//! error naming the body instead of an indefinite mass matrix, or a step size underflow,
+//! somewhere in a run.
 
+use super::check_shapes::{impossible_shape, not_a_rotation};
 use super::{Body, Inertia};
 use crate::error::{Error, Num};
 
@@ -24,11 +27,28 @@ const ROUNDING: f64 = 1e-12;
 /// ```
 pub fn check_bodies(bodies: &[Body], names: &[&str]) -> Result<(), Error> {
     for (i, body) in bodies.iter().enumerate() {
-        if let Some(reason) = unphysical(body) {
-            let name = names
+        let name = || {
+            names
                 .get(i)
-                .map_or_else(|| format!("body{i}"), |n| (*n).to_string());
-            return Err(Error::UnphysicalBody { body: name, reason });
+                .map_or_else(|| format!("body{i}"), |n| (*n).to_string())
+        };
+        if let Some(reason) = unphysical(body) {
+            return Err(Error::UnphysicalBody {
+                body: name(),
+                reason,
+            });
+        }
+        if let Some(why) = not_a_rotation(&body.orientation) {
+            return Err(Error::ImpossibleGeometry {
+                what: format!("the orientation of body `{}`", name()),
+                reason: why,
+            });
+        }
+        if let Some(reason) = body.shape.as_ref().and_then(impossible_shape) {
+            return Err(Error::ImpossibleGeometry {
+                what: format!("the shape of body `{}`", name()),
+                reason,
+            });
         }
     }
     Ok(())

@@ -29,16 +29,20 @@
 
 mod body;
 mod check;
+mod check_shapes;
 mod mechanism;
 mod rotation;
 mod shape;
 mod surface;
+mod turns;
 mod vector;
 
-pub use body::{Body, Contact, Inertia, disk_contact};
+pub use body::{Body, Contact, Inertia, disk_contact, try_disk_contact};
 pub use check::check_bodies;
+pub use check_shapes::check_contacts;
 pub use mechanism::Mechanism;
 pub use rotation::Rotation3;
 pub use shape::Shape;
 pub use surface::Surface;
+pub use turns::{ThreeTurns, at_singular_orientation};
 pub use vector::Vector3;

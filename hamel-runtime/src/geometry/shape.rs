@@ -2,7 +2,8 @@
 //! follows from the shape and the surface (the shape's support point along the surface's
 //! normal) instead of being written by hand.
 
-use super::{Body, Vector3};
+use super::{Body, Vector3, check_shapes};
+use crate::error::Error;
 
 /// The shape of a body where it rolls, in the body's own axes: a thin disk (a knife-edge
 /// wheel), a torus (a wheel with a round tyre), a sphere or an ellipsoid, centred `centre`
@@ -118,7 +119,7 @@ impl Shape {
     /// The point of the shape, carried by `body`, farthest along the unit vector `direction`
     /// (in the ground frame): where it touches a plane whose normal is −`direction`.
     /// For a disk (and a torus) it is undefined when `direction` is along the axle, the disk
-    /// lying flat on the plane.
+    /// lying flat on the plane: NaN; [`Shape::try_support`] says why instead.
     pub fn support(&self, body: &Body, direction: Vector3) -> Vector3 {
         let centre = body.point(self.centre());
         match *self {
@@ -140,6 +141,48 @@ impl Shape {
                 centre + body.orientation * (stretched / stretched.dot(&m).sqrt())
             }
         }
+    }
+}
+
+impl Shape {
+    /// [`Shape::support`], or an [`Error::ImpossibleGeometry`] saying why there is no such
+    /// point: a shape of no size or without an axle, a body whose orientation is not a
+    /// rotation, a direction that is not a unit vector, or a disk (or torus) whose axle is
+    /// along the direction, every point of its rim as far along it.
+    ///
+    /// ```
+    /// use hamel_runtime::geometry::{Body, Inertia, Rotation3, Shape, Vector3};
+    /// let wheel = Body::new(2.0, Inertia::principal(0.045, 0.09, 0.045), Vector3::zeros(),
+    ///     Rotation3::identity());
+    /// let flat = Shape::disk(0.3, Vector3::z());
+    /// let e = flat.try_support(&wheel, -Vector3::z()).unwrap_err();
+    /// assert!(e.to_string().contains("along its axle"), "{e}");
+    /// let e = Shape::sphere(-0.1).try_support(&wheel, -Vector3::z()).unwrap_err();
+    /// assert!(e.to_string().contains("radius is -0.1"), "{e}");
+    /// ```
+    pub fn try_support(&self, body: &Body, direction: Vector3) -> Result<Vector3, Error> {
+        let impossible = |reason: String| Error::ImpossibleGeometry {
+            what: "the shape's support point".into(),
+            reason,
+        };
+        let problem = check_shapes::impossible_shape(self)
+            .or_else(|| {
+                check_shapes::not_a_rotation(&body.orientation)
+                    .map(|r| format!("the body's orientation: {r}"))
+            })
+            .or_else(|| check_shapes::not_a_unit_vector("the direction", direction));
+        if let Some(reason) = problem {
+            return Err(impossible(reason));
+        }
+        let point = self.support(body, direction);
+        if point.to_array().iter().all(|v| v.is_finite()) {
+            return Ok(point);
+        }
+        Err(impossible(
+            "the direction is along its axle: every point of the rim is as far along it (a \
+             disk lying flat)"
+                .into(),
+        ))
     }
 }
 

@@ -131,6 +131,7 @@ fn run_shard(dir: &Path, shard: Shard) -> Result<(), Error> {
         shard,
         &outputs().names::<Skate>(),
         "csv",
+        hamel_runtime::ensemble::Program::new("skates", Some("1")),
     );
     if shard_state(&path, &stamp) == ShardState::Complete {
         return Ok(());

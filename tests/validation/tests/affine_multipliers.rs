@@ -982,6 +982,8 @@ fn ball_on_turntable_equals_the_multiplier_equations() {
 
 #[test]
 fn steered_sleigh_with_its_inverse_equals_the_multiplier_equations() {
+    // Damping and a moving platform do work without any input: no run may leave it out.
+    const { assert!(!SteeredSleigh::POWER_VANISHES_WITHOUT_INPUTS) };
     let mut rng = XorShift::new(0xda3_0002);
     for (i, sleigh) in sleighs().iter().enumerate() {
         let mechanism = Sleigh {

@@ -11,6 +11,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use hamel::geometry::{Body, Contact, Inertia, Rotation3, Shape, Surface, Vector3};
 use hamel::models::{
     BallOnTurntable, ChaplyginSleigh, KnifeEdge, MobileRobot, NTrailer2, WhippleBicycle,
 };
@@ -962,7 +963,14 @@ fn bodies_no_matter_makes_are_refused_before_any_step() {
             .end_time(1.0)
             .run_constant(&DormandPrince::new(1e-9, 1e-9), [0.0, 0.0]);
         let built = bike.state_builder().set("phi", 0.01).build();
-        for e in [run.unwrap_err(), built.unwrap_err()] {
+        // Linearizing it is refused as a run is: its eigenvalues and LQR gains were computed
+        // from the impossible body.
+        let linearized = bike.linearize(0.0, &x0, &[0.0, 0.0]);
+        for e in [
+            run.unwrap_err(),
+            built.unwrap_err(),
+            linearized.unwrap_err(),
+        ] {
             assert!(
                 matches!(&e, Error::UnphysicalBody { body: b, .. } if b == body),
                 "{e}"
@@ -976,6 +984,161 @@ fn bodies_no_matter_makes_are_refused_before_any_step() {
     };
     let e = robot.state_builder().build().unwrap_err();
     assert_message(&e, &["body `body`", "cannot be negative"]);
+}
+
+/// A ball on the plane of a frame scaled by `s` (−1 a reflection, 0 no normal at all): the
+/// frame of a plane must be a rotation.
+#[hamel_system]
+pub struct BallOnScaledPlane {
+    pub r: f64,
+    pub s: f64,
+}
+
+#[hamel_system(coordinates(x, y, z, qw, qx, qy, qz), speeds(wx, wy, wz))]
+impl BallOnScaledPlane {
+    #[bodies]
+    fn bodies(&self, q: &[f64; 7]) -> [Body; 1] {
+        let orientation = Rotation3::from_quaternion(q[3], q[4], q[5], q[6]);
+        let ball = Body::new(
+            1.0,
+            Inertia::principal(0.004, 0.004, 0.004),
+            Vector3::new(q[0], q[1], q[2]),
+            orientation,
+        );
+        [ball.with_shape(Shape::sphere(self.r))]
+    }
+
+    #[gravity]
+    fn gravity(&self) -> Vector3 {
+        Vector3::new(0.0, 0.0, -9.81)
+    }
+
+    #[constraints]
+    fn unit(&self, q: &[f64; 7], qd: &[f64; 7]) -> [f64; 1] {
+        [q[3] * qd[3] + q[4] * qd[4] + q[5] * qd[5] + q[6] * qd[6]]
+    }
+
+    #[contacts(determines(z))]
+    fn contacts(&self, q: &[f64; 7]) -> [Contact; 1] {
+        let [ball] = self.bodies(q);
+        let s = self.s;
+        let frame = Rotation3::from_matrix_unchecked([[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]);
+        [Contact::rolling(
+            ball,
+            Surface::plane(Vector3::zeros(), frame),
+        )]
+    }
+
+    #[quasi_velocities]
+    fn spin(&self, q: &[f64; 7], _qd: &[f64; 7]) -> [f64; 3] {
+        let [ball] = self.bodies(q);
+        angular_velocity!(ball.orientation).to_array()
+    }
+}
+
+/// Geometry no body can have is refused before any step, naming the body and the radius or
+/// the frame: before, a ball of radius −0.05 in a bowl ran with its centre below the bowl, a
+/// ball of radius 0 ran, a plane scaled by 2 held the ball a radius above it and a reflected
+/// one under it; a ball no smaller than its bowl, or at its sphere's centre, was a Newton
+/// iteration that did not converge.
+#[test]
+fn geometry_no_body_can_have_is_refused_before_any_step() {
+    use crate::rolling::{BowlBall, SphereBall};
+    let bowl = |r: f64, bowl: f64| BowlBall {
+        m: 1.0,
+        r,
+        i: 0.004,
+        bowl,
+        g: 9.81,
+    };
+    let in_bowl = |model: &BowlBall| {
+        let x0 = [0.1, 0.0, model.r.abs(), 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+        let run = Simulation::new(model, x0)
+            .end_time(0.1)
+            .run_constant(&DormandPrince::new(1e-9, 1e-9), []);
+        let built = model.state_builder().set("x", 0.1).set("qw", 1.0).build();
+        let linearized = model.linearize(0.0, &x0, &[]);
+        [
+            run.unwrap_err(),
+            built.unwrap_err(),
+            linearized.unwrap_err(),
+        ]
+    };
+    let cases = [
+        (
+            bowl(-0.05, 0.5),
+            "the shape of body `body0`",
+            "radius is -0.05",
+        ),
+        (bowl(0.0, 0.5), "the shape of body `body0`", "radius is 0"),
+        (
+            bowl(0.5, 0.5),
+            "contact 0 (body `body0` on a bowl)",
+            "not smaller than the bowl's, 0.5",
+        ),
+        (
+            bowl(0.1, -1.0),
+            "contact 0 (body `body0` on a bowl)",
+            "the bowl's radius is -1",
+        ),
+    ];
+    for (model, what, reason) in cases {
+        for e in in_bowl(&model) {
+            assert!(matches!(&e, Error::ImpossibleGeometry { .. }), "{e}");
+            assert_message(&e, &[what, reason]);
+        }
+    }
+    let sphere = SphereBall {
+        m: 1.0,
+        r: 0.1,
+        i: 0.004,
+        sphere: 1.0,
+        g: 9.81,
+    };
+    let e = sphere.state_builder().set("qw", 1.0).build().unwrap_err();
+    assert_message(
+        &e,
+        &[
+            "contact 0 (body `body0` on a sphere)",
+            "at the sphere's centre",
+        ],
+    );
+    for (s, reason) in [
+        (2.0, "not a rotation: its axes have lengths 2, 2 and 2"),
+        (-1.0, "reflection"),
+        (0.0, "z axis is the zero vector"),
+    ] {
+        let model = BallOnScaledPlane { r: 0.1, s };
+        let e = model
+            .state_builder()
+            .set("z", 0.1)
+            .set("qw", 1.0)
+            .build()
+            .unwrap_err();
+        assert_message(
+            &e,
+            &[
+                "contact 0 (body `body0` on a plane)",
+                "the plane's frame",
+                reason,
+            ],
+        );
+        let x0 = [0.0, 0.0, 0.1, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+        let run = Simulation::new(&model, x0)
+            .end_time(0.1)
+            .run_constant(&DormandPrince::new(1e-9, 1e-9), []);
+        assert_message(&run.unwrap_err(), &["the plane's frame", reason]);
+    }
+    // A rotation passes.
+    let upright = BallOnScaledPlane { r: 0.1, s: 1.0 };
+    assert!(
+        upright
+            .state_builder()
+            .set("z", 0.1)
+            .set("qw", 1.0)
+            .build()
+            .is_ok()
+    );
 }
 
 /// A state is not built where the reduced mass matrix is indefinite: every way of building

@@ -342,6 +342,8 @@ impl Snakeboard {
 
 #[test]
 fn accessibility_ranks_are_what_theory_says() {
+    // A force u·(cos φ, sin φ) vanishes with u: the macro sees it through the products.
+    const { assert!(Skate::POWER_VANISHES_WITHOUT_INPUTS && !Skate::CONSERVATIVE) };
     let mut rng = XorShift::new(1989);
     let (skate, steered) = (Skate { m: 2.0, j: 0.3 }, SteeredSkate { m: 2.0, j: 0.3 });
     let robot = MobileRobot::default();
@@ -486,4 +488,34 @@ fn exact_linearization_tracks_a_figure_eight() {
     // Starts 0.3 m off; (1 + λt) e^(−λt) · 0.3 = 1.3e-8 at 2 s.
     assert!(error[0] > 0.29 && after <= 1e-6, "{} → {after:e}", error[0]);
     println!("tracking error after 2 s: {after:.2e} m");
+}
+
+/// Before, a reference missing the second output's list named the first output, with the
+/// count of values it does have, and a rate of 1e300 was accepted and gave NaN inputs.
+#[test]
+fn a_reference_missing_an_output_and_a_rate_past_f64_are_named() {
+    let robot = MobileRobot::default();
+    let one_list = |_t: f64| vec![vec![0.0, 0.0, 0.0]];
+    let controller = hamel::control::ExactLinearization::new(&robot, 10.0, one_list).unwrap();
+    let e = hamel::Controller::<MobileRobot>::control(&controller, 0.0, &[0.0; 8]).unwrap_err();
+    assert!(
+        matches!(&e, hamel::Error::InvalidReference { output, given: 0, expected: 3, .. } if output == "py"),
+        "{e}"
+    );
+    let message = e.to_string();
+    assert!(message.contains("`py` gives 0 values"), "{message}");
+    let three = |_t: f64| vec![vec![0.0; 3]; 3];
+    let controller = hamel::control::ExactLinearization::new(&robot, 10.0, three).unwrap();
+    let e = hamel::Controller::<MobileRobot>::control(&controller, 0.0, &[0.0; 8]).unwrap_err();
+    assert!(e.to_string().contains("gives 3 lists of values"), "{e}");
+    let reference = |_t: f64| vec![vec![0.0; 3], vec![0.0; 3]];
+    let e = match hamel::control::ExactLinearization::new(&robot, 1e300, reference) {
+        Ok(_) => panic!("a rate of 1e300 was accepted"),
+        Err(e) => e,
+    };
+    assert!(
+        matches!(e, hamel::Error::InvalidSetting { name: "rate", .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("beyond the range of f64"), "{e}");
 }

@@ -163,10 +163,12 @@ fn the_bicycle_agrees_with_finite_differences_at_random_states() {
 fn the_robot_upright_at_rest_is_an_inverted_pendulum() {
     for robot in [
         MobileRobot::default(),
+        // A body matter can make: its moments (jx, jy, jz) = (0.4, 0.25, 0.2) keep the
+        // triangle inequality (jy = 0.1 did not, and `linearize` now refuses it, as a run does).
         MobileRobot {
             l: 0.35,
             m0: 4.0,
-            jy: 0.1,
+            jy: 0.25,
             ..MobileRobot::default()
         },
     ] {

@@ -504,6 +504,51 @@ fn free_motion_invariants<S: Robot>(sys: &S, name: &str) -> (f64, f64) {
     (drift, residual)
 }
 
+/// With the torques at zero the robot's power vanishes (its only forces are the torques), so
+/// a run with constant zero torques integrates no work; it must be, to the bit, the run that
+/// integrates it (zero torques given as a function), its energy balance the energy drift.
+#[test]
+fn zero_torques_leave_out_the_work_and_change_no_bit() {
+    const {
+        assert!(MobileRobot::POWER_VANISHES_WITHOUT_INPUTS && !MobileRobot::CONSERVATIVE);
+        assert!(MobileRobotPaper::POWER_VANISHES_WITHOUT_INPUTS);
+    };
+    let robot = MobileRobot::default();
+    let x0 = robot
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.3, 0.0, 0.0], &[0.0, 0.5, 0.4])
+        .unwrap();
+    let simulation = Simulation::new(&robot, x0).end_time(3.0);
+    let integrator = DormandPrince::new(1e-9, 1e-12);
+    let constant = simulation.run_constant(&integrator, [0.0, 0.0]).unwrap();
+    let function = simulation.run(&integrator, |_, _| [0.0, 0.0]).unwrap();
+    assert_eq!(constant.names(), function.names());
+    for name in constant.names() {
+        let (a, b) = (
+            constant.column(name).unwrap(),
+            function.column(name).unwrap(),
+        );
+        let same = a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "column {name} differs between the two runs");
+    }
+    assert_eq!(constant.summary().steps, function.summary().steps);
+    assert_eq!(constant.summary().work, 0.0);
+    let (energy, balance) = (
+        constant.column("energy").unwrap(),
+        constant.column("energy_balance").unwrap(),
+    );
+    for (e, b) in energy.iter().zip(balance) {
+        assert_eq!(*b, e - energy[0]);
+    }
+    // A torque does work: the run with it integrates the work and balances the energy.
+    let pushed = simulation.run_constant(&integrator, [0.1, 0.05]).unwrap();
+    assert!(
+        pushed.summary().work.abs() > 1e-3,
+        "{}",
+        pushed.summary().work
+    );
+    assert!(pushed.summary().relative_energy_balance < 1e-7);
+}
+
 #[test]
 fn free_motion_conserves_energy_and_keeps_the_constraints() {
     for robot in parameter_sets() {

@@ -276,5 +276,5 @@ fn the_table_drives_the_ball_the_constraint_forces_do_the_work() {
         "dE/dt {rate} vs power {p}"
     );
     // Checked when the test compiles: the affine rows make the energy a non-integral.
-    const { assert!(!BallOnTurntable::CONSERVATIVE) };
+    const { assert!(!BallOnTurntable::CONSERVATIVE && !BallOnTurntable::POWER_VANISHES_WITHOUT_INPUTS) };
 }

@@ -166,6 +166,9 @@ pub struct Lowerer<'a, 'g> {
     const_stack: Vec<String>,
     unrolled: usize,
     reported_budget: bool,
+    /// Constants outside the impl block already reported as array lengths: one mistake,
+    /// one error, however many signatures repeat it.
+    reported_lengths: std::collections::HashSet<String>,
     /// Functions whose signature or body had an error (by name): the error fallback stubs
     /// their bodies, so that rustc does not report the same mistake a second time.
     faulty: HashSet<String>,
@@ -207,6 +210,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             const_stack: Vec::new(),
             unrolled: 0,
             reported_budget: false,
+            reported_lengths: std::collections::HashSet::new(),
             faulty: HashSet::new(),
             lowered: HashSet::new(),
             reported_once: HashSet::new(),
@@ -247,6 +251,19 @@ impl<'a, 'g> Lowerer<'a, 'g> {
         }
         self.mistakes += 1;
         self.errors.push(error);
+    }
+
+    /// Whether `Self::name` is a constant of the impl block or of the expansion.
+    pub fn knows_constant(&self, name: &str) -> bool {
+        self.ctx.constant(name).is_some() || self.ctx.generated_index(name).is_some()
+    }
+
+    /// A mistake already reported (the same one met again): it fails the body it is in
+    /// without a second error.
+    pub fn note_repeated_mistake(&mut self) {
+        if let Some(name) = self.call_stack.last() {
+            self.faulty.insert(name.clone());
+        }
     }
 
     /// Whether any error has been recorded so far.
@@ -305,7 +322,12 @@ impl<'a, 'g> Lowerer<'a, 'g> {
     /// signature says (a mistaken signature is reported elsewhere): what the body would do
     /// once the signature is fixed.
     pub fn check_body(&mut self, f: &'a syn::ImplItemFn, args: Vec<Value>) -> Value {
-        self.call_checked(f, args, &f.sig.ident, false)
+        // Checked as the role it is: a role read with the velocities may take `rate!` (without
+        // its context, correct `body_rates!` code was reported beside the real mistake).
+        self.rate_context = self.rate_context_for(f, &args);
+        let value = self.call_checked(f, args, &f.sig.ident, false);
+        self.rate_context = None;
+        value
     }
 
     fn call_checked(

@@ -160,7 +160,7 @@ impl<'a> Lowerer<'a, '_> {
                     );
                     return None;
                 }
-                let len = self.const_int(&a.len, "an array length")?;
+                let len = self.array_length(&a.len)?;
                 match usize::try_from(len) {
                     Ok(n) if n.saturating_mul(inner.len().max(1)) <= MAX_ARRAY_ELEMENTS => {
                         Some(Shape::Array(n, Box::new(inner)))
@@ -228,6 +228,57 @@ impl<'a> Lowerer<'a, '_> {
             Some(signature) => format!("this function must have the signature `{signature}`"),
             None => format!("expected {SUPPORTED_TYPES}"),
         }
+    }
+
+    /// An array's length: an integer known at compile time. A constant defined outside the
+    /// impl block (`[f64; N]` with a module's `const N`) is not one the macro can read — it
+    /// sees the impl block's tokens alone — and is reported once however many signatures
+    /// use it (it was an error at each, calling it an `f64`).
+    fn array_length(&mut self, e: &syn::Expr) -> Option<i64> {
+        let Some(name) = self.outside_constant(e) else {
+            return self.const_int(e, "an array length");
+        };
+        if self.reported_lengths.insert(name.clone()) {
+            self.error(
+                e,
+                format!(
+                    "the array length `{name}` is a constant defined outside the impl block, \
+                     which `#[hamel_system]` cannot read (a macro sees the impl block's tokens \
+                     alone): write the length as a number, `[f64; 3]`, or define the constant in \
+                     the impl block, `const {}: usize = 3;`, and write `Self::{}`",
+                    name.rsplit("::").next().unwrap_or(&name),
+                    name.rsplit("::").next().unwrap_or(&name),
+                ),
+            );
+        } else {
+            self.note_repeated_mistake();
+        }
+        None
+    }
+
+    /// The first path in `e` that names no constant of the impl block (nor one the expansion
+    /// defines), if any: `N`, `consts::N`, `Self::M` for an `M` the block lacks.
+    fn outside_constant(&self, e: &syn::Expr) -> Option<String> {
+        struct Paths<'p>(Vec<&'p syn::ExprPath>);
+        impl<'p> syn::visit::Visit<'p> for Paths<'p> {
+            fn visit_expr_path(&mut self, p: &'p syn::ExprPath) {
+                self.0.push(p);
+            }
+        }
+        let mut paths = Paths(Vec::new());
+        syn::visit::Visit::visit_expr(&mut paths, e);
+        paths.0.iter().find_map(|p| {
+            let segments: Vec<String> = p
+                .path
+                .segments
+                .iter()
+                .map(|s| s.ident.to_string())
+                .collect();
+            match segments.as_slice() {
+                [this, name] if this == "Self" && self.knows_constant(name) => None,
+                _ => Some(segments.join("::")),
+            }
+        })
     }
 
     /// Evaluate an expression that must be an integer known at compile time (array lengths,

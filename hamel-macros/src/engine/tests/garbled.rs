@@ -394,9 +394,14 @@ fn signatures_outside_the_subset_are_named() {
             "arrays of integers are not supported",
         ),
         item(
-            "array length not a constant",
-            "impl Model { fn f(&self, x: [f64; N]) -> f64 { 0.0 } }",
+            "array length not an integer",
+            "impl Model { fn f(&self, x: [f64; 2.0]) -> f64 { 0.0 } }",
             "an array length must be an integer known at compile time",
+        ),
+        item(
+            "array length a constant the macro cannot read",
+            "impl Model { fn f(&self, x: [f64; N]) -> f64 { 0.0 } }",
+            "the array length `N` is a constant defined outside the impl block",
         ),
         item(
             "returns a bool",

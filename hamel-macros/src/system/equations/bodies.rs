@@ -165,6 +165,9 @@ pub fn energies<'a>(
         return Some(None);
     }
     let bodies = bodies(lowerer, spec, t, q)?;
+    if !super::impossible::check_written(lowerer, spec, &bodies) {
+        return None;
+    }
     let gravity = gravity(lowerer, spec, t)?;
     let g = &mut *lowerer.graph;
     let mut motion = Motion::new(g, t, q, velocities);

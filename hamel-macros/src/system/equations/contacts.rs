@@ -62,7 +62,7 @@ pub fn read<'a>(
     declared: &RoleFn<'a>,
     timed: bool,
     bodies: Option<(&'a syn::ImplItemFn, bool)>,
-    symbols: &Symbols,
+    (symbols, coordinates): (&Symbols, &[syn::Ident]),
 ) -> Option<ContactReading> {
     let contacts = lower_all(lowerer, declared.f, timed, symbols, GeoKind::Contact)?;
     let contacts: Vec<Contact> = contacts
@@ -93,7 +93,7 @@ pub fn read<'a>(
     let (kept, repeats) = independent_rows(lowerer, declared.f, &all, &symbols.v)?;
     let g = &mut *lowerer.graph;
     let heights = bodies::heights(g, &contacts);
-    let varying = varying_heights(lowerer, declared, &heights, symbols)?;
+    let varying = varying_heights(lowerer, declared, &heights, (symbols, coordinates))?;
     Some(ContactReading {
         rows: kept.iter().map(|&i| all[i]).collect(),
         kept,
@@ -299,7 +299,7 @@ fn varying_heights(
     lowerer: &mut Lowerer<'_, '_>,
     declared: &RoleFn<'_>,
     heights: &[NodeId],
-    symbols: &Symbols,
+    (symbols, coordinates): (&Symbols, &[syn::Ident]),
 ) -> Option<Vec<usize>> {
     let g = &*lowerer.graph;
     let moving: Vec<NodeId> = std::iter::once(symbols.t)
@@ -322,19 +322,28 @@ fn varying_heights(
         if !depends[h.index()] {
             errors.push(syn::Error::new_spanned(
                 row_source(declared.f, i),
-                format!(
-                    "contact {i} is not on its surface: its height above it is {} at every \
-                     configuration; the contact point must touch the surface (the ground is \
-                     the plane z = 0)",
-                    super::significant(values.first().copied().unwrap_or(f64::NAN))
-                ),
+                off_surface(lowerer, i, h, &values),
             ));
             continue;
         }
         varying.push(i);
     }
     if varying.len() != declared.determines.len() && errors.is_empty() {
-        errors.push(count_error(declared, &varying));
+        let g = &*lowerer.graph;
+        // The coordinates each varying height varies with, by the user's names.
+        let with: Vec<Vec<String>> = varying
+            .iter()
+            .map(|&i| {
+                symbols
+                    .q
+                    .iter()
+                    .zip(coordinates)
+                    .filter(|(q, _)| g.depends_on(&[**q])[heights[i].index()])
+                    .map(|(_, name)| name.to_string())
+                    .collect()
+            })
+            .collect();
+        errors.push(count_error(declared, &varying, &with));
     }
     if errors.is_empty() {
         return Some(varying);
@@ -345,9 +354,38 @@ fn varying_heights(
     None
 }
 
+/// Contact `i` is not on its surface, at the height `h` whatever the coordinates (`values`
+/// at generic points): the height is quoted only when no parameter enters it, since the
+/// parameters' values at generic points are placeholders, not the user's.
+fn off_surface(lowerer: &Lowerer<'_, '_>, i: usize, h: NodeId, values: &[f64]) -> String {
+    let g = &*lowerer.graph;
+    let parameters: Vec<String> = lowerer
+        .externals
+        .items
+        .iter()
+        .filter(|e| g.depends_on(&[e.node])[h.index()])
+        .map(|e| format!("`{}`", e.tokens.to_string().replace(' ', "")))
+        .collect();
+    let height = if parameters.is_empty() {
+        format!(
+            "is {} at every configuration",
+            super::significant(values.first().copied().unwrap_or(f64::NAN))
+        )
+    } else {
+        format!(
+            "is the same at every configuration and not zero: it depends only on {}",
+            parameters.join(", ")
+        )
+    };
+    format!(
+        "contact {i} is not on its surface: its height above it {height}; the contact point \
+         must touch the surface (the ground is the plane z = 0)"
+    )
+}
+
 /// `determines(..)` names more or fewer coordinates than there are contacts whose height
-/// varies.
-fn count_error(declared: &RoleFn<'_>, varying: &[usize]) -> syn::Error {
+/// varies (`with`: the coordinates each varies with).
+fn count_error(declared: &RoleFn<'_>, varying: &[usize], with: &[Vec<String>]) -> syn::Error {
     let which: Vec<String> = varying.iter().map(|i| i.to_string()).collect();
     let named = declared.determines.len();
     let message = match (varying.len(), named) {
@@ -356,12 +394,25 @@ fn count_error(declared: &RoleFn<'_>, varying: &[usize]) -> syn::Error {
              the coordinates: each contact stays on its surface by the choice of coordinates; \
              remove `determines(..)`"
         ),
-        (v, 0) => format!(
-            "the height above the surface of contact {} varies with the coordinates: it is a \
-             holonomic constraint, which must determine a coordinate; name one per such \
-             contact, `#[contacts(determines(theta))]` ({v} in all)",
-            which.join(", ")
-        ),
+        (v, 0) => {
+            let first = with.first().map(Vec::as_slice).unwrap_or_default();
+            let names: Vec<String> = first.iter().map(|n| format!("`{n}`")).collect();
+            let example: Vec<String> = with
+                .iter()
+                .map(|w| w.first().cloned().unwrap_or_default())
+                .collect();
+            format!(
+                "the height above the surface of contact {} varies with the coordinates ({}): \
+                 if the body should stay on the surface whatever they are (a wheel on an \
+                 incline), place it on the surface, its centre from the surface's frame; if the \
+                 height is a holonomic constraint, name the coordinate it determines, one per \
+                 such contact ({v} in all), among those it varies with: \
+                 `#[contacts(determines({}))]`",
+                which.join(", "),
+                names.join(", "),
+                example.join(", ")
+            )
+        }
         (v, _) => format!(
             "the heights of {v} contact(s) ({}) vary with the coordinates, but \
              `determines(..)` names {named} coordinate(s): name one per such contact, in order",

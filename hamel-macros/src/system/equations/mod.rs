@@ -32,6 +32,7 @@ mod contacts;
 pub use contacts::{ContactReading, read as read_contacts};
 mod gamma;
 mod hamel;
+mod impossible;
 mod inverse;
 mod lagrangian;
 mod projected;
@@ -117,6 +118,8 @@ pub struct Equations {
     pub holonomic: Option<HolonomicNodes>,
     /// No forces, no affine part in the constraints, no explicit time in L: E is conserved.
     pub conservative: bool,
+    /// Whether the power vanishes identically when every input is zero.
+    pub power_vanishes_without_inputs: bool,
     /// Conservative, T quadratic in q̇, and every row (quasi-velocities too) homogeneous in q̇
     /// and independent of t: (q, ω) ↦ (q, −ω) reverses the reduced ODE.
     pub reversible: bool,
@@ -333,6 +336,8 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         &mut motion,
         &mut transformation_pivots,
     );
+    let power_vanishes_without_inputs =
+        conservative || g.vanishes_with(&inputs.u)[motion.power.index()];
     Some(Equations {
         transformation: transformation_pivots,
         constraint_rows: rows.all[..p].to_vec(),
@@ -348,6 +353,7 @@ pub fn build<'a>(spec: &Spec<'a>, lowerer: &mut Lowerer<'a, '_>) -> Option<Equat
         inverse_defect,
         holonomic: rows.holonomic,
         conservative,
+        power_vanishes_without_inputs,
         reversible,
         inputs,
     })

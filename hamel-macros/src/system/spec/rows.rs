@@ -330,7 +330,7 @@ pub(super) fn model_shape<'r, 'a>(
             let bodies = bodies
                 .filter(|(f, _)| readable(f, n, lowerer))
                 .map(|(f, _)| (f, takes_time(Role::Bodies, f, n, m, None)));
-            equations::read_contacts(lowerer, c, timed, bodies, symbols)
+            equations::read_contacts(lowerer, c, timed, bodies, (symbols, coordinates))
         });
     let mut shape = ModelShape {
         constraints,

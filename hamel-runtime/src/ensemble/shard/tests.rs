@@ -9,6 +9,10 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn stamp(rows: &[Vec<f64>], shard: Shard) -> ShardStamp {
+    stamp_of(rows, shard, Program::new("squares", Some("1")))
+}
+
+fn stamp_of(rows: &[Vec<f64>], shard: Shard, program: Program) -> ShardStamp {
     let names = vec!["a".to_string()];
     ShardStamp::new(
         &names,
@@ -16,6 +20,7 @@ fn stamp(rows: &[Vec<f64>], shard: Shard) -> ShardStamp {
         shard,
         &["a".into()],
         "csv",
+        program,
     )
 }
 
@@ -135,6 +140,7 @@ fn a_shard_is_complete_only_with_a_manifest_that_matches() {
         Shard::ALL,
         &names,
         "parquet",
+        Program::new("squares", Some("1")),
     );
     assert_ne!(parquet, stamp(&rows8, Shard::ALL));
     std::fs::remove_dir_all(dir).unwrap();
@@ -186,5 +192,66 @@ fn two_writers_of_one_shard_leave_one_complete_file() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(files.len(), 2, "{files:?}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Before, a shard's record hashed the parameter table but not the program: shards written by
+/// a changed build of the same study were merged silently beside new ones. Now the manifest
+/// records the study, the program's version and hamel's, and a shard of another program is
+/// not complete for this one, the difference named.
+#[test]
+fn a_shard_of_another_program_is_not_complete_for_this_one() {
+    let dir = scratch("programs");
+    let rows = vec![vec![1.0], vec![2.0]];
+    let path = dir.join(Shard::ALL.file_name("csv"));
+    let v1 = stamp(&rows, Shard::ALL);
+    write(&path, &v1, "case,a\n0,1\n1,2\n");
+    let manifest = std::fs::read_to_string(manifest_path(&path)).unwrap();
+    assert!(
+        manifest.contains("study squares\nprogram 1\nhamel "),
+        "{manifest}"
+    );
+    assert_eq!(shard_state(&path, &v1), ShardState::Complete);
+    let cases = [
+        (
+            Program::new("squares", Some("2")),
+            "the program's version is `1` in its manifest and `2` here",
+        ),
+        (
+            Program::new("cubes", Some("1")),
+            "the study is `squares` in its manifest and `cubes` here",
+        ),
+        (
+            Program {
+                hamel: "0.0.1".into(),
+                ..Program::new("squares", Some("1"))
+            },
+            "hamel's version",
+        ),
+    ];
+    for (program, why) in cases {
+        let other = stamp_of(&rows, Shard::ALL, program);
+        match shard_state(&path, &other) {
+            ShardState::Incomplete(r) => {
+                assert!(r.contains(why), "{r}");
+                assert!(r.contains("not mixed"), "{r}");
+            }
+            state => panic!("{state:?}"),
+        }
+    }
+    // Without a version, the program is the running executable.
+    let unset = Program::new("squares", None);
+    assert!(unset.version.starts_with("executable "), "{unset:?}");
+    assert_ne!(unset.version, "executable unknown");
+    assert_eq!(unset, Program::new("squares", None));
+    // A manifest of the hamel before this record.
+    std::fs::write(
+        manifest_path(&path),
+        "hamel shard manifest 1\nfile x\ngrid 0\nrows 2\nbytes 9\nxxh3 0\n",
+    )
+    .unwrap();
+    assert!(
+        matches!(shard_state(&path, &v1), ShardState::Incomplete(r) if r.contains("older hamel"))
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

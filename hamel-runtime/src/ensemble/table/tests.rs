@@ -25,8 +25,10 @@ fn tables_round_trip_through_csv_bit_for_bit() {
     .unwrap();
     t.push(5, Ok(vec![1.0])).unwrap();
     let text = csv_of(&t);
+    // A failed case's missing values are empty fields: null to pandas, polars and DuckDB,
+    // whose means skip them (before, `NaN`, which made them NaN).
     assert!(text.starts_with(
-        "case,a,b,error_kind,error\n3,0.30000000000000004,-1e-300,,\n4,NaN,NaN,invalid_setting,\""
+        "case_index,a,b,error_kind,error\n3,0.30000000000000004,-1e-300,,\n4,,,invalid_setting,\""
     ));
     let back = Table::parse_csv(&text, "t.csv").unwrap();
     assert_eq!(back, t);
@@ -108,8 +110,22 @@ fn failed_rows_keep_their_values_and_carry_a_kind() {
         ("no_reversal", "the spin never reversed")
     );
     assert_eq!(back.column("a").unwrap()[0], 0.2);
+    assert!(back.column("b").unwrap()[0].is_nan());
+    assert!(csv_of(&t).ends_with("\n0,0.2,,no_reversal,the spin never reversed\n"));
+    // A successful case's NaN is a value it computed, and stays one; a missing value in a
+    // row that did not fail is not a table this module wrote.
+    let mut computed = two_columns();
+    computed.push(1, Ok(vec![f64::NAN, 1.0])).unwrap();
+    assert!(csv_of(&computed).ends_with("\n1,NaN,1.0,,\n"));
+    let e = Table::parse_csv("case_index,a,b,error_kind,error\n0,,2,,\n", "t.csv").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "t.csv, line 2, column `a`: the value is missing, in a row that did not fail (no \
+         error_kind)"
+    );
     // An error without a kind is not a table this module wrote.
-    let e = Table::parse_csv("case,a,b,error_kind,error\n0,1,2,,oops\n", "t.csv").unwrap_err();
+    let e =
+        Table::parse_csv("case_index,a,b,error_kind,error\n0,1,2,,oops\n", "t.csv").unwrap_err();
     assert_eq!(
         e.to_string(),
         "t.csv, line 2, column `error_kind`: an error needs its kind"
@@ -118,11 +134,11 @@ fn failed_rows_keep_their_values_and_carry_a_kind() {
 
 #[test]
 fn duplicate_case_indices_are_refused() {
-    let text = "case,a,b,error_kind,error\n0,1,2,,\n1,1,2,,\n0,3,4,,\n";
+    let text = "case_index,a,b,error_kind,error\n0,1,2,,\n1,1,2,,\n0,3,4,,\n";
     let e = Table::parse_csv(text, "t.csv").unwrap_err();
     assert_eq!(
         e.to_string(),
-        "t.csv, line 4, column `case`: the case index `0` is given twice: each case of a study \
+        "t.csv, line 4, column `case_index`: the case index `0` is given twice: each case of a study \
          has one row"
     );
     let mut t = two_columns();
@@ -209,8 +225,70 @@ fn parameter_tables_round_trip_and_refuse_nan() {
 
 #[test]
 fn bad_column_names_are_refused() {
-    for bad in ["", "a,b", "case", "error", "error_kind", " a"] {
+    for bad in ["", "a,b", "case_index", "error", "error_kind", " a"] {
         assert!(Table::new(vec![bad.into()]).is_err(), "{bad:?}");
     }
     assert!(Table::new(vec!["a".into(), "a".into()]).is_err());
+}
+
+/// Before: `save_csv` wrote in place, and a file cut at a row boundary read back as a valid,
+/// shorter table. Now it is written whole with its manifest, and `read_csv` refuses a file
+/// that no longer matches it (and reads one without a manifest as it is).
+#[test]
+fn a_table_cut_short_after_it_was_written_is_refused() {
+    let dir = std::env::temp_dir().join(format!("hamel-table-cut-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("results.csv");
+    let mut t = two_columns();
+    for i in 0..5 {
+        t.push(i, Ok(vec![i as f64, 2.0 * i as f64])).unwrap();
+    }
+    t.save_csv(&path).unwrap();
+    assert_eq!(Table::read_csv(&path).unwrap(), t);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cut: String = text.lines().take(3).map(|l| format!("{l}\n")).collect();
+    std::fs::write(&path, &cut).unwrap();
+    let e = Table::read_csv(&path).unwrap_err();
+    assert!(matches!(e, Error::Read { .. }), "{e}");
+    assert!(e.to_string().contains("truncated"), "{e}");
+    // Without its manifest (copied alone, or written by another program) it reads as it is.
+    std::fs::remove_file(crate::whole_file::manifest_of(&path)).unwrap();
+    assert_eq!(Table::read_csv(&path).unwrap().len(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Before, a quote never closed made the rest of the file one value: a parameter table's
+/// error quoted two lines as a number, or took the last value without a word, and a study
+/// table counted the wrong fields. Now the error names the line the quote opened on.
+#[test]
+fn a_quote_never_closed_is_named_with_its_line() {
+    let unclosed = |e: Error| {
+        let text = e.to_string();
+        assert!(
+            text.contains("a quote opens a field here that is never closed"),
+            "{text}"
+        );
+        text
+    };
+    let e = ParameterTable::parse(
+        "trail,mass\n\"0.08,85\n0.1,90\n",
+        "grid.csv",
+        &["trail", "mass"],
+    )
+    .unwrap_err();
+    assert!(unclosed(e).starts_with("grid.csv, line 2: "));
+    let e = ParameterTable::parse(
+        "trail,mass\n0.1,90\n0.08,\"85\n",
+        "grid.csv",
+        &["trail", "mass"],
+    )
+    .unwrap_err();
+    assert!(unclosed(e).starts_with("grid.csv, line 3: "));
+    let e =
+        Table::parse_csv("case_index,a,error_kind,error\n0,1,\"x,\n1,2,,\n", "t.csv").unwrap_err();
+    assert!(unclosed(e).starts_with("t.csv, line 2: "));
+    // A closed quote with a line break inside, as multi-line messages are written, is fine.
+    let text = "case_index,a,error_kind,error\n0,,k,\"two\nlines\"\n";
+    assert_eq!(Table::parse_csv(text, "t.csv").unwrap().len(), 1);
 }

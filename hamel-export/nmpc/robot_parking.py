@@ -1,0 +1,209 @@
+"""Optimal control on hamel's exact derivatives: the paper's robot parked by its wheel torques.
+
+The robot (hamel's `mobile_robot`, a body balancing on its axle like an inverted pendulum)
+starts at rest, upright, at the origin heading along x, and must come to rest upright at
+(1 m, 1 m) heading along y, with each wheel torque bounded by TAU_MAX, in T seconds:
+minimum sum of squared torques, by multiple shooting (N intervals, RK4 steps within each) in
+CasADi's Opti with IPOPT and its exact Hessian (`hessian_approximation = exact`).
+
+The same problem is solved three times, on three implementations of the same right-hand side:
+
+- `hamel`: hamel's CasADi external functions (libmobile_robot.so from
+  `cargo run --release --example export -- casadi mobile_robot OUTDIR`), whose Jacobian and
+  second derivatives are exact dual-number passes through the generated code;
+- `sx`: the robot written in CasADi's SX from the paper's equations (tests/python/robot_sx.py),
+  evaluated by CasADi's virtual machine;
+- `sx-c`: the same SX model through CasADi's own C code generation (the function and the
+  derivative functions CasADi asks for, `jac_`, `fwd1_`, `adj1_`, `jac_adj1_`), compiled by
+  `cc -O3` and loaded as an external, as CasADi users deploy models.
+
+    python robot_parking.py OUTDIR [--repeat 5] [--figure robot_parking.svg] [--json timings.json]
+
+prints, for each, the solve's iterations, the wall time per solve and per IPOPT iteration
+(median of --repeat solves, interleaved), and the largest difference of the optimal states
+from hamel's; writes the figure of the path and torques.
+"""
+
+import argparse
+import json
+import pathlib
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import casadi as ca
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "tests" / "python"))
+import robot_sx  # noqa: E402
+
+N = 40  # shooting intervals
+T = 4.0  # s
+SUBSTEPS = 2  # RK4 steps per interval
+TAU_MAX = 0.4  # N m, each wheel
+TARGET = (1.0, 1.0, np.pi / 2)  # x, y (m), heading (rad)
+R, B = robot_sx.DEFAULTS[5], robot_sx.DEFAULTS[6]
+
+
+def step_function(f):
+    """One shooting interval of RK4 steps over the right-hand side `f(x, u, p)`."""
+    x, u, p = ca.MX.sym("x", 8), ca.MX.sym("u", 2), ca.MX.sym("p", 9)
+    h = T / N / SUBSTEPS
+    y = x
+    for _ in range(SUBSTEPS):
+        k1 = f(y, u, p)
+        k2 = f(y + h / 2 * k1, u, p)
+        k3 = f(y + h / 2 * k2, u, p)
+        k4 = f(y + h * k3, u, p)
+        y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return ca.Function("interval", [x, u, p], [y])
+
+
+def problem(f):
+    """The parking problem over the right-hand side `f`; returns the Opti and its variables."""
+    step = step_function(f)
+    opti = ca.Opti()
+    X = opti.variable(8, N + 1)
+    U = opti.variable(2, N)
+    p = ca.DM(robot_sx.DEFAULTS)
+    opti.subject_to(X[:, 0] == 0)
+    for k in range(N):
+        opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], p))
+    heading = R / B * (X[3, N] - X[4, N])
+    opti.subject_to(X[0, N] == TARGET[0])
+    opti.subject_to(X[1, N] == TARGET[1])
+    opti.subject_to(heading == TARGET[2])
+    opti.subject_to(X[2, N] == 0)  # upright
+    opti.subject_to(X[5:8, N] == 0)  # at rest
+    opti.subject_to(opti.bounded(-TAU_MAX, ca.vec(U), TAU_MAX))
+    opti.subject_to(opti.bounded(-0.6, X[2, :], 0.6))  # the body's pitch stays moderate
+    opti.minimize(T / N * ca.sumsqr(U))
+    # A start that moves along the straight line, so that IPOPT starts from the same point
+    # for every model.
+    s = np.linspace(0.0, 1.0, N + 1)
+    opti.set_initial(X[0, :], TARGET[0] * s)
+    opti.set_initial(X[1, :], TARGET[1] * s)
+    opti.solver(
+        "ipopt",
+        {"print_time": False},
+        {"hessian_approximation": "exact", "print_level": 0, "tol": 1e-10, "max_iter": 500},
+    )
+    return opti, X, U
+
+
+def solve(f):
+    """Solve once: (states, torques, iterations, seconds)."""
+    opti, X, U = problem(f)
+    start = time.perf_counter()
+    sol = opti.solve()
+    seconds = time.perf_counter() - start
+    iterations = sol.stats()["iter_count"]
+    return np.array(sol.value(X)), np.array(sol.value(U)), iterations, seconds
+
+
+def casadi_generated_c(directory):
+    """The SX model with the derivative functions CasADi loads, generated as C by CasADi and
+    compiled by cc -O3: an external function like hamel's, of CasADi's own making."""
+    f = robot_sx.function("robot_sx")
+    cg = ca.CodeGenerator("robot_sx.c", {"with_header": False})
+    for g in (f, f.jacobian(), f.forward(1), f.reverse(1), f.reverse(1).jacobian()):
+        cg.add(g)
+    source = pathlib.Path(directory) / "robot_sx.c"
+    cg.generate(str(directory) + "/")
+    library = pathlib.Path(directory) / "librobot_sx.so"
+    subprocess.run(["cc", "-O3", "-fPIC", "-shared", str(source), "-o", str(library), "-lm"],
+                   check=True)
+    return ca.external("robot_sx", str(library))
+
+
+def figure(path, states, torques):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = np.linspace(0.0, T, N + 1)
+    heading = R / B * (states[3] - states[4])
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.2))
+    a.plot(states[0], states[1], color="tab:blue", label="axle centre")
+    # The axle, drawn every fourth interval: the heading is perpendicular to it.
+    for k in range(0, N + 1, 4):
+        dx, dy = -np.sin(heading[k]) * B / 2, np.cos(heading[k]) * B / 2
+        a.plot([states[0][k] - dx, states[0][k] + dx], [states[1][k] - dy, states[1][k] + dy],
+               color="tab:gray", linewidth=1)
+    a.plot([0, TARGET[0]], [0, TARGET[1]], "o", color="black")
+    a.set_xlabel("x (m)")
+    a.set_ylabel("y (m)")
+    a.set_aspect("equal")
+    a.set_title("path of the axle (gray: the axle), (0, 0) to (1, 1)")
+    a.legend(loc="upper left")
+    b.step(t[:-1], torques[0], where="post", label="tau1 (right wheel)")
+    b.step(t[:-1], torques[1], where="post", label="tau2 (left wheel)")
+    b.plot(t, states[2], color="tab:green", label="pitch alpha (rad)")
+    b.axhline(TAU_MAX, color="gray", linestyle=":")
+    b.axhline(-TAU_MAX, color="gray", linestyle=":")
+    b.set_xlabel("t (s)")
+    b.set_ylabel("torque (N m), pitch (rad)")
+    b.set_title(f"wheel torques, bounded by {TAU_MAX} N m")
+    b.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("outdir", help="where libmobile_robot.so is")
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--figure")
+    parser.add_argument("--json")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        models = {
+            "hamel": ca.external("mobile_robot_f", str(pathlib.Path(args.outdir) / "libmobile_robot.so")),
+            "sx": robot_sx.function(),
+            "sx-c": casadi_generated_c(tmp),
+        }
+        runs = {name: [] for name in models}
+        results = {}
+        # Interleaved: one solve of each model per round.
+        for _ in range(args.repeat):
+            for name, f in models.items():
+                states, torques, iterations, seconds = solve(f)
+                runs[name].append(seconds)
+                results[name] = (states, torques, iterations)
+    reference = results["hamel"][0]
+    report = {}
+    print(f"robot parking: N = {N} intervals, {SUBSTEPS} RK4 steps each, T = {T} s, "
+          f"|tau| <= {TAU_MAX} N m, IPOPT with the exact Hessian; {args.repeat} solves each")
+    print(f"{'model':6} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
+          f"{'max |x - x_hamel|':>18}")
+    for name in models:
+        states, torques, iterations = results[name]
+        seconds = statistics.median(runs[name])
+        difference = float(np.max(np.abs(states - reference)))
+        report[name] = {
+            "iterations": iterations,
+            "solve_ms": 1e3 * seconds,
+            "per_iteration_ms": 1e3 * seconds / max(iterations, 1),
+            "solves_ms": [1e3 * s for s in runs[name]],
+            "max_state_difference": difference,
+        }
+        print(f"{name:6} {iterations:>10} {1e3 * seconds:>11.1f} "
+              f"{1e3 * seconds / max(iterations, 1):>19.2f} {difference:>18.1e}")
+    for other in ("sx", "sx-c"):
+        ratios = [a / b for a, b in zip(runs[other], runs["hamel"])]
+        print(f"solve time {other} / hamel: median {statistics.median(ratios):.2f} "
+              f"(range {min(ratios):.2f}-{max(ratios):.2f} over {len(ratios)} rounds)")
+    if args.figure:
+        figure(args.figure, reference, results["hamel"][1])
+    worst = max(report[name]["max_state_difference"] for name in models)
+    if worst > 1e-6:
+        sys.exit(f"the optima differ: largest state difference {worst:.1e} > 1e-6")
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(report, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,226 @@
+//! The C boundary: every exported function runs its body through [`guard`], which catches a
+//! panic (none may unwind into C), turns an error into a nonzero status and keeps its message
+//! for `<model>_last_error` (per thread: two threads calling at once see their own). The
+//! checks of what comes from C — null pointers, lengths, values that are not finite — are
+//! here too, each naming what it refused.
+//!
+//! Nothing on the success path allocates: the message is formatted only when there is an
+//! error.
+
+use core::ffi::{c_char, c_int};
+use std::cell::RefCell;
+use std::ffi::CString;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// The status codes every exported function that can fail returns (also in the header).
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    Ok = 0,
+    /// A pointer that must not be null was null.
+    NullPointer = 1,
+    /// An array's length is not the one the function takes, or an index is out of range.
+    BadDimension = 2,
+    /// An argument is NaN or infinite.
+    NonFinite = 3,
+    /// The model met a singularity (a singular transformation or mass matrix).
+    Singular = 4,
+    /// An internal error: a panic caught at the boundary (a bug; please report it).
+    Internal = 5,
+}
+
+/// An error with the status it returns and its message.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    pub status: Status,
+    pub message: String,
+}
+
+impl Failure {
+    pub fn new(status: Status, message: impl Into<String>) -> Failure {
+        Failure {
+            status,
+            message: message.into(),
+        }
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+/// Keep `message` as this thread's last error (interior NULs, which C cannot show, become
+/// spaces).
+pub fn set_last_error(message: &str) {
+    let clean: Vec<u8> = message
+        .bytes()
+        .map(|b| if b == 0 { b' ' } else { b })
+        .collect();
+    let text = CString::new(clean).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = text);
+}
+
+/// This thread's last error message: empty after a success; valid until the next call from
+/// this thread that fails.
+pub fn last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// Run `body`: its status as a C int, its message kept, a panic caught and reported as
+/// [`Status::Internal`]. A success clears the last error only if there was one (no
+/// allocation on the success path).
+pub fn guard(function: &str, body: impl FnOnce() -> Result<(), Failure>) -> c_int {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => {
+            LAST_ERROR.with(|e| {
+                if let Ok(mut e) = e.try_borrow_mut() {
+                    if !e.as_bytes().is_empty() {
+                        *e = CString::default();
+                    }
+                }
+            });
+            Status::Ok as c_int
+        }
+        Ok(Err(failure)) => {
+            set_last_error(&format!("{function}: {}", failure.message));
+            failure.status as c_int
+        }
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".to_string());
+            set_last_error(&format!("{function}: internal error (a bug): {what}"));
+            Status::Internal as c_int
+        }
+    }
+}
+
+/// Run `body` for a function that returns a value rather than a status (a count, a
+/// pointer): `fallback` if it panics, with the message kept.
+pub fn guard_value<T>(function: &str, fallback: T, body: impl FnOnce() -> T) -> T {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(value) => value,
+        Err(_) => {
+            set_last_error(&format!("{function}: internal error (a bug)"));
+            fallback
+        }
+    }
+}
+
+/// The `len` values at `ptr`, refused if `ptr` is null (unless `len` is 0).
+///
+/// # Safety
+/// A non-null `ptr` must point to `len` readable values that stay valid and unaliased by
+/// writes for the returned lifetime.
+pub unsafe fn slice<'a>(ptr: *const f64, len: usize, name: &str) -> Result<&'a [f64], Failure> {
+    if len == 0 {
+        return Ok(&[]);
+    }
+    if ptr.is_null() {
+        return Err(Failure::new(
+            Status::NullPointer,
+            format!("`{name}` is a null pointer"),
+        ));
+    }
+    // SAFETY: non-null and, by the caller's contract, `len` readable values.
+    Ok(unsafe { core::slice::from_raw_parts(ptr, len) })
+}
+
+/// The `len` values at `ptr` to write, refused if `ptr` is null (unless `len` is 0).
+///
+/// # Safety
+/// A non-null `ptr` must point to `len` writable values not otherwise accessed for the
+/// returned lifetime.
+pub unsafe fn slice_mut<'a>(
+    ptr: *mut f64,
+    len: usize,
+    name: &str,
+) -> Result<&'a mut [f64], Failure> {
+    if len == 0 {
+        return Ok(&mut []);
+    }
+    if ptr.is_null() {
+        return Err(Failure::new(
+            Status::NullPointer,
+            format!("`{name}` is a null pointer"),
+        ));
+    }
+    // SAFETY: non-null and, by the caller's contract, `len` writable values.
+    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+}
+
+/// A length given by the caller must be the one the function takes.
+pub fn check_len(name: &str, given: usize, expected: usize) -> Result<(), Failure> {
+    if given == expected {
+        Ok(())
+    } else {
+        Err(Failure::new(
+            Status::BadDimension,
+            format!("`{name}` has {given} entries; the model's has {expected}"),
+        ))
+    }
+}
+
+/// Every value must be finite; the first that is not is named (`x[2] (alpha) = NaN`).
+pub fn check_finite(name: &str, values: &[f64], labels: &[&str]) -> Result<(), Failure> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => {
+            let label = labels.get(i).map(|l| format!(" ({l})")).unwrap_or_default();
+            Err(Failure::new(
+                Status::NonFinite,
+                format!("{name}[{i}]{label} = {} is not a finite number", values[i]),
+            ))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    fn last() -> String {
+        // SAFETY: `last_error` points at this thread's NUL-terminated message.
+        unsafe { CStr::from_ptr(last_error()) }
+            .to_string_lossy()
+            .into_owned()
+    }
+
+    #[test]
+    fn a_panic_becomes_a_status_and_a_message() {
+        let status = guard("f", || panic!("boom"));
+        assert_eq!(status, Status::Internal as c_int);
+        assert!(last().contains("boom"), "{}", last());
+        assert_eq!(guard("f", || Ok(())), 0);
+        assert_eq!(last(), "");
+    }
+
+    #[test]
+    fn errors_name_what_they_refuse() {
+        let status = guard("f", || {
+            check_finite("x", &[1.0, f64::NAN], &["a", "b"])?;
+            Ok(())
+        });
+        assert_eq!(status, Status::NonFinite as c_int);
+        assert_eq!(last(), "f: x[1] (b) = NaN is not a finite number");
+        // SAFETY: a null pointer is refused before it is read.
+        let null = unsafe { slice(core::ptr::null(), 3, "u") };
+        assert_eq!(null.unwrap_err().status, Status::NullPointer);
+        assert_eq!(
+            check_len("p", 8, 9).unwrap_err().status,
+            Status::BadDimension
+        );
+    }
+
+    #[test]
+    fn messages_are_per_thread() {
+        let _ = guard("here", || Err(Failure::new(Status::Singular, "one")));
+        std::thread::spawn(|| assert_eq!(last(), ""))
+            .join()
+            .unwrap();
+        assert_eq!(last(), "here: one");
+    }
+}

@@ -1,0 +1,200 @@
+//! CasADi's external-function convention: for a primal function `f` (a model's right-hand
+//! side `<model>_f`, or its outputs `<model>_h`), the functions CasADi loads by name beside
+//! it — `jac_f`, `fwd1_f`, `adj1_f` and `jac_adj1_f` (what an exact Hessian of the Lagrangian
+//! is built from) — each with the symbols `f`, `f_n_in`, `f_n_out`, `f_sparsity_in`,
+//! `f_sparsity_out`, `f_name_in`, `f_name_out`, `f_work`, `f_default_in`, `f_incref`,
+//! `f_decref`, `f_checkout`, `f_release`, `f_alloc_mem`, `f_init_mem`, `f_free_mem`, with
+//! the inputs, outputs and names CasADi's own code generation gives the same derivatives
+//! (`jac_f: (x, u, p, out_xdot) -> (jac_xdot_x, jac_xdot_u, jac_xdot_p)`, …), so that
+//! `casadi.external` finds them and CasADi's checks of their shapes pass.
+//!
+//! [`Family`] describes the five; [`eval`] evaluates one. The symbols themselves are written
+//! by [`crate::casadi!`].
+
+mod eval;
+pub mod sparsity;
+pub mod symbols;
+
+pub use eval::eval;
+use sparsity::Pattern;
+
+use crate::model::Model;
+use crate::primal::{Primal, Which};
+use std::ffi::CString;
+
+/// The five functions of a family.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `f`: the values.
+    Value,
+    /// `jac_f`: every block ∂out/∂input, sparse.
+    Jacobian,
+    /// `fwd1_f`: one forward directional derivative.
+    Forward,
+    /// `adj1_f`: one adjoint (reverse) directional derivative.
+    Adjoint,
+    /// `jac_adj1_f`: the Jacobian of `adj1_f`: the second derivatives λ·∂²out, and ∂outᵀ.
+    AdjointJacobian,
+}
+
+impl Kind {
+    pub const ALL: [Kind; 5] = [
+        Kind::Value,
+        Kind::Jacobian,
+        Kind::Forward,
+        Kind::Adjoint,
+        Kind::AdjointJacobian,
+    ];
+
+    /// The prefix of the function's name: `jac_f` is `jac_` and `f`.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Kind::Value => "",
+            Kind::Jacobian => "jac_",
+            Kind::Forward => "fwd1_",
+            Kind::Adjoint => "adj1_",
+            Kind::AdjointJacobian => "jac_adj1_",
+        }
+    }
+}
+
+/// A named input or output with its sparsity.
+#[derive(Clone, Debug)]
+pub struct Port {
+    pub name: CString,
+    pub pattern: Pattern,
+}
+
+impl Port {
+    fn new(name: &str, pattern: Pattern) -> Port {
+        Port {
+            name: CString::new(name).unwrap_or_default(),
+            pattern,
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        self.name.to_str().unwrap_or("")
+    }
+}
+
+/// What an output holds, for the evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Content {
+    /// The primal output's values.
+    Value,
+    /// ∂out/∂(input block `i`).
+    Jacobian(usize),
+    /// The forward derivative.
+    Forward,
+    /// (∂out/∂(input block `i`))ᵀ λ.
+    Adjoint(usize),
+    /// Σ_r λ_r ∂²out_r/∂(block i)∂(block j).
+    Second(usize, usize),
+    /// (∂out/∂(input block `i`))ᵀ: the derivative of the adjoint by λ.
+    Transposed(usize),
+    /// Structurally zero (a derivative by a nominal output).
+    Zero,
+}
+
+/// One function: its ports and what each output holds.
+#[derive(Clone, Debug)]
+pub struct Function {
+    pub kind: Kind,
+    pub inputs: Vec<Port>,
+    pub outputs: Vec<(Port, Content)>,
+}
+
+/// The five functions of one primal function, described once (on first use) and shared
+/// by every call, from any thread.
+#[derive(Clone, Debug)]
+pub struct Family {
+    pub primal: Primal,
+    pub functions: [Function; 5],
+}
+
+impl Family {
+    pub fn new<M: Model>(which: Which) -> Family {
+        let primal = Primal::new::<M>(which);
+        let functions = Kind::ALL.map(|kind| function(&primal, kind));
+        Family { primal, functions }
+    }
+
+    pub fn function(&self, kind: Kind) -> &Function {
+        &self.functions[kind as usize]
+    }
+}
+
+/// The ports of `kind` for `primal`, named as CasADi names them.
+fn function(primal: &Primal, kind: Kind) -> Function {
+    let (out, no) = primal.output;
+    let column = |name: &str, n: usize| Port::new(name, Pattern::dense(n, 1));
+    let nominal = |name: &str, n: usize| Port::new(&format!("out_{name}"), Pattern::empty(n, 1));
+    let mut inputs: Vec<Port> = primal
+        .inputs
+        .iter()
+        .map(|b| column(b.name, b.len))
+        .collect();
+    let mut outputs = Vec::new();
+    let blocks = &primal.inputs;
+    let jacobian = |i: usize| {
+        let b = &blocks[i];
+        Pattern::new(no, b.len, |r, c| primal.depends_on(r, b.offset + c))
+    };
+    match kind {
+        Kind::Value => outputs.push((column(out, no), Content::Value)),
+        Kind::Jacobian => {
+            inputs.push(nominal(out, no));
+            for (i, b) in blocks.iter().enumerate() {
+                let name = format!("jac_{out}_{}", b.name);
+                outputs.push((Port::new(&name, jacobian(i)), Content::Jacobian(i)));
+            }
+        }
+        Kind::Forward => {
+            inputs.push(nominal(out, no));
+            inputs.extend(
+                blocks
+                    .iter()
+                    .map(|b| column(&format!("fwd_{}", b.name), b.len)),
+            );
+            outputs.push((column(&format!("fwd_{out}"), no), Content::Forward));
+        }
+        Kind::Adjoint => {
+            inputs.push(nominal(out, no));
+            inputs.push(column(&format!("adj_{out}"), no));
+            for (i, b) in blocks.iter().enumerate() {
+                let port = column(&format!("adj_{}", b.name), b.len);
+                outputs.push((port, Content::Adjoint(i)));
+            }
+        }
+        Kind::AdjointJacobian => {
+            inputs.push(nominal(out, no));
+            inputs.push(column(&format!("adj_{out}"), no));
+            inputs.extend(
+                blocks
+                    .iter()
+                    .map(|b| nominal(&format!("adj_{}", b.name), b.len)),
+            );
+            for (i, bi) in blocks.iter().enumerate() {
+                let name = |with: &str| format!("jac_adj_{}_{with}", bi.name);
+                for (j, bj) in blocks.iter().enumerate() {
+                    let pattern = Pattern::new(bi.len, bj.len, |a, b| {
+                        primal.pair(bi.offset + a, bj.offset + b)
+                    });
+                    outputs.push((Port::new(&name(bj.name), pattern), Content::Second(i, j)));
+                }
+                let zero = Port::new(&name(&format!("out_{out}")), Pattern::empty(bi.len, no));
+                outputs.push((zero, Content::Zero));
+                let transposed =
+                    Pattern::new(bi.len, no, |a, r| primal.depends_on(r, bi.offset + a));
+                let port = Port::new(&name(&format!("adj_{out}")), transposed);
+                outputs.push((port, Content::Transposed(i)));
+            }
+        }
+    }
+    Function {
+        kind,
+        inputs,
+        outputs,
+    }
+}

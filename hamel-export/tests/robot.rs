@@ -1,0 +1,381 @@
+//! The paper's robot through the exported C functions, called as C calls them: values equal
+//! to the model's own right-hand side bit for bit, derivatives equal to the runtime's
+//! Jacobian and to central differences, and every bad argument refused with a status and a
+//! message, never a panic.
+
+// Matrices are compared entry by entry, by their indices.
+#![allow(clippy::needless_range_loop)]
+
+use core::ffi::{CStr, c_int};
+use hamel_export::casadi::sparsity::CasadiInt;
+use hamel_models::MobileRobot;
+use hamel_runtime::{HamelSystem, Parameters};
+
+hamel_export::model!(Robot => MobileRobot);
+hamel_export::c_api!(Robot, "robot");
+hamel_export::casadi!(Robot, "robot");
+
+unsafe extern "C" {
+    fn robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn jac_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn adj1_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn fwd1_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn jac_adj1_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn jac_robot_f_sparsity_out(i: CasadiInt) -> *const CasadiInt;
+    fn jac_adj1_robot_f_sparsity_out(i: CasadiInt) -> *const CasadiInt;
+    fn jac_adj1_robot_f_n_out() -> CasadiInt;
+    fn robot_f_name_in(i: CasadiInt) -> *const core::ffi::c_char;
+    fn robot_last_error() -> *const core::ffi::c_char;
+    fn robot_rhs(
+        t: f64,
+        x: *const f64,
+        nx: usize,
+        u: *const f64,
+        nu: usize,
+        p: *const f64,
+        np: usize,
+        xd: *mut f64,
+        nxd: usize,
+    ) -> c_int;
+}
+
+type Eval = unsafe extern "C" fn(
+    *const *const f64,
+    *const *mut f64,
+    *mut CasadiInt,
+    *mut f64,
+    c_int,
+) -> c_int;
+
+const X: [f64; 8] = [0.3, -0.2, 0.25, 1.1, -0.7, 0.4, 0.8, -0.3];
+const U: [f64; 2] = [0.6, -0.2];
+
+fn parameters() -> Vec<f64> {
+    let robot = MobileRobot::default();
+    MobileRobot::NAMES
+        .iter()
+        .map(|n| robot.get(n).unwrap())
+        .collect()
+}
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(robot_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Dense blocks from CasADi's compressed column storage.
+fn dense(pattern: *const CasadiInt, values: &[f64]) -> Vec<Vec<f64>> {
+    let head = unsafe { core::slice::from_raw_parts(pattern, 2) };
+    let (nrow, ncol) = (head[0] as usize, head[1] as usize);
+    let colind = unsafe { core::slice::from_raw_parts(pattern.add(2), ncol + 1) };
+    let nnz = colind[ncol] as usize;
+    let rows = unsafe { core::slice::from_raw_parts(pattern.add(3 + ncol), nnz) };
+    let mut m = vec![vec![0.0; ncol]; nrow];
+    for c in 0..ncol {
+        for k in colind[c] as usize..colind[c + 1] as usize {
+            m[rows[k] as usize][c] = values[k];
+        }
+    }
+    m
+}
+
+fn call(f: Eval, args: &[*const f64], outs: &mut [Vec<f64>]) -> c_int {
+    let mut res: Vec<*mut f64> = outs.iter_mut().map(|o| o.as_mut_ptr()).collect();
+    unsafe {
+        f(
+            args.as_ptr(),
+            res.as_mut_ptr(),
+            core::ptr::null_mut(),
+            core::ptr::null_mut(),
+            0,
+        )
+    }
+}
+
+fn rhs(p: &[f64], x: &[f64; 8], u: &[f64; 2]) -> [f64; 8] {
+    let mut robot = MobileRobot::default();
+    for (n, v) in MobileRobot::NAMES.iter().zip(p) {
+        robot.set(n, *v).unwrap();
+    }
+    let mut dx = [0.0; 8];
+    robot.rhs(0.0, x, u, &mut dx).unwrap();
+    dx
+}
+
+#[test]
+fn values_are_the_models_right_hand_side_bit_for_bit() {
+    let p = parameters();
+    let mut out = vec![vec![0.0; 8]];
+    assert_eq!(
+        call(robot_f, &[X.as_ptr(), U.as_ptr(), p.as_ptr()], &mut out),
+        0
+    );
+    let expected = rhs(&p, &X, &U);
+    for (a, b) in out[0].iter().zip(&expected) {
+        assert_eq!(a.to_bits(), b.to_bits(), "{:?} vs {expected:?}", out[0]);
+    }
+    let mut plain = [0.0; 8];
+    let status = unsafe {
+        robot_rhs(
+            0.0,
+            X.as_ptr(),
+            8,
+            U.as_ptr(),
+            2,
+            p.as_ptr(),
+            9,
+            plain.as_mut_ptr(),
+            8,
+        )
+    };
+    assert_eq!(status, 0);
+    assert_eq!(plain.map(f64::to_bits), expected.map(f64::to_bits));
+}
+
+#[test]
+fn jacobian_blocks_are_the_runtimes_and_central_differences() {
+    let p = parameters();
+    let mut out = vec![vec![0.0; 64], vec![0.0; 16], vec![0.0; 72]];
+    assert_eq!(
+        call(
+            jac_robot_f,
+            &[X.as_ptr(), U.as_ptr(), p.as_ptr(), core::ptr::null()],
+            &mut out
+        ),
+        0
+    );
+    let fx = dense(unsafe { jac_robot_f_sparsity_out(0) }, &out[0]);
+    let fu = dense(unsafe { jac_robot_f_sparsity_out(1) }, &out[1]);
+    let fp = dense(unsafe { jac_robot_f_sparsity_out(2) }, &out[2]);
+    let (a, b) = MobileRobot::default().jacobian(0.0, &X, &U).unwrap();
+    for r in 0..8 {
+        for c in 0..8 {
+            assert!(
+                (fx[r][c] - a[r * 8 + c]).abs() <= 1e-14 * (1.0 + a[r * 8 + c].abs()),
+                "x {r} {c}"
+            );
+        }
+        for c in 0..2 {
+            assert!(
+                (fu[r][c] - b[r * 2 + c]).abs() <= 1e-14 * (1.0 + b[r * 2 + c].abs()),
+                "u {r} {c}"
+            );
+        }
+    }
+    // ∂F/∂p against central differences (h = 1e-6 of the parameter: truncation ~1e-12,
+    // rounding ~1e-10 of the values).
+    for (c, value) in p.iter().enumerate() {
+        let h = 1e-6 * value.abs().max(1.0);
+        let (mut up, mut down) = (p.clone(), p.clone());
+        up[c] += h;
+        down[c] -= h;
+        let (fu, fd) = (rhs(&up, &X, &U), rhs(&down, &X, &U));
+        for r in 0..8 {
+            let difference = (fu[r] - fd[r]) / (2.0 * h);
+            assert!(
+                (fp[r][c] - difference).abs() <= 1e-6 * (1.0 + difference.abs()),
+                "p {r} {c}: {} vs {difference}",
+                fp[r][c]
+            );
+        }
+    }
+}
+
+#[test]
+fn forward_and_adjoint_derivatives_agree_with_the_jacobian() {
+    let p = parameters();
+    let mut jac = vec![vec![0.0; 64], vec![0.0; 16], vec![0.0; 72]];
+    call(
+        jac_robot_f,
+        &[X.as_ptr(), U.as_ptr(), p.as_ptr(), core::ptr::null()],
+        &mut jac,
+    );
+    let fx = dense(unsafe { jac_robot_f_sparsity_out(0) }, &jac[0]);
+    let seed = [0.1, 0.2, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8];
+    let mut fwd = vec![vec![0.0; 8]];
+    let null = core::ptr::null();
+    assert_eq!(
+        call(
+            fwd1_robot_f,
+            &[
+                X.as_ptr(),
+                U.as_ptr(),
+                p.as_ptr(),
+                null,
+                seed.as_ptr(),
+                null,
+                null
+            ],
+            &mut fwd
+        ),
+        0
+    );
+    let mut adj = vec![vec![0.0; 8], vec![0.0; 2], vec![0.0; 9]];
+    assert_eq!(
+        call(
+            adj1_robot_f,
+            &[X.as_ptr(), U.as_ptr(), p.as_ptr(), null, seed.as_ptr()],
+            &mut adj
+        ),
+        0
+    );
+    for r in 0..8 {
+        let expected: f64 = (0..8).map(|c| fx[r][c] * seed[c]).sum();
+        assert!((fwd[0][r] - expected).abs() < 1e-13, "fwd {r}");
+        let expected: f64 = (0..8).map(|k| fx[k][r] * seed[k]).sum();
+        assert!((adj[0][r] - expected).abs() < 1e-13, "adj {r}");
+    }
+}
+
+#[test]
+fn second_derivatives_are_the_adjoints_central_differences() {
+    let p = parameters();
+    let weights = [0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9];
+    let null = core::ptr::null();
+    let n_out = unsafe { jac_adj1_robot_f_n_out() } as usize;
+    assert_eq!(n_out, 15);
+    let mut out: Vec<Vec<f64>> = (0..n_out).map(|_| vec![0.0; 400]).collect();
+    let args = [
+        X.as_ptr(),
+        U.as_ptr(),
+        p.as_ptr(),
+        null,
+        weights.as_ptr(),
+        null,
+        null,
+        null,
+    ];
+    assert_eq!(call(jac_adj1_robot_f, &args, &mut out), 0);
+    let hxx = dense(unsafe { jac_adj1_robot_f_sparsity_out(0) }, &out[0]);
+    let hxu = dense(unsafe { jac_adj1_robot_f_sparsity_out(1) }, &out[1]);
+    let adjoint = |x: &[f64; 8], u: &[f64; 2]| {
+        let mut adj = vec![vec![0.0; 8], vec![0.0; 2], vec![0.0; 9]];
+        call(
+            adj1_robot_f,
+            &[x.as_ptr(), u.as_ptr(), p.as_ptr(), null, weights.as_ptr()],
+            &mut adj,
+        );
+        adj
+    };
+    for c in 0..10 {
+        let h = 1e-6;
+        let (mut xu, mut xd, mut uu, mut ud) = (X, X, U, U);
+        if c < 8 {
+            xu[c] += h;
+            xd[c] -= h;
+        } else {
+            uu[c - 8] += h;
+            ud[c - 8] -= h;
+        }
+        let (up, down) = (adjoint(&xu, &uu), adjoint(&xd, &ud));
+        for r in 0..8 {
+            let difference = (up[0][r] - down[0][r]) / (2.0 * h);
+            let exact = if c < 8 { hxx[r][c] } else { hxu[r][c - 8] };
+            assert!(
+                (exact - difference).abs() <= 1e-6 * (1.0 + difference.abs()),
+                "H {r} {c}: {exact} vs {difference}"
+            );
+        }
+    }
+    // Symmetric, and symmetric blocks agree.
+    for r in 0..8 {
+        for c in 0..8 {
+            assert_eq!(hxx[r][c], hxx[c][r]);
+        }
+    }
+}
+
+#[test]
+fn bad_arguments_are_refused_with_a_status_and_a_message() {
+    let p = parameters();
+    let mut out = vec![vec![0.0; 8]];
+    let mut x = X;
+    x[2] = f64::NAN;
+    assert_eq!(
+        call(robot_f, &[x.as_ptr(), U.as_ptr(), p.as_ptr()], &mut out),
+        3
+    );
+    assert_eq!(
+        last_error(),
+        "robot_f: x[2] (alpha) = NaN is not a finite number"
+    );
+    let status = unsafe {
+        robot_f(
+            core::ptr::null(),
+            core::ptr::null(),
+            core::ptr::null_mut(),
+            core::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!(status, 1);
+    assert!(last_error().contains("null pointer"), "{}", last_error());
+    let mut xdot = [0.0; 8];
+    let status = unsafe {
+        robot_rhs(
+            0.0,
+            X.as_ptr(),
+            7,
+            U.as_ptr(),
+            2,
+            p.as_ptr(),
+            9,
+            xdot.as_mut_ptr(),
+            8,
+        )
+    };
+    assert_eq!(status, 2);
+    assert_eq!(
+        last_error(),
+        "robot_rhs: `x` has 7 entries; the model's has 8"
+    );
+    let status = unsafe {
+        robot_rhs(
+            0.0,
+            X.as_ptr(),
+            8,
+            core::ptr::null(),
+            2,
+            p.as_ptr(),
+            9,
+            xdot.as_mut_ptr(),
+            8,
+        )
+    };
+    assert_eq!(status, 1);
+    assert!(unsafe { robot_f_name_in(7) }.is_null());
+    assert!(last_error().contains("out of range"), "{}", last_error());
+    let name = unsafe { CStr::from_ptr(robot_f_name_in(2)) };
+    assert_eq!(name.to_str().unwrap(), "p");
+}
