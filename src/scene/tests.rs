@@ -682,3 +682,30 @@ fn a_tilted_plane_is_drawn_in_its_own_plane_and_a_body_placed_as_on_flat_ground_
         None
     );
 }
+
+/// A writer killed before it renamed its file leaves it (`<name>.partial-<pid>-<n>`); the
+/// next write of the same name removes it, but not a running writer's. Before, the page
+/// was written through `.<name>.<pid>.<n>.partial` and nothing removed what a killed writer
+/// left.
+#[test]
+fn a_killed_writers_leftover_goes_with_the_next_write() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.1);
+    let dir = scratch("leftover");
+    let path = dir.join("scene.html");
+    // A process id above Linux's largest (2²²) runs nowhere; this process runs.
+    let dead = dir.join("scene.html.partial-4194305-0");
+    let running = dir.join(format!("scene.html.partial-{}-999", std::process::id()));
+    std::fs::write(&dead, "<!doctype html><html><body>cut sh").unwrap();
+    std::fs::write(&running, "<!doctype html>").unwrap();
+    Scene::new(&penny, &run).unwrap().write_html(&path).unwrap();
+    assert!(!dead.exists(), "the killed writer's file is still there");
+    assert!(running.exists(), "a running writer's file was removed");
+    let picture = Picture::new(&penny, 0.0, &[0.0; 5]).unwrap();
+    let svg = dir.join("penny.svg");
+    let dead = dir.join("penny.svg.partial-4194305-3");
+    std::fs::write(&dead, "<svg").unwrap();
+    picture.save(&svg).unwrap();
+    assert!(!dead.exists(), "the killed writer's picture is still there");
+    let _ = std::fs::remove_dir_all(&dir);
+}
