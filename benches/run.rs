@@ -18,7 +18,8 @@
 //!
 //! `profile <variant> <runs>` runs one variant alone, for a profiler
 //! (`valgrind --tool=callgrind target/release/deps/run-* profile simulation 200`); the
-//! variants are `ode_solvers`, `dormand-prince`, `simulation`, `simulation-bare` (no
+//! variants are `ode_solvers`, `dormand-prince`, `simulation`, `simulation-progress` (with a
+//! progress callback that never cancels), `simulation-bare` (no
 //! singular-crossing watch).
 //!
 //! Figures of record (201 rounds on the shared 2-core machine at a quiet moment, load
@@ -168,11 +169,18 @@ fn run_dormand_prince(robot: &MobileRobot, x0: &[f64; 8]) -> Outcome {
     )
 }
 
-fn run_simulation(robot: &MobileRobot, x0: &[f64; 8], watch: bool) -> Outcome {
-    let run = Simulation::new(robot, *x0)
+fn run_simulation(robot: &MobileRobot, x0: &[f64; 8], watch: bool, progress: bool) -> Outcome {
+    let mut simulation = Simulation::new(robot, *x0)
         .end_time(T_END)
         .sample_interval(DT_OUT)
-        .watch_singular_crossings(watch)
+        .watch_singular_crossings(watch);
+    if progress {
+        simulation = simulation.on_progress(|p| {
+            black_box(p);
+            std::ops::ControlFlow::Continue(())
+        });
+    }
+    let run = simulation
         .run_constant(&DormandPrince::new(RTOL, ATOL), [0.0, 0.0])
         .expect("the robot runs");
     let s = run.summary();
@@ -182,19 +190,21 @@ fn run_simulation(robot: &MobileRobot, x0: &[f64; 8], watch: bool) -> Outcome {
     ((s.steps, s.rejected, s.evaluations), x)
 }
 
-const VARIANTS: [&str; 4] = [
+const VARIANTS: [&str; 5] = [
     "ode_solvers",
     "dormand-prince",
     "simulation",
     "simulation-bare",
+    "simulation-progress",
 ];
 
 fn run_variant(v: usize, robot: &MobileRobot, x0: &[f64; 8]) -> Outcome {
     match v {
         0 => run_ode_solvers(robot, x0),
         1 => run_dormand_prince(robot, x0),
-        2 => run_simulation(robot, x0, true),
-        _ => run_simulation(robot, x0, false),
+        2 => run_simulation(robot, x0, true, false),
+        3 => run_simulation(robot, x0, false, false),
+        _ => run_simulation(robot, x0, true, true),
     }
 }
 
@@ -273,6 +283,7 @@ fn main() {
         "DormandPrince alone",
         "Simulation, default monitors",
         "Simulation, no singular-crossing watch",
+        "Simulation, with a progress callback",
     ];
     for (v, name) in names.iter().enumerate() {
         let r = ratio(&rounds, v, 0);

@@ -35,18 +35,50 @@ use std::time::Instant;
 
 use disk_closed_forms::{StiffDisk, StiffMotion};
 use hamel::models::MobileRobot;
-use hamel::{DormandPrince, Error, HamelSystem, Integrator, Ode, Radau5, Stats, Vector};
+use hamel::{
+    DormandPrince, Error, HamelSystem, Integrator, Ode, Radau5, Rodas5P, SampleObserver,
+    SampleTimes, Stats, Vector,
+};
 use stiff_problems::{
-    Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, radau5,
+    Differenced, Hires, Oregonator, Pollution, Robertson, StiffProblem, VanDerPol, mixed_error, run,
 };
 
-use compare::{HAMEL, Row};
+use compare::Row;
 
-const TOLERANCES: [f64; 7] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
+const TOLERANCES: [f64; 8] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
 
 /// One run of a problem at rtol: the statistics and the achieved error.
 type Run = Box<dyn FnMut(f64) -> (Stats, f64)>;
-type NewRun = fn() -> Run;
+/// A problem's run with a solver of hamel's (`None` where the solver does not apply).
+type NewRun = fn(Solver) -> Option<Run>;
+
+/// hamel's solvers: Radau5 and Rodas5P on the exact Jacobian (and ∂f/∂t), and on the test
+/// set also as a user's `Ode` without them (differenced).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Solver {
+    Radau5,
+    Rodas5P,
+    Radau5Differenced,
+    Rodas5PDifferenced,
+}
+
+const SOLVERS: [Solver; 4] = [
+    Solver::Radau5,
+    Solver::Rodas5P,
+    Solver::Radau5Differenced,
+    Solver::Rodas5PDifferenced,
+];
+
+impl Solver {
+    fn label(self) -> &'static str {
+        match self {
+            Solver::Radau5 => compare::RADAU5,
+            Solver::Rodas5P => compare::RODAS5P,
+            Solver::Radau5Differenced => compare::RADAU5_DIFFERENCED,
+            Solver::Rodas5PDifferenced => compare::RODAS5P_DIFFERENCED,
+        }
+    }
+}
 
 /// The problems by name, each with the constructor of its run.
 const PROBLEMS: [(&str, NewRun); 7] = [
@@ -79,15 +111,19 @@ fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
     }
 }
 
-/// One round on `problem`: a batch at every tolerance, after an untimed warm-up run (the
-/// first run in a process pays for cold caches).
+/// One round on `problem`: every solver of hamel's in turn, a batch at every tolerance, after
+/// an untimed warm-up run (the first run in a process pays for cold caches).
 fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
-    rows(problem, round, true)
+    let mut all = Vec::new();
+    for solver in SOLVERS {
+        all.extend(rows(problem, solver, round, true)?);
+    }
+    Ok(all)
 }
 
-/// The rows of `problem` at every tolerance: timed (a warm-up run, then a batch at each) or
-/// not (one run at each, the wall time NaN).
-fn rows(problem: &str, round: usize, timed: bool) -> Result<Vec<Row>, String> {
+/// The rows of `problem` with `solver` at every tolerance: timed (a warm-up run, then a batch
+/// at each) or not (one run at each, the wall time NaN); none where the solver does not apply.
+fn rows(problem: &str, solver: Solver, round: usize, timed: bool) -> Result<Vec<Row>, String> {
     let (_, new) = PROBLEMS
         .iter()
         .find(|(name, _)| *name == problem)
@@ -95,9 +131,11 @@ fn rows(problem: &str, round: usize, timed: bool) -> Result<Vec<Row>, String> {
             let names: Vec<&str> = PROBLEMS.iter().map(|(name, _)| *name).collect();
             format!("no problem {problem:?}: one of {names:?}")
         })?;
-    let mut run = new();
+    let Some(mut run) = new(solver) else {
+        return Ok(Vec::new());
+    };
     if timed {
-        run(TOLERANCES[0]);
+        run(TOLERANCES[1]);
     }
     Ok(TOLERANCES
         .iter()
@@ -110,7 +148,7 @@ fn rows(problem: &str, round: usize, timed: bool) -> Result<Vec<Row>, String> {
             Row {
                 round,
                 problem: problem.into(),
-                solver: HAMEL.into(),
+                solver: solver.label().into(),
                 rtol,
                 error,
                 steps: stats.steps as f64,
@@ -124,12 +162,36 @@ fn rows(problem: &str, round: usize, timed: bool) -> Result<Vec<Row>, String> {
         .collect())
 }
 
-/// Radau5 on one problem of the test set.
-fn test_set<P: StiffProblem>() -> Run {
-    Box::new(|rtol| {
-        let (end, stats) = radau5::<P>(rtol).expect("the run");
+/// `solver` on one problem of the test set.
+fn test_set<P: StiffProblem + 'static>(solver: Solver) -> Option<Run> {
+    Some(Box::new(move |rtol| {
+        let atol = rtol * P::ATOL_RATIO;
+        let (radau, rodas) = (Radau5::new(rtol, atol), Rodas5P::new(rtol, atol));
+        let (end, stats) = match solver {
+            Solver::Radau5 => run::<P, _, _>(&radau, &mut P::default()),
+            Solver::Rodas5P => run::<P, _, _>(&rodas, &mut P::default()),
+            Solver::Radau5Differenced => run::<P, _, _>(&radau, &mut Differenced(P::default())),
+            Solver::Rodas5PDifferenced => run::<P, _, _>(&rodas, &mut Differenced(P::default())),
+        }
+        .expect("the run");
         (stats, mixed_error::<P>(&end))
-    })
+    }))
+}
+
+/// A model's run with Radau5 or Rodas5P at rtol = atol = `rtol` (the models have their exact
+/// Jacobian: the differenced solvers are the test set's).
+fn integrate_model<O: Ode, T: SampleTimes + ?Sized>(
+    solver: Solver,
+    rtol: f64,
+    ode: &mut O,
+    x0: &O::State,
+    samples: &T,
+    observe: &mut SampleObserver<'_, O::State>,
+) -> Result<Stats, Error> {
+    match solver {
+        Solver::Rodas5P => Rodas5P::new(rtol, rtol).integrate(ode, 0.0, x0, samples, observe),
+        _ => Radau5::new(rtol, rtol).integrate(ode, 0.0, x0, samples, observe),
+    }
 }
 
 /// A model with constant inputs as an `Ode` with its exact Jacobian (the statistics of a
@@ -180,29 +242,31 @@ impl<S: HamelSystem, F: Fn(&S, f64, &S::State) -> S::Inputs> Ode for Model<'_, S
 
 /// The stiff disk (k = 10⁶, c = 10⁶ + 1: modes e^(−t), e^(−10⁶t)) to t = 10, its error the
 /// largest over 10 samples against the closed form, relative to the state's size (0.2).
-fn stiff_disk() -> Run {
+fn stiff_disk(solver: Solver) -> Option<Run> {
+    if !matches!(solver, Solver::Radau5 | Solver::Rodas5P) {
+        return None;
+    }
     let sys = StiffDisk::default();
     let start = [0.0, 0.0, 0.1, 0.2];
     let motion = StiffMotion::new(sys.r, start, -0.2, 1.0, (-1.0, -1e6));
     let x0 = sys.state_from_speeds(0.0, &start, &[-0.2, 1.0]).unwrap();
     let samples: Vec<f64> = (1..=10).map(|i| i as f64).collect();
-    Box::new(move |rtol| {
+    Some(Box::new(move |rtol| {
         let mut error = 0.0f64;
         let mut model = Model {
             system: &sys,
             inputs: |_: &StiffDisk, _, _: &[f64; 6]| [],
         };
-        let stats = Radau5::new(rtol, rtol)
-            .integrate(&mut model, 0.0, &x0, &samples, &mut |t, x| {
-                let exact = motion.state(t);
-                for i in 0..6 {
-                    error = error.max((x[i] - exact[i]).abs() / (exact[i].abs() + 1.0));
-                }
-                Ok(())
-            })
-            .expect("the run");
+        let stats = integrate_model(solver, rtol, &mut model, &x0, &samples[..], &mut |t, x| {
+            let exact = motion.state(t);
+            for i in 0..6 {
+                error = error.max((x[i] - exact[i]).abs() / (exact[i].abs() + 1.0));
+            }
+            Ok(())
+        })
+        .expect("the run");
         (stats, error)
-    })
+    }))
 }
 
 fn robot_controller(robot: &MobileRobot, t: f64, x: &[f64; 8]) -> [f64; 2] {
@@ -220,7 +284,10 @@ fn model(robot: &MobileRobot) -> impl Ode<State = [f64; 8]> + '_ {
 
 /// The guide's stiff robot (k = 10⁴ N m s) to t = 5, its error at the end against
 /// Dormand–Prince at rtol = atol = 10⁻¹³ (an explicit method: an independent answer).
-fn stiff_robot() -> Run {
+fn stiff_robot(solver: Solver) -> Option<Run> {
+    if !matches!(solver, Solver::Radau5 | Solver::Rodas5P) {
+        return None;
+    }
     let robot = MobileRobot::default();
     let x0 = robot
         .state_from_speeds(0.0, &[0.0, 0.0, 3.0, 0.0, 0.0], &[0.0, 0.0, 0.0])
@@ -232,21 +299,27 @@ fn stiff_robot() -> Run {
             Ok(())
         })
         .expect("the reference run");
-    Box::new(move |rtol| {
+    Some(Box::new(move |rtol| {
         let mut end = x0;
-        let stats = Radau5::new(rtol, rtol)
-            .integrate(&mut model(&robot), 0.0, &x0, &[5.0], &mut |_, x| {
+        let stats = integrate_model(
+            solver,
+            rtol,
+            &mut model(&robot),
+            &x0,
+            &[5.0],
+            &mut |_, x| {
                 end = *x;
                 Ok(())
-            })
-            .expect("the run");
+            },
+        )
+        .expect("the run");
         let error = end
             .iter()
             .zip(&reference)
             .map(|(a, b)| (a - b).abs() / (b.abs() + 1.0))
             .fold(0.0, f64::max);
         (stats, error)
-    })
+    }))
 }
 
 fn main() {
@@ -262,12 +335,20 @@ fn main() {
             .map_err(|_| format!("the round is a number, not {number:?}"))
             .and_then(|number| round(problem, number))
             .map(|rows| compare::append_csv(&rows, &compare::data_dir().join("hamel.csv"))),
-        ["once", problem] => {
-            rows(problem, 0, false).map(|rows| print!("{}", compare::csv_text(&rows, true)))
-        }
+        ["once", problem] => SOLVERS
+            .iter()
+            .map(|&solver| rows(problem, solver, 0, false))
+            .collect::<Result<Vec<Vec<Row>>, String>>()
+            .map(|rows| print!("{}", compare::csv_text(&rows.concat(), true))),
+        ["once", problem, solver] => SOLVERS
+            .iter()
+            .find(|s| s.label() == solver)
+            .ok_or_else(|| format!("no solver {solver:?}"))
+            .and_then(|&s| rows(problem, s, 0, false))
+            .map(|rows| print!("{}", compare::csv_text(&rows, true))),
         ["report"] => {
             let mut rows = Vec::new();
-            for solver in ["hamel", "scipy", "diffsol"] {
+            for solver in ["hamel", "scipy", "hairer", "diffsol"] {
                 rows.extend(compare::read_csv(
                     &compare::data_dir().join(format!("{solver}.csv")),
                 ));
@@ -283,7 +364,7 @@ fn main() {
             .flat_map(|number| PROBLEMS.iter().map(move |(name, _)| round(name, number)))
             .collect::<Result<Vec<Vec<Row>>, String>>()
             .map(|rows| compare::report(&rows.concat(), false)),
-        _ => Err("usage: work_precision [round R PROBLEM | once PROBLEM | report]".into()),
+        _ => Err("usage: work_precision [round R PROBLEM | once PROBLEM [SOLVER] | report]".into()),
     };
     if let Err(message) = result {
         eprintln!("work_precision: {message}");

@@ -3,12 +3,15 @@
 //! ```text
 //! cargo run --release --example export -- casadi mobile_robot OUTDIR
 //! cargo run --release --example export -- casadi whipple_bicycle OUTDIR
+//! cargo run --release --example export -- fmu mobile_robot OUTDIR
 //! cargo run --release --example export -- --list
 //! ```
 //!
 //! writes `OUTDIR/libmobile_robot.so` (CasADi's external functions `mobile_robot_f`,
 //! `jac_mobile_robot_f`, …, and the plain C functions `mobile_robot_rhs`, …) and
-//! `OUTDIR/mobile_robot.h`, which documents them with the model's names and units.
+//! `OUTDIR/mobile_robot.h`, which documents them with the model's names and units; `fmu`
+//! writes `OUTDIR/MobileRobot.fmu`, an FMI 2.0 FMU (Model Exchange and Co-Simulation) of the
+//! model for Simulink, Dymola, OpenModelica, FMPy and the other FMI tools.
 //!
 //! How: this program is a thin driver. It writes a small crate of type `cdylib` into
 //! `target/hamel-export/<model>/` that exports the model with `hamel-export`'s macros
@@ -42,11 +45,13 @@ const CATALOGUE: &[(&str, &str)] = &[
 ];
 
 const USAGE: &str = "usage: cargo run --release --example export -- casadi MODEL OUTDIR
+       cargo run --release --example export -- fmu MODEL OUTDIR
        cargo run --release --example export -- --list
 
-Writes OUTDIR/libMODEL.so and OUTDIR/MODEL.h: the catalogue model MODEL (its snake-case
-name, e.g. mobile_robot) as CasADi external functions with exact derivatives and plain C
-functions. --list prints the catalogue's names.";
+casadi writes OUTDIR/libMODEL.so and OUTDIR/MODEL.h: the catalogue model MODEL (its
+snake-case name, e.g. mobile_robot) as CasADi external functions with exact derivatives and
+plain C functions. fmu writes OUTDIR/Model.fmu (e.g. MobileRobot.fmu): the model as an FMI
+2.0 FMU, Model Exchange and Co-Simulation. --list prints the catalogue's names.";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -75,8 +80,12 @@ fn run(args: &[String]) -> Result<(), String> {
             let ty = model_type(model)?;
             export(model, ty, Path::new(outdir))
         }
-        [format, ..] if format != "casadi" => Err(format!(
-            "unknown export format `{format}` (known: casadi)\n\n{USAGE}"
+        [format, model, outdir] if format == "fmu" => {
+            let ty = model_type(model)?;
+            fmu::export(model, ty, Path::new(outdir))
+        }
+        [format, ..] if format != "casadi" && format != "fmu" => Err(format!(
+            "unknown export format `{format}` (known: casadi, fmu)\n\n{USAGE}"
         )),
         _ => Err(format!("expected three arguments\n\n{USAGE}")),
     }
@@ -224,4 +233,109 @@ fn write_if_changed(path: &Path, text: &str) -> Result<(), String> {
         return Ok(());
     }
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// The `fmu` export: a crate of its own, `target/hamel-export/<model>-fmu/`, that exports
+/// the model's FMI functions (`hamel_export::fmi2!`) and nothing else, so that the FMU holds
+/// no CasADi functions and builds in 15-30 s of CPU once hamel's crates are built for it; its
+/// binary writes the FMU (`hamel_export::fmi2::tool`).
+mod fmu {
+    use super::{repository, target_dir, write_if_changed};
+    use std::path::Path;
+    use std::process::Command;
+
+    pub fn export(model: &str, ty: &str, outdir: &Path) -> Result<(), String> {
+        let target = target_dir()?;
+        let dir = target.join("hamel-export").join(format!("{model}-fmu"));
+        write_crate(&dir, model, ty)?;
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        eprintln!("building the FMU of {model} in {}", dir.display());
+        let status = Command::new(&cargo)
+            .args(["build", "--release", "--manifest-path"])
+            .arg(dir.join("Cargo.toml"))
+            .env("CARGO_TARGET_DIR", &target)
+            .status()
+            .map_err(|e| format!("cannot run {cargo}: {e}"))?;
+        if !status.success() {
+            return Err(format!("building the FMU of {model} failed ({status})"));
+        }
+        std::fs::create_dir_all(outdir)
+            .map_err(|e| format!("cannot create {}: {e}", outdir.display()))?;
+        let release = target.join("release");
+        let library = release.join(format!(
+            "{}{model}_fmu{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+        let fmu = outdir.join(format!("{ty}.fmu"));
+        let tool = release.join(format!("{model}-fmu"));
+        let status = Command::new(&tool)
+            .arg("fmu")
+            .arg(&fmu)
+            .arg(&library)
+            .status()
+            .map_err(|e| format!("cannot run {}: {e}", tool.display()))?;
+        if !status.success() {
+            return Err(format!("writing {} failed ({status})", fmu.display()));
+        }
+        println!("{}", fmu.display());
+        Ok(())
+    }
+
+    /// The FMU's crate: written only where it differs, so that a second export rebuilds
+    /// nothing.
+    fn write_crate(dir: &Path, model: &str, ty: &str) -> Result<(), String> {
+        let repo = repository();
+        let path = |p: &str| repo.join(p).display().to_string().replace('\\', "/");
+        let manifest = format!(
+            r#"# Written by hamel's `export` example: the catalogue model {ty} as an FMU.
+[package]
+name = "hamel-fmu-{model}"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[lib]
+name = "{model}_fmu"
+path = "lib.rs"
+crate-type = ["cdylib", "rlib"]
+
+[[bin]]
+name = "{model}-fmu"
+path = "main.rs"
+
+[dependencies]
+hamel-export = {{ path = "{export}", features = ["fmu"] }}
+hamel-models = {{ path = "{models}" }}
+
+# Not a member of hamel's workspace, though inside its directory.
+[workspace]
+"#,
+            export = path("hamel-export"),
+            models = path("hamel-models"),
+        );
+        let lib = format!(
+            "//! The catalogue model {ty} as the FMU `{ty}` (written by hamel's `export` example).\n\
+             hamel_export::model!(Exported => hamel_models::{ty});\n\
+             hamel_export::fmi2!(Exported, \"{ty}\");\n"
+        );
+        let main = format!(
+            "//! Writes the FMU of {ty} (`{model}-fmu fmu OUT.fmu LIBRARY`), its description, or\n\
+             //! hamel's own run of the model (`hamel_export::fmi2::tool`).\n\
+             fn main() -> std::process::ExitCode {{\n\
+             \x20   hamel_export::fmi2::tool::main::<{model}_fmu::Exported>(\"{ty}\")\n\
+             }}\n"
+        );
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        write_if_changed(&dir.join("Cargo.toml"), &manifest)?;
+        write_if_changed(&dir.join("lib.rs"), &lib)?;
+        write_if_changed(&dir.join("main.rs"), &main)?;
+        let lock = dir.join("Cargo.lock");
+        if !lock.exists() {
+            std::fs::copy(repo.join("Cargo.lock"), &lock)
+                .map_err(|e| format!("cannot copy Cargo.lock: {e}"))?;
+        }
+        Ok(())
+    }
 }

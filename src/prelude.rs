@@ -2,7 +2,7 @@
 
 pub use crate::{
     DormandPrince, Error, GaussLegendre, HamelSystem, ImplicitMidpoint, Parameters, Radau5, Rk4,
-    Simulation, Trajectory, hamel_system,
+    Rodas5P, Simulation, Trajectory, hamel_system,
 };
 // What the guides' runs use beside them: events, streaming, progress, why a run stopped,
 // its summary, linearizations and their modes (followed along a parameter), the generated

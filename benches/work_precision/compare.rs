@@ -14,14 +14,24 @@ use std::path::{Path, PathBuf};
 use hamel::plot::{Figure, Panel};
 use hamel_benches::interleave::Spread;
 
-/// The solver whose rows are measured here, and the others' labels in their CSVs.
-pub const HAMEL: &str = "hamel Radau5";
-const OTHERS: [&str; 4] = [
+/// The solvers whose rows are measured here, and the others' labels in their CSVs.
+pub const RADAU5: &str = "hamel Radau5";
+pub const RODAS5P: &str = "hamel Rodas5P";
+pub const RADAU5_DIFFERENCED: &str = "hamel Radau5 (differences)";
+pub const RODAS5P_DIFFERENCED: &str = "hamel Rodas5P (differences)";
+/// hamel's methods with the exact Jacobian.
+const EXACT: [&str; 2] = [RADAU5, RODAS5P];
+const OTHERS: [&str; 7] = [
     "scipy Radau",
     "scipy BDF",
+    "scipy LSODA",
+    "Hairer RADAU5",
+    "Hairer RODAS",
     "diffsol BDF",
     "diffsol ESDIRK34",
 ];
+/// scipy's Radau without the Jacobian (num_jac), its evaluations every call.
+const SCIPY_DIFFERENCED: &str = "scipy Radau (differences)";
 
 /// One run: a solver on a problem at a tolerance, in a round of `run.sh`. Counts are NaN
 /// where a solver does not report them.
@@ -224,21 +234,44 @@ pub fn report(rows: &[Row], figures: bool) {
             draw(problem, &of);
         }
     }
-    if rows.iter().any(|r| r.solver != HAMEL) {
-        equal_error(rows, &points, &problems, &rounds);
+    if rows.iter().any(|r| !r.solver.starts_with("hamel")) {
+        for mine in EXACT {
+            equal_error(
+                rows,
+                &points,
+                &problems,
+                &rounds,
+                mine,
+                "scipy Radau",
+                &OTHERS,
+            );
+        }
+        for mine in [RADAU5_DIFFERENCED, RODAS5P_DIFFERENCED] {
+            equal_error(
+                rows,
+                &points,
+                &problems,
+                &rounds,
+                mine,
+                SCIPY_DIFFERENCED,
+                &[SCIPY_DIFFERENCED, "diffsol BDF"],
+            );
+        }
+        faster_of_the_two(rows, &points, &problems, &rounds);
+        rodas_against_radau(rows, &problems, &rounds);
     }
 }
 
-/// hamel's wall time over `solver`'s at each error hamel reached that `solver`'s curve also
-/// reaches, among `rows` (one round's), keyed by hamel's rtol.
-fn wall_ratios(rows: &[&Row], solver: &str) -> Vec<(f64, f64)> {
+/// `mine`'s wall time over `solver`'s at each error `mine` reached that `solver`'s curve also
+/// reaches, among `rows` (one round's), keyed by `mine`'s rtol.
+fn wall_ratios(rows: &[&Row], mine: &str, solver: &str) -> Vec<(f64, f64)> {
     let theirs: Vec<&Row> = rows
         .iter()
         .copied()
         .filter(|r| r.solver == solver)
         .collect();
     rows.iter()
-        .filter(|r| r.solver == HAMEL)
+        .filter(|r| r.solver == mine)
         .filter_map(|r| at_error(&theirs, r.error, |r| r.wall).map(|v| (r.rtol, r.wall / v)))
         .collect()
 }
@@ -251,86 +284,221 @@ fn shown(v: f64) -> String {
     }
 }
 
-/// Per problem, hamel / other at equal achieved error. Evaluations (the same in every round):
-/// the median and the largest over hamel's errors that the other's curve reaches. Wall time:
-/// in each round the median over those errors, then the median and the 10th–90th percentiles
-/// of these per-round ratios, and the largest over the errors of the per-error median ratio.
-fn equal_error(rows: &[Row], points: &[Row], problems: &[&str], rounds: &[usize]) {
+/// One problem's curve of `solver` (the medians over the rounds).
+fn curve<'a>(points: &'a [Row], problem: &str, solver: &str) -> Vec<&'a Row> {
+    points
+        .iter()
+        .filter(|r| r.problem == problem && r.solver == solver)
+        .collect()
+}
+
+/// `mine` / `theirs` of a count at the errors `mine` reached that `theirs` reaches: the median
+/// and the largest, as a table cell.
+fn count_ratio(mine: &[&Row], theirs: &[&Row], field: fn(&Row) -> f64) -> String {
+    let mut ratios: Vec<f64> = mine
+        .iter()
+        .filter_map(|r| at_error(theirs, r.error, field).map(|v| field(r) / v))
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    match ratios.last() {
+        Some(&largest) => format!(
+            "{} ({}, n = {})",
+            shown(median(ratios.iter().copied())),
+            shown(largest),
+            ratios.len()
+        ),
+        None => "–".into(),
+    }
+}
+
+/// The wall-time ratio of `mine` over `solver` on `problem`: in each round the median over
+/// the errors both reach, then the median and p10–p90 of these, and the largest per-error
+/// median, as a table cell.
+fn wall_cell(rows: &[Row], problem: &str, rounds: &[usize], mine: &str, solver: &str) -> String {
+    let mut per_round = Vec::new();
+    let mut per_error: BTreeMap<u64, Vec<f64>> = BTreeMap::new();
+    for &round in rounds {
+        let of: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.problem == problem && r.round == round)
+            .collect();
+        let ratios = wall_ratios(&of, mine, solver);
+        if !ratios.is_empty() {
+            per_round.push(median(ratios.iter().map(|&(_, v)| v)));
+        }
+        for (rtol, v) in ratios {
+            per_error.entry(rtol.to_bits()).or_default().push(v);
+        }
+    }
+    if per_round.is_empty() {
+        return "–".into();
+    }
+    let spread = Spread::of(&per_round);
+    let largest = per_error
+        .values()
+        .map(|v| median(v.iter().copied()))
+        .fold(0.0, f64::max);
+    format!(
+        "{} ({}–{}), max {}, n = {}",
+        shown(spread.median),
+        shown(spread.p10),
+        shown(spread.p90),
+        shown(largest),
+        per_error.len()
+    )
+}
+
+/// Per problem, `mine` / other at equal achieved error: evaluations and LUs against
+/// `counted` (the same in every round: the median and the largest over `mine`'s errors that
+/// the other's curve reaches), wall times against each of `others`.
+fn equal_error(
+    rows: &[Row],
+    points: &[Row],
+    problems: &[&str],
+    rounds: &[usize],
+    mine: &str,
+    counted: &str,
+    others: &[&str],
+) {
     println!(
-        "\nAt equal achieved error, hamel Radau5 / other. Evaluations: median (largest) over \
+        "\nAt equal achieved error, {mine} / other. Evaluations and LUs: median (largest) over \
          the errors both reach. Wall: median over {} rounds of each round's median over those \
          errors (p10–p90 over the rounds), the largest over the errors of the per-error medians\n",
         rounds.len()
     );
     println!(
-        "| problem | evaluations / scipy Radau | wall / {} |",
-        OTHERS.join(" | wall / ")
+        "| problem | evaluations / {counted} | LU / {counted} | wall / {} |",
+        others.join(" | wall / ")
     );
-    println!("|---|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---:{}|", "|---:".repeat(others.len()));
     for &problem in problems {
-        if !rows
-            .iter()
-            .any(|r| r.problem == problem && r.solver != HAMEL)
+        let ours = curve(points, problem, mine);
+        if ours.is_empty()
+            || !rows
+                .iter()
+                .any(|r| r.problem == problem && r.solver == counted)
         {
             continue;
         }
-        let curve = |solver: &str| -> Vec<&Row> {
-            points
-                .iter()
-                .filter(|r| r.problem == problem && r.solver == solver)
-                .collect()
-        };
-        let mut evaluations: Vec<f64> = curve(HAMEL)
-            .iter()
-            .filter_map(|r| {
-                at_error(&curve("scipy Radau"), r.error, |r| r.evaluations)
-                    .map(|v| r.evaluations / v)
-            })
-            .collect();
-        evaluations.sort_by(f64::total_cmp);
-        let mut line = match evaluations.last() {
-            Some(&largest) => format!(
-                "| {problem} | {} ({}, n = {})",
-                shown(median(evaluations.iter().copied())),
-                shown(largest),
-                evaluations.len()
-            ),
-            None => format!("| {problem} | –"),
-        };
-        for solver in OTHERS {
-            let mut per_round = Vec::new();
-            let mut per_error: BTreeMap<u64, Vec<f64>> = BTreeMap::new();
-            for &round in rounds {
-                let of: Vec<&Row> = rows
-                    .iter()
-                    .filter(|r| r.problem == problem && r.round == round)
-                    .collect();
-                let ratios = wall_ratios(&of, solver);
-                if !ratios.is_empty() {
-                    per_round.push(median(ratios.iter().map(|&(_, v)| v)));
-                }
-                for (rtol, v) in ratios {
-                    per_error.entry(rtol.to_bits()).or_default().push(v);
-                }
-            }
-            if per_round.is_empty() {
-                line += " | –";
-                continue;
-            }
-            let spread = Spread::of(&per_round);
-            let largest = per_error
-                .values()
-                .map(|v| median(v.iter().copied()))
-                .fold(0.0, f64::max);
+        let theirs = curve(points, problem, counted);
+        let mut line = format!(
+            "| {problem} | {} | {}",
+            count_ratio(&ours, &theirs, |r| r.evaluations),
+            count_ratio(&ours, &theirs, |r| r.factorizations)
+        );
+        for solver in others {
             let _ = write!(
                 line,
-                " | {} ({}–{}), max {}, n = {}",
-                shown(spread.median),
-                shown(spread.p10),
-                shown(spread.p90),
-                shown(largest),
-                per_error.len()
+                " | {}",
+                wall_cell(rows, problem, rounds, mine, solver)
             );
+        }
+        println!("{line} |");
+    }
+}
+
+/// The issue's condition at every rtol: at the error each of Radau5 and Rodas5P reaches, the
+/// faster of the two there (their wall times interpolated at that error, medians over the
+/// rounds) against scipy's Radau in evaluations and diffsol's BDF in wall time (per round,
+/// then the median).
+fn faster_of_the_two(rows: &[Row], points: &[Row], problems: &[&str], rounds: &[usize]) {
+    println!(
+        "\nThe faster of hamel's Radau5 and Rodas5P at each error either reaches (its rtol \
+         given): its evaluations / scipy Radau's and its wall time / diffsol BDF's (median of \
+         the per-round ratios) at that error\n"
+    );
+    println!(
+        "| problem | rtol | faster | error | evaluations / scipy Radau | wall / diffsol BDF |"
+    );
+    println!("|---|---:|---|---:|---:|---:|");
+    for &problem in problems {
+        let (radau, rodas) = (
+            curve(points, problem, RADAU5),
+            curve(points, problem, RODAS5P),
+        );
+        if radau.is_empty() || rodas.is_empty() {
+            continue;
+        }
+        let scipy = curve(points, problem, "scipy Radau");
+        for r in radau.iter().chain(&rodas) {
+            let other = if r.solver == RADAU5 { &rodas } else { &radau };
+            let faster = match at_error(other, r.error, |r| r.wall) {
+                Some(w) if w < r.wall => other[0].solver.as_str(),
+                _ => r.solver.as_str(),
+            };
+            let faster_curve = curve(points, problem, faster);
+            let evaluations = at_error(&faster_curve, r.error, |r| r.evaluations)
+                .zip(at_error(&scipy, r.error, |r| r.evaluations))
+                .map(|(a, b)| shown(a / b))
+                .unwrap_or_else(|| "–".into());
+            let walls: Vec<f64> = rounds
+                .iter()
+                .filter_map(|&round| {
+                    let of: Vec<&Row> = rows
+                        .iter()
+                        .filter(|x| x.problem == problem && x.round == round)
+                        .collect();
+                    let pick = |solver: &str| -> Vec<&Row> {
+                        of.iter().copied().filter(|x| x.solver == solver).collect()
+                    };
+                    let mine = at_error(&pick(faster), r.error, |x| x.wall)?;
+                    let bdf = at_error(&pick("diffsol BDF"), r.error, |x| x.wall)?;
+                    Some(mine / bdf)
+                })
+                .collect();
+            let wall = if walls.is_empty() {
+                "–".into()
+            } else {
+                shown(median(walls.into_iter()))
+            };
+            println!(
+                "| {problem} | {:.0e} ({}) | {} | {:.1e} | {evaluations} | {wall} |",
+                r.rtol,
+                r.solver.trim_start_matches("hamel "),
+                faster.trim_start_matches("hamel "),
+                r.error
+            );
+        }
+    }
+}
+
+/// Rodas5P's wall time over Radau5's at equal error, at Rodas5P's rtol 10⁻³…10⁻⁶ (per round,
+/// then the median and p10–p90 over the rounds).
+fn rodas_against_radau(rows: &[Row], problems: &[&str], rounds: &[usize]) {
+    println!(
+        "\nRodas5P / Radau5 wall time at equal error, at Rodas5P's rtol 1e-3…1e-6 (median over \
+         the rounds, p10–p90)\n"
+    );
+    println!("| problem | 1e-3 | 1e-4 | 1e-5 | 1e-6 |");
+    println!("|---|---:|---:|---:|---:|");
+    for &problem in problems {
+        let mut line = format!("| {problem}");
+        for rtol in [1e-3, 1e-4, 1e-5, 1e-6] {
+            let ratios: Vec<f64> = rounds
+                .iter()
+                .filter_map(|&round| {
+                    let of: Vec<&Row> = rows
+                        .iter()
+                        .filter(|x| x.problem == problem && x.round == round)
+                        .collect();
+                    let rodas = of.iter().find(|x| x.solver == RODAS5P && x.rtol == rtol)?;
+                    let radau: Vec<&Row> =
+                        of.iter().copied().filter(|x| x.solver == RADAU5).collect();
+                    at_error(&radau, rodas.error, |x| x.wall).map(|w| rodas.wall / w)
+                })
+                .collect();
+            if ratios.is_empty() {
+                line += " | –";
+            } else {
+                let spread = Spread::of(&ratios);
+                let _ = write!(
+                    line,
+                    " | {} ({}–{})",
+                    shown(spread.median),
+                    shown(spread.p10),
+                    shown(spread.p90)
+                );
+            }
         }
         println!("{line} |");
     }

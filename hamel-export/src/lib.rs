@@ -21,7 +21,8 @@
 //!   dependencies the generated code's graph gives (the sparsity of every derivative);
 //!   [`passes`]: one evaluation in `f64`, dual or hyper-dual numbers.
 //! - [`c_api`]: the plain C functions; [`casadi`]: CasADi's convention; [`header`]: the C
-//!   header, from the names, units and doc comments the model carries.
+//!   header, from the names, units and doc comments the model carries; [`fmi2`]: the model as
+//!   an FMU of FMI 2.0 (Model Exchange and Co-Simulation), with [`fmi2!`].
 //!
 //! `hamel::docs::export` is the guide; `cargo run --release --example export -- casadi
 //! mobile_robot OUTDIR` builds the library and header of any catalogue model.
@@ -29,6 +30,7 @@
 pub mod abi;
 pub mod c_api;
 pub mod casadi;
+pub mod fmi2;
 pub mod header;
 pub mod hyper;
 mod macros;

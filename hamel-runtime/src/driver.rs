@@ -3,7 +3,7 @@
 //! the progress callback, which may end the run.
 
 use std::ops::ControlFlow;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::crossing::CrossingWatch;
 use crate::error::Error;
@@ -17,9 +17,54 @@ use crate::trajectory::Summary;
 /// A progress callback: `ControlFlow::Break(())` cancels the run.
 pub(crate) type ProgressFn<'s> = Box<dyn Fn(&Progress) -> ControlFlow<()> + 's>;
 
-/// Samples between two looks at the clock when a step holds many: a look costs about as much
-/// as recording a sample, and this many samples take well under a millisecond.
-const SAMPLES_PER_CLOCK: u32 = 256;
+/// How often, about, a run with a progress callback reads the clock: a read costs about as
+/// much as a step of a small model or a recorded sample, so it is not made at each of them
+/// but after as many as take about this long, which keeps a cancel's delay far below the
+/// progress interval.
+const CLOCK_PERIOD: Duration = Duration::from_millis(1);
+
+/// The most steps and samples between two reads of the clock (a step may hold billions of
+/// samples, each taking nanoseconds).
+const MAX_BETWEEN_READS: u32 = 4096;
+
+/// When to read the clock: after `between` steps and samples, a number adapted at each read so
+/// that reads come about every [`CLOCK_PERIOD`].
+struct Clock {
+    since_read: u32,
+    between: u32,
+    last_read: Instant,
+}
+
+impl Clock {
+    fn new() -> Self {
+        Clock {
+            since_read: 0,
+            between: 1,
+            last_read: Instant::now(),
+        }
+    }
+
+    /// One more step or sample: whether to read the clock now.
+    fn tick(&mut self) -> bool {
+        self.since_read += 1;
+        self.since_read >= self.between
+    }
+
+    /// The clock, read now; the number of steps and samples before the next read adapted to
+    /// how long these took.
+    fn read(&mut self) -> Instant {
+        let now = Instant::now();
+        let took = now.duration_since(self.last_read);
+        if took < CLOCK_PERIOD / 2 {
+            self.between = (self.between * 2).min(MAX_BETWEEN_READS);
+        } else if took > CLOCK_PERIOD * 2 {
+            self.between = (self.between / 2).max(1);
+        }
+        self.since_read = 0;
+        self.last_read = now;
+        now
+    }
+}
 
 /// The observer of one run: the recorder, the events, the crossing watch and the progress.
 pub(crate) struct Driver<'a, 's, 'e, S: HamelSystem, F> {
@@ -33,8 +78,8 @@ pub(crate) struct Driver<'a, 's, 'e, S: HamelSystem, F> {
     /// When the progress callback was last called; `None` before the first call, which the
     /// first sample makes (so that a run cancelled at once does not run).
     reported: Option<Instant>,
-    /// Samples since the clock was last read.
-    unclocked: u32,
+    /// When to read the clock (runs with a progress callback only).
+    clock: Clock,
     span: (f64, f64),
     steps: usize,
 }
@@ -61,19 +106,22 @@ where
             progress,
             started: Instant::now(),
             reported: None,
-            unclocked: 0,
+            clock: Clock::new(),
             span,
             steps: 0,
         }
     }
 
-    /// Whether the progress callback is due: never called yet, or not for a while.
+    /// Whether the progress callback is due after one more step or sample: never called
+    /// yet, or not for a while (the clock is read only every so many steps and samples).
     fn progress_due(&mut self) -> bool {
-        self.unclocked = 0;
-        self.progress.is_some()
-            && self
-                .reported
-                .is_none_or(|last| last.elapsed() >= PROGRESS_INTERVAL)
+        if self.progress.is_none() {
+            return false;
+        }
+        let Some(last) = self.reported else {
+            return true;
+        };
+        self.clock.tick() && self.clock.read().duration_since(last) >= PROGRESS_INTERVAL
     }
 
     /// Calls the progress callback at time t; whether it asked to stop.
@@ -137,14 +185,9 @@ where
         let (x, work) = (self.split)(v);
         let driver = &mut *self.driver;
         driver.recorder.record(t, &x, work)?;
-        if driver.progress.is_none() {
-            return Ok(Control::Continue);
-        }
         // Progress is due at the first sample, and looked at every so many samples: a step
         // may hold billions of them.
-        driver.unclocked += 1;
-        let look = driver.reported.is_none() || driver.unclocked >= SAMPLES_PER_CLOCK;
-        if look && driver.cancelled_at(t) {
+        if driver.cancelled_at(t) {
             return Ok(Control::Stop(t));
         }
         Ok(Control::Continue)

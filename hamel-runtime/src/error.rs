@@ -398,6 +398,25 @@ pub enum Error {
     #[error("the state became non-finite at t = {}: {state}", Num(*t))]
     NonFiniteState { t: f64, state: NamedValues },
 
+    /// The right-hand side returned a value that is not a number (`value`, NaN) for the rate
+    /// of the component `rate` at (t, `state`), a finite state: an integration that met it
+    /// where no smaller step avoided it ends here, rather than with a step that shrank to
+    /// nothing (a step-size underflow) or a Newton iteration that failed, which would blame
+    /// the method.
+    #[error(
+        "the right-hand side returned {} for the rate of `{rate}` at t = {}, in a state \
+         whose components are all finite; check the model's equations (a division by zero, \
+         a square root or logarithm of a negative number, an overflow) at this state; \
+         state: {state}",
+        Num(*value), Num(*t)
+    )]
+    NonFiniteRate {
+        t: f64,
+        rate: String,
+        value: f64,
+        state: NamedValues,
+    },
+
     #[error("invalid setting `{name}` = {}: {reason}", Num(*value))]
     InvalidSetting {
         name: &'static str,

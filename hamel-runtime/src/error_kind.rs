@@ -45,6 +45,7 @@ impl Error {
             Error::SpanTooShort { .. } => "span_too_short",
             Error::TooManySteps { .. } => "too_many_steps",
             Error::NonFiniteState { .. } => "non_finite_state",
+            Error::NonFiniteRate { .. } => "non_finite_rate",
             Error::InvalidSetting { .. } => "invalid_setting",
             Error::TooManySamples { .. } => "too_many_samples",
             Error::Table { .. } => "table",

@@ -123,3 +123,49 @@ pub fn jacobian_by_duals<const S: usize, const M: usize, const SS: usize, const 
     }
     Ok((state, input))
 }
+
+/// ∂F/∂t of `rhs` at (t, x, u): one pass of dual numbers with t seeded (the generated code's
+/// `time_derivative` calls it only for a right-hand side that depends on t at all).
+pub fn time_derivative_by_duals<const S: usize, const M: usize>(
+    t: f64,
+    x: &[f64; S],
+    u: &[f64; M],
+    mut rhs: impl FnMut(
+        JacobianDual,
+        &[JacobianDual; S],
+        &[JacobianDual; M],
+        &mut [JacobianDual; S],
+    ) -> Result<(), Singularity>,
+) -> Result<[f64; S], Singularity> {
+    let td = JacobianDual::from_re(t).derivative();
+    let xd: [JacobianDual; S] = core::array::from_fn(|i| JacobianDual::from_re(x[i]));
+    let ud: [JacobianDual; M] = core::array::from_fn(|i| JacobianDual::from_re(u[i]));
+    let mut dx = [JacobianDual::from_re(0.0); S];
+    rhs(td, &xd, &ud, &mut dx)?;
+    Ok(dx.map(|v| v.eps))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ẋ₀ = x₁ sin(2t) + u₀ t², ẋ₁ = −x₀: ∂F/∂t = (2 x₁ cos 2t + 2 u₀ t, 0).
+    fn rhs(
+        t: JacobianDual,
+        x: &[JacobianDual; 2],
+        u: &[JacobianDual; 1],
+        dx: &mut [JacobianDual; 2],
+    ) -> Result<(), Singularity> {
+        dx[0] = x[1] * Scalar::sin(t * 2.0) + u[0] * t * t;
+        dx[1] = -x[0];
+        Ok(())
+    }
+
+    #[test]
+    fn the_time_derivative_is_the_rates_derivative_in_t() {
+        let (t, x, u) = (0.7, [0.3, -1.1], [2.5]);
+        let d = time_derivative_by_duals(t, &x, &u, rhs).unwrap();
+        let expected = [2.0 * x[1] * (2.0 * t).cos() + 2.0 * u[0] * t, 0.0];
+        assert!((d[0] - expected[0]).abs() < 1e-15 && d[1] == 0.0, "{d:?}");
+    }
+}

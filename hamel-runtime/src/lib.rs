@@ -41,9 +41,9 @@ pub use error::{AssemblyFailure, Error, Num, Singularity};
 pub use events::{Direction, EVENT_TOLERANCE, Event, EventRecord};
 pub use integrate::{
     Control, DormandPrince, GaussLegendre, Grid, ImplicitMidpoint, Integrator, Interpolant,
-    Observer, Ode, Radau5, Rk4, SampleObserver, SampleTimes, Stats, StepView,
+    Observer, Ode, Radau5, Rk4, Rodas4, Rodas5P, SampleObserver, SampleTimes, Stats, StepView,
 };
-pub use jacobian::{JacobianDual, jacobian_by_duals};
+pub use jacobian::{JacobianDual, jacobian_by_duals, time_derivative_by_duals};
 pub use linearization::{CYCLIC_TOLERANCE, Linearization, OperatingPoint};
 pub use modes::{EIGEN_TOLERANCE, Mode};
 /// The linear algebra crate of linearizations and controller design (`DMatrix` weights for

@@ -19,6 +19,9 @@ pub trait Parameters {
     const NAMES: &'static [&'static str];
     /// The fields' doc comments (empty where there is none), for `--help` texts.
     const DOCS: &'static [&'static str];
+    /// The parameter struct's own doc comment, its lines kept (empty where there is none):
+    /// the model's description, which the Python package makes its class's docstring.
+    const DOC: &'static str = "";
 
     /// The value of the parameter `name`.
     fn get(&self, name: &str) -> Option<f64>;
@@ -321,6 +324,19 @@ pub trait HamelSystem: Parameters {
         x: &Self::State,
         u: &Self::Inputs,
     ) -> Result<(Self::StateJacobian, Self::InputJacobian), Singularity>;
+
+    /// ∂F/∂t of the right-hand side at (t, x, u), for the Rosenbrock integrators: generated as
+    /// one more pass of dual numbers with t seeded (`time_derivative_by_duals`), or zeros
+    /// without a pass for a right-hand side that does not depend on t. `None`, the default of
+    /// a hand-written implementation, lets the integrators difference F in t.
+    fn time_derivative(
+        &self,
+        _t: f64,
+        _x: &Self::State,
+        _u: &Self::Inputs,
+    ) -> Result<Option<Self::State>, Singularity> {
+        Ok(None)
+    }
 
     /// The linearization δẋ = A δx + B δu of the right-hand side at the operating point
     /// (t, x, u), with the state and input names (from [`Self::jacobian`]), and the holonomic

@@ -116,6 +116,15 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for PlainOde<'_,
         Ok(true)
     }
 
+    fn time_derivative(
+        &mut self,
+        t: f64,
+        x: &S::State,
+        dfdt: &mut S::State,
+    ) -> Result<bool, Error> {
+        state_time_derivative(self.system, self.inputs, (t, x), dfdt.as_mut())
+    }
+
     fn project(&mut self, t: f64, x: &mut S::State) -> Result<bool, Error> {
         if !self.project {
             return Ok(false);
@@ -168,18 +177,53 @@ impl<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs> Ode for BalanceOde<'
         S::State::LEN
     }
 
-    /// The state's block; the work's row (∂power/∂x) is left zero: the work does not act
-    /// back on the state, so the stages converge all the same, the work one iteration behind.
+    /// The state's block, exact, and the work's row ∂power/∂x by forward differences (the
+    /// work does not act back on the state: its column is zero). An implicit method's stages
+    /// would converge without that row, the work one iteration behind; a Rosenbrock method's
+    /// work would lose its order.
     fn jacobian(&mut self, t: f64, v: &S::Extended, jacobian: &mut [f64]) -> Result<bool, Error> {
         let (x, _) = split::<S>(v);
         jacobian.fill(0.0);
-        state_jacobian(
-            self.system,
-            self.inputs,
-            (t, &x),
-            jacobian,
-            S::Extended::LEN,
-        )?;
+        let stride = S::Extended::LEN;
+        state_jacobian(self.system, self.inputs, (t, &x), jacobian, stride)?;
+        let power = |x: &S::State| {
+            let u = self.inputs.at(t, x)?;
+            self.system
+                .power(t, x, &u)
+                .map_err(|s| S::singular(s, t, x))
+        };
+        let p0 = power(&x)?;
+        let n = S::State::LEN;
+        for j in 0..n {
+            let mut shifted = x;
+            let xj = x.as_ref()[j];
+            shifted.as_mut()[j] = xj + f64::EPSILON.sqrt() * xj.abs().max(1.0);
+            let delta = shifted.as_ref()[j] - xj;
+            jacobian[n * stride + j] = (power(&shifted)? - p0) / delta;
+        }
+        Ok(true)
+    }
+
+    /// The state's ∂F/∂t, and the work's ∂power/∂t by a forward difference.
+    fn time_derivative(
+        &mut self,
+        t: f64,
+        v: &S::Extended,
+        dfdt: &mut S::Extended,
+    ) -> Result<bool, Error> {
+        let (x, _) = split::<S>(v);
+        let n = S::State::LEN;
+        if !state_time_derivative(self.system, self.inputs, (t, &x), &mut dfdt.as_mut()[..n])? {
+            return Ok(false);
+        }
+        let power = |t: f64| {
+            let u = self.inputs.at(t, &x)?;
+            self.system
+                .power(t, &x, &u)
+                .map_err(|s| S::singular(s, t, &x))
+        };
+        let shifted = t + f64::EPSILON.sqrt() * t.abs().max(1.0);
+        dfdt.as_mut()[n] = (power(shifted)? - power(t)?) / (shifted - t);
         Ok(true)
     }
 
@@ -215,6 +259,7 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
     let (jx, ju) = system
         .jacobian(t, x, &u)
         .map_err(|s| S::singular(s, t, x))?;
+    check_jacobian_shape::<S>(jx.as_ref().len(), ju.as_ref().len())?;
     for i in 0..n {
         out[i * stride..i * stride + n].copy_from_slice(&jx.as_ref()[i * n..(i + 1) * n]);
     }
@@ -237,6 +282,71 @@ fn state_jacobian<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
         }
     }
     Ok(())
+}
+
+/// The error for a model whose Jacobians have not the state's and inputs' sizes (a
+/// hand-written `HamelSystem` whose `StateJacobian` or `InputJacobian` is not n × n and
+/// n × m): named, rather than a slice out of bounds.
+fn check_jacobian_shape<S: HamelSystem>(state: usize, input: usize) -> Result<(), Error> {
+    jacobian_shape((S::State::LEN, S::Inputs::LEN), (state, input))
+}
+
+/// [`check_jacobian_shape`] for n states and m inputs.
+fn jacobian_shape((n, m): (usize, usize), (state, input): (usize, usize)) -> Result<(), Error> {
+    if state == n * n && input == n * m {
+        return Ok(());
+    }
+    Err(Error::InconsistentModel {
+        what: format!(
+            "`jacobian` returns ∂F/∂x with {state} entries and ∂F/∂u with {input}, but a state \
+             of {n} components and {m} inputs need {} and {} (`StateJacobian` is n × n and \
+             `InputJacobian` n × m, row by row)",
+            n * n,
+            n * m
+        ),
+    })
+}
+
+/// ∂F/∂t of the reduced ODE with the inputs' feedback u(t, x), into `out` (n entries): the
+/// system's ∂F/∂t plus ∂F/∂u·∂u/∂t, ∂u/∂t by a forward difference of the input function over
+/// √ε·max(|t|, 1) (the exact ∂F/∂u evaluated only for inputs that change with t). `false`
+/// when the system does not give ∂F/∂t (a hand-written one): the integrator then differences
+/// the whole right-hand side in t.
+fn state_time_derivative<S: HamelSystem, F: FnMut(f64, &S::State) -> S::Inputs>(
+    system: &S,
+    inputs: &RunInputs<S, F>,
+    (t, x): (f64, &S::State),
+    out: &mut [f64],
+) -> Result<bool, Error> {
+    let (n, m) = (S::State::LEN, S::Inputs::LEN);
+    let u = inputs.at(t, x)?;
+    let Some(ft) = system
+        .time_derivative(t, x, &u)
+        .map_err(|s| S::singular(s, t, x))?
+    else {
+        return Ok(false);
+    };
+    out[..n].copy_from_slice(ft.as_ref());
+    // Constant inputs do not change with t.
+    if m == 0 || !inputs.read_state() {
+        return Ok(true);
+    }
+    let shifted = t + f64::EPSILON.sqrt() * t.abs().max(1.0);
+    let moved = inputs.unchecked(shifted, x);
+    let du: Vec<f64> = (0..m)
+        .map(|k| (moved.as_ref()[k] - u.as_ref()[k]) / (shifted - t))
+        .collect();
+    if du.iter().all(|d| *d == 0.0) {
+        return Ok(true);
+    }
+    let (jx, ju) = system
+        .jacobian(t, x, &u)
+        .map_err(|s| S::singular(s, t, x))?;
+    check_jacobian_shape::<S>(jx.as_ref().len(), ju.as_ref().len())?;
+    for (i, o) in out.iter_mut().enumerate().take(n) {
+        *o += (0..m).map(|k| ju.as_ref()[i * m + k] * du[k]).sum::<f64>();
+    }
+    Ok(true)
 }
 
 /// The extended state (x, 0) of a state x, or the error for a model whose `Extended` is not
@@ -383,4 +493,29 @@ fn singular_in_run<S: HamelSystem>(
         };
     }
     S::singular(s, t, x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A hand-written model whose `StateJacobian` has 15 entries for a state of 4: an error
+    /// naming the sizes (it was a slice out of bounds, a panic).
+    #[test]
+    fn a_jacobian_of_the_wrong_shape_is_named() {
+        assert_eq!(jacobian_shape((4, 1), (16, 4)), Ok(()));
+        for wrong in [(15, 4), (16, 3), (4, 16)] {
+            match jacobian_shape((4, 1), wrong) {
+                Err(e @ Error::InconsistentModel { .. }) => {
+                    let message = e.to_string();
+                    assert!(
+                        message.contains(&format!("∂F/∂x with {} entries", wrong.0))
+                            && message.contains("need 16 and 4"),
+                        "{message}"
+                    );
+                }
+                other => panic!("{wrong:?}: {other:?}"),
+            }
+        }
+    }
 }

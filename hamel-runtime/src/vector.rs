@@ -2,12 +2,25 @@
 
 use core::fmt::Debug;
 
+use nalgebra::Complex;
+
+use crate::integrate::dense::{Lu, SquareLu};
+
 /// A fixed-size array of `f64` (`[f64; N]` for every `N`): what generated systems use for
 /// states, coordinates and inputs, so that no evaluation touches the heap.
 pub trait Vector:
     Copy + Debug + PartialEq + AsRef<[f64]> + AsMut<[f64]> + Send + Sync + 'static
 {
     const LEN: usize;
+
+    /// The LU factors of an n × n real matrix, n = `LEN`, sized at compile time for small n
+    /// (the implicit integrators' linear algebra: `integrate::dense`).
+    #[doc(hidden)]
+    type Lu: SquareLu<f64>;
+
+    /// [`Vector::Lu`] for a complex matrix (Radau5's complex system).
+    #[doc(hidden)]
+    type ComplexLu: SquareLu<Complex<f64>>;
 
     fn zeros() -> Self;
 
@@ -30,6 +43,8 @@ pub trait Vector:
 
 impl<const N: usize> Vector for [f64; N] {
     const LEN: usize = N;
+    type Lu = Lu<f64, N>;
+    type ComplexLu = Lu<Complex<f64>, N>;
 
     fn zeros() -> Self {
         [0.0; N]

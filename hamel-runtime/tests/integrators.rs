@@ -11,6 +11,8 @@ use hamel_runtime::{
 // The implicit methods' own tests (orders, symmetry, stiffness, their errors), sharing the
 // problems below.
 mod implicit;
+// The Rosenbrock methods' (Rodas5P, Rodas4).
+mod rosenbrock;
 
 /// y' = −2ty², y(0) = 1: y = 1/(1 + t²). Non-autonomous and nonlinear.
 struct Riccati;
@@ -428,6 +430,94 @@ fn invalid_settings_are_errors_naming_the_value() {
     );
 }
 
+/// Settings no run can honour, refused by every adaptive method with the setting named: an
+/// absolute tolerance of 10³⁰⁰ (Radau5 took it, crossed the span in one step and returned that
+/// step's value), a largest step below the floor on the step (only ever an underflow before),
+/// a first step below that floor (it had lost its message: "step size underflow at t = 0").
+#[test]
+fn absurd_tolerances_and_step_limits_are_refused_by_name() {
+    let refused =
+        |label: &str, result: Result<Stats, Error>, setting: &str, words: &str| match result {
+            Err(e @ Error::InvalidSetting { .. }) => {
+                let Error::InvalidSetting { name, .. } = &e else {
+                    unreachable!()
+                };
+                assert_eq!(*name, setting, "{label}: {e}");
+                assert!(e.to_string().contains(words), "{label}: {e}");
+            }
+            other => panic!("{label}: expected `{setting}` refused, got {other:?}"),
+        };
+    let quiet = &mut |_: f64, _: &[f64; 2]| Ok(());
+    let x0 = [1.0, 0.0];
+    let atol = "controls nothing";
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e300).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "atol",
+        atol,
+    );
+    refused(
+        "Radau5",
+        Radau5::new(1e-6, 1e300).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "atol",
+        atol,
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1e-6, 1e300).integrate(
+            &mut Oscillator,
+            0.0,
+            &x0,
+            &[1.0],
+            quiet,
+        ),
+        "atol",
+        atol,
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1.0, 1e-6).integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "rtol",
+        "controls nothing",
+    );
+    // A floor of half the span (Dormand–Prince's floor is relative to the span) above the
+    // largest step; and for Radau5, whose floor is relative to |t|, at t = 1000.
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e-6)
+            .with_min_step(0.5)
+            .with_max_step(0.1)
+            .integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "max step",
+        "below the smallest step",
+    );
+    refused(
+        "Radau5",
+        Radau5::new(1e-6, 1e-6)
+            .with_min_step(1e-3)
+            .with_max_step(0.1)
+            .integrate(&mut Oscillator, 1000.0, &x0, &[1001.0], quiet),
+        "max step",
+        "below the smallest step",
+    );
+    refused(
+        "DP5",
+        DormandPrince::new(1e-6, 1e-6)
+            .with_initial_step(1e-300)
+            .integrate(&mut Oscillator, 0.0, &x0, &[1.0], quiet),
+        "initial step",
+        "below the smallest step the integration may take at the start",
+    );
+    refused(
+        "Rodas5P",
+        hamel_runtime::Rodas5P::new(1e-6, 1e-6)
+            .with_initial_step(1e-300)
+            .integrate(&mut Oscillator, 1.0, &x0, &[2.0], quiet),
+        "initial step",
+        "below the smallest step the integration may take at the start",
+    );
+}
+
 #[test]
 fn bad_start_and_sample_times_are_errors() {
     let methods: (Rk4, DormandPrince) = (Rk4::new(0.1), DormandPrince::new(1e-6, 1e-6));
@@ -486,6 +576,7 @@ fn bad_start_and_sample_times_are_errors() {
     check(&ImplicitMidpoint::new(0.1));
     check(&GaussLegendre::new(2, 0.1));
     check(&Radau5::new(1e-6, 1e-6));
+    check(&hamel_runtime::Rodas5P::new(1e-6, 1e-6));
 }
 
 #[test]
@@ -584,6 +675,7 @@ fn errors_from_the_right_hand_side_and_the_observer_propagate_unchanged() {
     check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
     check(&GaussLegendre::new(2, 0.1));
     check(&Radau5::new(1e-6, 1e-6));
+    check(&hamel_runtime::Rodas5P::new(1e-6, 1e-6));
 }
 
 #[test]
@@ -628,24 +720,55 @@ fn a_non_finite_state_is_an_error_not_a_result() {
         }
     }
     // Adaptive steps reject a NaN error estimate and shrink until the step underflows at the
-    // start of the trouble: an error, not a hang and not a NaN trajectory.
-    let result = DormandPrince::new(1e-6, 1e-6).integrate(
-        &mut Failing {
-            t_fail: 1.0,
-            nan: true,
-        },
-        0.0,
-        &[0.0],
-        &[3.0],
-        &mut |_, _| Ok(()),
-    );
-    match result {
-        Err(Error::StepSizeUnderflow { t, state, .. }) => {
-            // Within a few steps at the floor (10⁻¹² of the span of 3) of the trouble.
-            assert!((t - 1.0).abs() < 10.0 * 3e-12, "t = {t}");
-            assert!((state.get("x0").unwrap() - t).abs() < 1e-12);
+    // start of the trouble: an error, not a hang and not a NaN trajectory; and the error names
+    // the NaN, the rate it is in and its time (it blamed the step size, "the solution may have
+    // a singularity"). Likewise for every adaptive and implicit method.
+    let failing = || Failing {
+        t_fail: 1.0,
+        nan: true,
+    };
+    let quiet = &mut |_: f64, _: &[f64; 1]| Ok(());
+    for (label, result) in [
+        (
+            "DP5",
+            DormandPrince::new(1e-6, 1e-6).integrate(&mut failing(), 0.0, &[0.0], &[3.0], quiet),
+        ),
+        (
+            "Radau5",
+            Radau5::new(1e-6, 1e-6).integrate(&mut failing(), 0.0, &[0.0], &[3.0], quiet),
+        ),
+        (
+            "Rodas5P",
+            hamel_runtime::Rodas5P::new(1e-6, 1e-6).integrate(
+                &mut failing(),
+                0.0,
+                &[0.0],
+                &[3.0],
+                quiet,
+            ),
+        ),
+        (
+            "Gauss 2",
+            GaussLegendre::new(2, 0.1).integrate(&mut failing(), 0.0, &[0.0], &[3.0], quiet),
+        ),
+    ] {
+        match result {
+            Err(e @ Error::NonFiniteRate { .. }) => {
+                println!("{label}: {e}");
+                let Error::NonFiniteRate { t, rate, state, .. } = &e else {
+                    unreachable!()
+                };
+                // At the trouble (within a step of the method, for the fixed-step one).
+                assert!((t - 1.0).abs() < 0.1, "{label}: t = {t}");
+                assert_eq!(rate, "x0", "{label}");
+                assert!(state.get("x0").unwrap().is_finite(), "{label}");
+                assert!(
+                    e.to_string().contains("returned NaN for the rate of `x0`"),
+                    "{e}"
+                );
+            }
+            other => panic!("{label}: {other:?}"),
         }
-        other => panic!("{other:?}"),
     }
 }
 
@@ -799,6 +922,7 @@ fn a_failing_projection_stops_the_integration() {
     check(&DormandPrince::new(1e-6, 1e-6).with_fixed_step(0.1));
     check(&GaussLegendre::new(2, 0.1));
     check(&Radau5::new(1e-6, 1e-6));
+    check(&hamel_runtime::Rodas5P::new(1e-6, 1e-6));
 }
 
 /// y' = −10⁶ (y − cos t): stiff, so an explicit method's steps stay near its stability limit,

@@ -15,6 +15,7 @@
 //!   LQR with its Riccati equation, and controllers as a run's input function.
 //! * [`export`] — a model as a C library and header: CasADi's external functions with exact
 //!   first and second derivatives (NMPC with IPOPT), plain C functions, a model of your own.
+//! * [`python`] — hamel from Python: the package, runs, ensembles, studies, errors, `compile`.
 //! * [`subset`] — the part of Rust a role function's body may use.
 //! * [`design`] — the design notes: the mathematics the generated code computes, and how it
 //!   obtains each derivative.
@@ -43,6 +44,9 @@ pub mod export {}
 
 #[doc = include_str!("subset.md")]
 pub mod subset {}
+
+#[doc = include_str!("python.md")]
+pub mod python {}
 
 #[doc = include_str!("design.md")]
 pub mod design {}

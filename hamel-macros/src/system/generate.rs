@@ -703,6 +703,7 @@ fn bodies(cx: &Context<'_>, prepared: usize) -> syn::Result<Bodies> {
         })?,
         inverse_defect,
         jacobian: dual_jacobian(cx),
+        time_derivative: dual_time_derivative(cx),
     })
 }
 
@@ -774,6 +775,27 @@ fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
         .map(|(i, _)| lit(i));
     quote! {
         ::hamel::jacobian_by_duals(t, x, u, &[#(#directions),*], |t, x, u, dx| self.rhs_generic(t, x, u, dx))
+    }
+}
+
+/// ∂F/∂t: one pass of dual numbers with t seeded, or zeros without a pass when the right-hand
+/// side does not depend on t (found on the graph, as the Jacobian's directions are).
+fn dual_time_derivative(cx: &Context<'_>) -> TokenStream {
+    let eq = cx.eq;
+    let mut roots: Vec<NodeId> = eq.qd.iter().chain(&eq.wdot).copied().collect();
+    if let Some(t) = &eq.transformation {
+        roots.extend(t.checks.iter().map(|c| c.value));
+    }
+    if cx.graph.live_set(&roots).contains(&eq.inputs.t) {
+        quote! {
+            ::hamel::time_derivative_by_duals(t, x, u, |t, x, u, dx| self.rhs_generic(t, x, u, dx))
+                .map(::core::option::Option::Some)
+        }
+    } else {
+        quote! {
+            let _ = (t, x, u);
+            ::core::result::Result::Ok(::core::option::Option::Some(::core::array::from_fn(|_| 0.0)))
+        }
     }
 }
 

@@ -58,6 +58,7 @@ pub struct Bodies {
     pub gamma: TokenStream,
     pub inverse_defect: TokenStream,
     pub jacobian: TokenStream,
+    pub time_derivative: TokenStream,
 }
 
 impl Bodies {
@@ -83,7 +84,8 @@ impl Bodies {
             mass_matrix: never.clone(),
             gamma: never.clone(),
             inverse_defect: never.clone(),
-            jacobian: never,
+            jacobian: never.clone(),
+            time_derivative: never,
         }
     }
 }
@@ -382,6 +384,7 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         gamma,
         inverse_defect,
         jacobian,
+        time_derivative,
         ..
     } = b;
     quote! {
@@ -400,6 +403,10 @@ fn matrices(l: &Lengths, b: &Bodies) -> TokenStream {
         #allow
         fn jacobian(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<([f64; #state_jacobian], [f64; #input_jacobian]), #singularity> {
             #jacobian
+        }
+        #allow
+        fn time_derivative(&self, t: f64, x: &[f64; #state], u: &[f64; #m]) -> #result<::core::option::Option<[f64; #state]>, #singularity> {
+            #time_derivative
         }
     }
 }

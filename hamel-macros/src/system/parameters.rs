@@ -45,6 +45,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
     let names: Vec<&String> = entries.iter().map(|(n, _, _)| n).collect();
     let reads: Vec<&TokenStream> = entries.iter().map(|(_, r, _)| r).collect();
     let docs: Vec<&String> = entries.iter().map(|(_, _, d)| d).collect();
+    let doc = doc_lines(&item.attrs);
     quote! {
         #emitted
         #error
@@ -54,6 +55,7 @@ pub fn expand(attr: TokenStream, item: &ItemStruct) -> TokenStream {
         impl ::hamel::Parameters for #ty {
             const NAMES: &'static [&'static str] = &[#(#names),*];
             const DOCS: &'static [&'static str] = &[#(#docs),*];
+            const DOC: &'static str = #doc;
 
             fn get(&self, name: &str) -> ::core::option::Option<f64> {
                 match name {
@@ -326,7 +328,27 @@ fn duplicates(
 
 /// The text of `///` comments, joined into one line.
 fn doc_comment(attrs: &[syn::Attribute]) -> String {
-    let lines: Vec<String> = attrs
+    let lines: Vec<String> = doc_attributes(attrs)
+        .map(|line| line.trim().to_string())
+        .collect();
+    lines.join(" ").trim().to_string()
+}
+
+/// The text of `///` comments line by line, without the space after `///` (the struct's doc
+/// comment, whose paragraphs and lists are kept).
+fn doc_lines(attrs: &[syn::Attribute]) -> String {
+    let lines: Vec<String> = doc_attributes(attrs)
+        .map(|line| {
+            let line = line.strip_prefix(' ').unwrap_or(&line);
+            line.trim_end().to_string()
+        })
+        .collect();
+    lines.join("\n").trim().to_string()
+}
+
+/// The strings of the `#[doc = "..."]` attributes (what `///` comments are).
+fn doc_attributes(attrs: &[syn::Attribute]) -> impl Iterator<Item = String> + '_ {
+    attrs
         .iter()
         .filter(|a| a.path().is_ident("doc"))
         .filter_map(|a| match &a.meta {
@@ -334,13 +356,11 @@ fn doc_comment(attrs: &[syn::Attribute]) -> String {
                 syn::Expr::Lit(syn::ExprLit {
                     lit: syn::Lit::Str(s),
                     ..
-                }) => Some(s.value().trim().to_string()),
+                }) => Some(s.value()),
                 _ => None,
             },
             _ => None,
         })
-        .collect();
-    lines.join(" ").trim().to_string()
 }
 
 #[cfg(test)]
@@ -358,5 +378,34 @@ mod tests {
         let out = expand(quote!(), &item).to_string();
         assert!(!out.contains("compile_error"), "{out}");
         assert!(out.contains("\"m0\"") && out.contains("\"m2\""), "{out}");
+    }
+
+    #[test]
+    fn the_structs_doc_comment_is_the_models_doc_with_its_lines() {
+        let item: syn::ItemStruct = syn::parse2(quote!(
+            /// A sleigh.
+            ///
+            ///   Its blade: no sideways slip.
+            struct P {
+                /// mass (kg)
+                m: f64,
+            }
+        ))
+        .unwrap();
+        let out = expand(quote!(), &item).to_string();
+        assert!(
+            out.contains(
+                r#"const DOC : & 'static str = "A sleigh.\n\n  Its blade: no sideways slip." ;"#
+            ),
+            "{out}"
+        );
+        let bare: syn::ItemStruct = syn::parse2(quote!(
+            struct P {
+                m: f64,
+            }
+        ))
+        .unwrap();
+        let out = expand(quote!(), &bare).to_string();
+        assert!(out.contains(r#"const DOC : & 'static str = "" ;"#), "{out}");
     }
 }

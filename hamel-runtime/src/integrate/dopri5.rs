@@ -8,8 +8,9 @@ use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, UNDERFLOW_ULPS, check_problem, check_span, check_state,
-    combine, equal_steps, fresh, fresh_component, too_many_steps, too_many_steps_planned,
+    Integrator, MAX_STEPS, NonFinite, Ode, Stats, UNDERFLOW_ULPS, Watched, check_problem,
+    check_span, check_state, combine, equal_steps, fresh, fresh_component, too_many_steps,
+    too_many_steps_planned,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -93,23 +94,24 @@ impl DormandPrince {
         self
     }
 
+    fn settings(&self) -> Adaptive {
+        Adaptive {
+            rtol: self.rtol,
+            atol: self.atol,
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            min_step: self.min_step,
+        }
+    }
+
     fn check_settings(&self) -> Result<(), Error> {
         let floor = RtolFloor {
             value: 0.0,
             inclusive: true,
             reason: "the relative tolerance must be a finite number ≥ 0",
         };
-        settings::check(
-            &Adaptive {
-                rtol: self.rtol,
-                atol: self.atol,
-                initial_step: self.initial_step,
-                max_step: self.max_step,
-                max_steps: self.max_steps,
-                min_step: self.min_step,
-            },
-            floor,
-        )?;
+        settings::check(&self.settings(), floor)?;
         if let Some(h) = self.fixed_step.filter(|h| !(h.is_finite() && *h > 0.0)) {
             return Err(Error::InvalidSetting {
                 name: "fixed step",
@@ -368,6 +370,7 @@ impl Integrator for DormandPrince {
         }
         if self.fixed_step.is_none() {
             check_span(ode, t0, t_end, x0)?;
+            settings::check_span_floor(&self.settings(), t0, t_end)?;
         }
 
         let mut k: Stages<O::State> = [O::State::zeros(); 7];
@@ -462,6 +465,27 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
     }
 }
 
+/// The error for a run that gave up after a step of size `h` from (t, y) met a right-hand
+/// side value that is not a number: that step taken again, its stages watched, and the value
+/// named (or `otherwise`, if the stages are all finite this time). Cold: only a failing run
+/// gets here, so the stages of every other step are not watched.
+#[cold]
+fn non_finite_cause<O: Ode>(
+    ode: &mut O,
+    (t, y): (f64, &O::State),
+    k: &Stages<O::State>,
+    h: f64,
+    otherwise: Error,
+) -> Error {
+    if let Some(found) = NonFinite::check(t, y, &k[0]) {
+        return found.error(ode);
+    }
+    let mut watched = Watched::new(ode);
+    let mut stages = *k;
+    let _ = attempt(&mut watched, t, y, &mut stages, h, &mut Stats::default());
+    watched.explain(otherwise)
+}
+
 impl DormandPrince {
     fn adaptive<O: Ode, T: SampleTimes + ?Sized>(
         &self,
@@ -486,6 +510,9 @@ impl DormandPrince {
         let mut controller = Controller::new();
         let (mut t, mut y) = (t0, y0);
         let len = run.ode.controlled_components();
+        // The last step rejected for an error estimate that was not a number since the last
+        // accepted one: if the step then underflows, the right-hand side's NaN is the cause.
+        let mut nan_step = None;
         loop {
             let tried = run.stats.steps + run.stats.rejected;
             if tried >= self.max_steps {
@@ -495,10 +522,14 @@ impl DormandPrince {
             // would crawl: the solution (or the tolerance) asks for more than the method
             // can give.
             if h < UNDERFLOW_ULPS * f64::EPSILON * t.abs() || h < floor || h < 1e-300 {
-                return Err(Error::StepSizeUnderflow {
+                let underflow = Error::StepSizeUnderflow {
                     t,
                     h,
                     state: run.ode.describe(&y),
+                };
+                return Err(match nan_step {
+                    Some(h_nan) => non_finite_cause(run.ode, (t, &y), &run.k, h_nan, underflow),
+                    None => underflow,
                 });
             }
             // Stretch the last step by up to 1% rather than leave a sliver (Hairer's rule).
@@ -514,6 +545,7 @@ impl DormandPrince {
                     return Ok(());
                 };
                 let h_new = controller.accepted(h, err, hmax);
+                nan_step = None;
                 (t, y) = (t1, next);
                 if last {
                     return Ok(());
@@ -521,6 +553,9 @@ impl DormandPrince {
                 h = h_new;
             } else {
                 run.stats.rejected += 1;
+                if err.is_nan() {
+                    nan_step = Some(h);
+                }
                 h = controller.rejected(h, err);
             }
         }

@@ -17,7 +17,7 @@ use super::midpoint::ImplicitMidpoint;
 use super::newton::{Criterion, Newton, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::sampling::final_sample;
-use super::{Integrator, MAX_STEPS, Ode, Stats, check_problem, check_state};
+use super::{Integrator, MAX_STEPS, Ode, Stats, Watched, check_problem, check_state};
 use crate::error::Error;
 use crate::vector::Vector;
 
@@ -224,6 +224,8 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
         h: f64,
         stats: &mut Stats,
     ) -> Result<&Collocation<'t, V, S>, Error> {
+        // Watched, so that an iteration that fails on a value that is not finite names it.
+        let ode = &mut Watched::new(ode);
         if self.refresh || !self.newton.has_jacobian() {
             self.newton.evaluate(ode, t, y, stats)?;
             self.refresh = false;
@@ -249,7 +251,7 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
             scale.as_ref(),
             stats,
         )?;
-        if matches!(outcome, Outcome::Failed { .. }) && !self.newton.fresh {
+        if matches!(outcome, Outcome::Failed { .. }) && !self.newton.jacobian.fresh {
             // An old Jacobian may be to blame: once more with a fresh one.
             self.newton.evaluate(ode, t, y, stats)?;
             self.newton.factor(ode, self.tableau, (t, y, h), stats)?;
@@ -272,17 +274,17 @@ impl<'t, V: Vector, const S: usize> Stepper<'t, V, S> {
                 increment,
                 ..
             } => {
-                return Err(Error::NewtonNotConverged {
+                return Err(ode.explain(Error::NewtonNotConverged {
                     t,
                     h,
                     iterations,
                     increment,
                     rate,
                     state: ode.describe(y),
-                });
+                }));
             }
         }
-        self.newton.fresh = false;
+        self.newton.jacobian.fresh = false;
         Ok(self.last.insert(Collocation {
             tableau: self.tableau,
             t,

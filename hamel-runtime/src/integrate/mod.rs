@@ -12,6 +12,9 @@
 //! the state, never a run that does not end.
 
 mod collocation;
+#[doc(hidden)]
+pub mod dense;
+mod differences;
 mod dopri5;
 mod fixed_step;
 mod gauss;
@@ -22,6 +25,8 @@ pub mod observer;
 mod radau;
 mod radau_stages;
 mod rk4;
+mod rodas;
+mod rosenbrock_tableau;
 mod sampling;
 mod settings;
 mod singular;
@@ -33,6 +38,7 @@ pub use newton::NEWTON_MAX_ITERATIONS;
 pub use observer::{Control, Grid, Interpolant, Observer, SampleTimes, StepView};
 pub use radau::Radau5;
 pub use rk4::Rk4;
+pub use rodas::{Rodas4, Rodas5P};
 
 use crate::error::Error;
 use crate::named::NamedValues;
@@ -64,15 +70,32 @@ pub trait Ode {
     }
 
     /// Writes the Jacobian ∂f/∂x at (t, x) into `jacobian`, row by row (`LEN × LEN` entries:
-    /// entry `i·LEN + j` is ∂fᵢ/∂xⱼ), and returns `Ok(true)`. The implicit methods solve their
-    /// stage equations with it. The default writes nothing and returns `Ok(false)`: they then
-    /// form it by forward differences of [`Ode::rhs`] (LEN + 1 evaluations, counted). An
-    /// error stops the integration and is returned unchanged.
+    /// entry `i·LEN + j` is ∂fᵢ/∂xⱼ), and returns `Ok(true)`. The implicit and Rosenbrock
+    /// methods solve their stage equations with it. The default writes nothing and returns
+    /// `Ok(false)`: they then form it by forward differences of [`Ode::rhs`] (LEN
+    /// evaluations, counted, more where a column's difference must be refined), each column's
+    /// step chosen from the state's scale, the tolerance and the function's scale as scipy's
+    /// `num_jac` chooses it (`integrate::differences`). An error stops the integration and is
+    /// returned unchanged.
     fn jacobian(
         &mut self,
         _t: f64,
         _x: &Self::State,
         _jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        Ok(false)
+    }
+
+    /// Writes ∂f/∂t at (t, x) into `dfdt` and returns `Ok(true)`: the Rosenbrock methods
+    /// ([`Rodas5P`], [`Rodas4`]) need it with the Jacobian at every step. The default writes
+    /// nothing and returns `Ok(false)`: they then difference f in t (one evaluation, counted).
+    /// An autonomous system (f independent of t) saves that evaluation by writing zeros. An
+    /// error stops the integration and is returned unchanged.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _x: &Self::State,
+        _dfdt: &mut Self::State,
     ) -> Result<bool, Error> {
         Ok(false)
     }
@@ -102,7 +125,9 @@ pub struct Stats {
     pub evaluations: usize,
     /// Jacobians ∂f/∂x evaluated (implicit methods only).
     pub jacobians: usize,
-    /// LU factorizations of an implicit method's iteration matrix (implicit methods only).
+    /// LU factorizations of an implicit or Rosenbrock method's iteration matrices (implicit
+    /// methods only): Radau5's real and complex matrices of a step count as two, as scipy's
+    /// `Radau` counts them.
     pub factorizations: usize,
     /// The time the observer stopped the integration at ([`Control::Stop`]), if it did.
     pub stopped: Option<f64>,
@@ -260,6 +285,118 @@ pub(crate) fn check_span<O: Ode>(ode: &O, t0: f64, t_end: f64, x0: &O::State) ->
         });
     }
     Ok(())
+}
+
+/// A right-hand side value that is not a number (NaN), returned at a finite state: no step
+/// size makes it one, so it is named as the cause of a failing run. An infinite value is not
+/// one of these: it is what a solution that blows up gives as it overflows (y′ = y² near its
+/// pole), and the step-size underflow there says what happened.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NonFinite<V> {
+    pub t: f64,
+    pub x: V,
+    pub rate: V,
+}
+
+impl<V: Vector> NonFinite<V> {
+    /// The right-hand side's value `rate` at (t, x) if it has a NaN where x is finite.
+    pub fn check(t: f64, x: &V, rate: &V) -> Option<Self> {
+        (rate.as_ref().iter().any(|v| v.is_nan()) && is_finite(x) && t.is_finite()).then_some(
+            NonFinite {
+                t,
+                x: *x,
+                rate: *rate,
+            },
+        )
+    }
+
+    /// The error naming the first component whose rate is NaN.
+    pub fn error<O: Ode<State = V>>(&self, ode: &O) -> Error {
+        let i = self
+            .rate
+            .as_ref()
+            .iter()
+            .position(|v| v.is_nan())
+            .unwrap_or(0);
+        let state = ode.describe(&self.x);
+        let rate = state
+            .0
+            .get(i)
+            .map_or_else(|| format!("x{i}"), |(name, _)| name.clone());
+        Error::NonFiniteRate {
+            t: self.t,
+            rate,
+            value: self.rate.as_ref().get(i).copied().unwrap_or(f64::NAN),
+            state,
+        }
+    }
+}
+
+/// An [`Ode`] whose right-hand side values are watched: the last that had a NaN at a finite
+/// state is kept (`non_finite`), so that an integration that gives up after
+/// failed steps can name it as the cause instead of the step size or the iteration. The
+/// caller clears it when a step succeeds (a value that a smaller step avoided is no cause).
+/// Its price, a finiteness check of each value, matters to no implicit method (each
+/// evaluation is followed by linear solves); an explicit one watches only when it fails.
+pub(crate) struct Watched<'o, O: Ode> {
+    pub ode: &'o mut O,
+    pub non_finite: Option<NonFinite<O::State>>,
+}
+
+impl<'o, O: Ode> Watched<'o, O> {
+    pub fn new(ode: &'o mut O) -> Self {
+        Watched {
+            ode,
+            non_finite: None,
+        }
+    }
+
+    /// `error`, unless a right-hand side value that was not finite explains it: then the
+    /// error naming that value.
+    pub fn explain(&self, error: Error) -> Error {
+        match &self.non_finite {
+            Some(found) => found.error(&*self.ode),
+            None => error,
+        }
+    }
+}
+
+impl<O: Ode> Ode for Watched<'_, O> {
+    type State = O::State;
+
+    #[inline]
+    fn rhs(&mut self, t: f64, x: &O::State, dx: &mut O::State) -> Result<(), Error> {
+        self.ode.rhs(t, x, dx)?;
+        if let Some(found) = NonFinite::check(t, x, dx) {
+            self.non_finite = Some(found);
+        }
+        Ok(())
+    }
+
+    fn controlled_components(&self) -> usize {
+        self.ode.controlled_components()
+    }
+
+    fn project(&mut self, t: f64, x: &mut O::State) -> Result<bool, Error> {
+        self.ode.project(t, x)
+    }
+
+    fn jacobian(&mut self, t: f64, x: &O::State, jacobian: &mut [f64]) -> Result<bool, Error> {
+        self.ode.jacobian(t, x, jacobian)
+    }
+
+    fn time_derivative(
+        &mut self,
+        t: f64,
+        x: &O::State,
+        dfdt: &mut O::State,
+    ) -> Result<bool, Error> {
+        self.ode.time_derivative(t, x, dfdt)
+    }
+
+    fn describe(&self, x: &O::State) -> NamedValues {
+        self.ode.describe(x)
+    }
 }
 
 /// The error for a step that produced a non-finite state.

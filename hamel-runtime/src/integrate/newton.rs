@@ -12,14 +12,15 @@
 //! McLachlan & Razakarivony, *BIT* 48 (2008)), and RADAU5's test on the predicted remaining
 //! error, for the stiff method whose error control needs no more than the tolerance.
 
-use nalgebra::{Complex, DMatrix, DMatrixView, DVector, Dyn, LU};
+use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::collocation::Tableau;
+use super::differences::Jacobian;
 use super::singular::{
     SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot, smallest_pivot,
 };
 use super::{Ode, Stats};
-use crate::error::{Error, Num};
+use crate::error::Error;
 use crate::vector::Vector;
 
 /// The most iterations a symmetric method spends converging its stages to rounding before it
@@ -230,13 +231,10 @@ impl Convergence {
 /// integration (allocated once; a factorization allocates its matrix).
 pub(crate) struct Newton {
     n: usize,
-    jacobian: DMatrix<f64>,
-    /// The Jacobian as the `Ode` writes it, row by row.
-    rows: Vec<f64>,
-    evaluated: bool,
-    /// Whether `jacobian` was evaluated at the start of the step being solved: when it was,
-    /// a failure cannot be blamed on an old Jacobian.
-    pub fresh: bool,
+    /// The Jacobian, the ODE's own or by differences; `jacobian.fresh` says whether it was
+    /// evaluated at the start of the step being solved (a failure then cannot be blamed on an
+    /// old Jacobian).
+    pub jacobian: Jacobian,
     /// The LU factors of I − h·(A ⊗ J) and the h they are for.
     lu: Option<(f64, LU<f64, Dyn, Dyn>)>,
     residual: DVector<f64>,
@@ -251,16 +249,19 @@ pub(crate) struct Newton {
     reuse: f64,
 }
 
+/// The typical size of a component for the difference Jacobian of a fixed-step method, which
+/// has no absolute tolerance to take it from: the step of column j is √ε·max(|xⱼ|, 1) at
+/// first (Dennis & Schnabel's rule with a typical size of 1), then adapted
+/// ([`super::differences`]).
+pub(crate) const TYPICAL_SIZE: f64 = 1.0;
+
 impl Newton {
     /// The machinery for an ODE with `n` components, of which the leading `controlled` are
     /// measured by the convergence test, and a method with `stages` stages.
     pub fn new(n: usize, controlled: usize, stages: usize) -> Self {
         Newton {
             n,
-            jacobian: DMatrix::zeros(n, n),
-            rows: vec![0.0; n * n],
-            evaluated: false,
-            fresh: false,
+            jacobian: Jacobian::new(n, TYPICAL_SIZE),
             lu: None,
             residual: DVector::zeros(n * stages),
             faccon: 1.0,
@@ -281,16 +282,12 @@ impl Newton {
 
     /// Whether a Jacobian has been evaluated yet.
     pub fn has_jacobian(&self) -> bool {
-        self.evaluated
-    }
-
-    /// The Jacobian last evaluated.
-    pub fn jacobian(&self) -> &DMatrix<f64> {
-        &self.jacobian
+        self.jacobian.count() > 0
     }
 
     /// Evaluates the Jacobian at (t, x): the ODE's own, or forward differences; an entry that
-    /// is not finite is an error naming it. Invalidates the factorization.
+    /// is not finite is an error naming it (or the rate that is not finite). Invalidates the
+    /// factorization.
     pub fn evaluate<O: Ode>(
         &mut self,
         ode: &mut O,
@@ -298,33 +295,8 @@ impl Newton {
         x: &O::State,
         stats: &mut Stats,
     ) -> Result<(), Error> {
-        if !ode.jacobian(t, x, &mut self.rows)? {
-            differences(ode, t, x, &mut self.rows, stats)?;
-        }
-        stats.jacobians += 1;
-        let n = self.n;
-        if let Some(k) = self.rows.iter().position(|v| !v.is_finite()) {
-            let names = ode.describe(x);
-            let name = |i: usize| {
-                names
-                    .0
-                    .get(i)
-                    .map_or_else(|| format!("x{i}"), |(n, _)| n.clone())
-            };
-            return Err(Error::NonFiniteDerivative {
-                of: format!("the rate of `{}`", name(k / n)),
-                by: name(k % n),
-                value: self.rows[k],
-                at: format!("at t = {}, in the state {names}", Num(t)),
-            });
-        }
-        // `rows` read column-major is Jᵀ: its transpose, copied without a temporary.
-        self.jacobian
-            .tr_copy_from(&DMatrixView::from_slice(&self.rows, n, n));
-        self.evaluated = true;
-        self.fresh = true;
         self.lu = None;
-        Ok(())
+        self.jacobian.evaluate(ode, t, x, None, stats)
     }
 
     /// Factors I − h·(A ⊗ J) unless it is factored for this h already (up to the reuse
@@ -341,14 +313,15 @@ impl Newton {
             return Ok(());
         }
         let n = self.n;
+        let jacobian = self.jacobian.matrix();
         let matrix = DMatrix::from_fn(S * n, S * n, |r, c| {
             let (i, p, j, q) = (r / n, r % n, c / n, c % n);
             let identity = if r == c { 1.0 } else { 0.0 };
-            identity - h * tableau.a[i][j] * self.jacobian[(p, q)]
+            identity - h * tableau.a[i][j] * jacobian[(p, q)]
         });
         stats.factorizations += 1;
         let mus = || method_eigenvalues(&tableau.a);
-        match factor_checked(matrix, &mut self.lu, h, &self.jacobian, mus) {
+        match factor_checked(matrix, &mut self.lu, h, jacobian, mus) {
             Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
                 t,
                 h,
@@ -452,34 +425,6 @@ pub(crate) fn factor_checked(
     None
 }
 
-/// The Jacobian by forward differences, row by row into `rows`, with Hairer's increments
-/// √(ε·max(10⁻⁵, |xⱼ|)) (RADAU5): n + 1 evaluations.
-fn differences<O: Ode>(
-    ode: &mut O,
-    t: f64,
-    x: &O::State,
-    rows: &mut [f64],
-    stats: &mut Stats,
-) -> Result<(), Error> {
-    let n = O::State::LEN;
-    let mut f0 = O::State::zeros();
-    ode.rhs(t, x, &mut f0)?;
-    let mut f = O::State::zeros();
-    for j in 0..n {
-        let mut shifted = *x;
-        let xj = x.as_ref()[j];
-        shifted.as_mut()[j] = xj + (f64::EPSILON * xj.abs().max(1e-5)).sqrt();
-        // The increment as represented, so that the quotient is exact in it.
-        let delta = shifted.as_ref()[j] - xj;
-        ode.rhs(t, &shifted, &mut f)?;
-        for i in 0..n {
-            rows[i * n + j] = (f.as_ref()[i] - f0.as_ref()[i]) / delta;
-        }
-    }
-    stats.evaluations += n + 1;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -500,18 +445,6 @@ mod tests {
             j.copy_from_slice(&[0.0, 1.0, -4.0, -0.5]);
             Ok(true)
         }
-    }
-
-    #[test]
-    fn differences_approximate_the_jacobian() {
-        let mut rows = [0.0; 4];
-        let mut stats = Stats::default();
-        differences(&mut Linear, 0.0, &[0.3, -1.2], &mut rows, &mut stats).unwrap();
-        // Linear's own Jacobian is not used by `differences`.
-        for (got, want) in rows.iter().zip([0.0, 1.0, -4.0, -0.5]) {
-            assert!((got - want).abs() < 1e-7, "{rows:?}");
-        }
-        assert_eq!(stats.evaluations, 3);
     }
 
     #[test]

@@ -16,17 +16,17 @@
 //! colours into a matrix by repeated calls, each of which would cost a whole dual-number
 //! Jacobian here. The scheme is written on nalgebra's LU instead.
 
-use nalgebra::DVectorViewMut;
-
 use super::collocation::{Collocation, Tableau, extrapolate};
+use super::differences::Jacobian;
 use super::initial_step::{Target, initial_step};
-use super::newton::{Criterion, Newton, Outcome};
+use super::newton::{Criterion, Outcome};
 use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
 use super::radau_stages::TransformedStages;
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
-    Integrator, MAX_STEPS, Ode, Stats, check_problem, check_span, check_state, too_many_steps,
+    Integrator, MAX_STEPS, Ode, Stats, Watched, check_problem, check_span, check_state,
+    too_many_steps,
 };
 use crate::error::Error;
 use crate::vector::Vector;
@@ -35,7 +35,10 @@ use crate::vector::Vector;
 /// whose fast, strongly damped motions force an explicit method into tiny steps whatever the
 /// tolerance. Its steps follow the slow motion; each solves 3n implicit equations by
 /// simplified Newton on the Jacobian ([`Ode::jacobian`]: for a simulation, the system's exact
-/// one), which it evaluates afresh only when the iteration slows down.
+/// one), which it evaluates afresh only when the iteration slows down (contracts by more than
+/// 0.001 per iteration; by more than 0.1 for a Jacobian by differences of ten or more
+/// components, which costs n evaluations). At tolerances looser than about 10⁻⁶, [`super::Rodas5P`] is usually faster
+/// on the exact Jacobian (`hamel::docs::running`, "Which stiff method").
 ///
 /// The tolerances are RADAU5's: rtol and atol are mapped to 0.1·rtol^(2/3) and
 /// 0.1·rtol^(2/3)·atol/rtol before the local error is held to them. The global error is then
@@ -112,6 +115,18 @@ const SAFE: f64 = 0.9;
 const FACL: f64 = 5.0;
 const FACR: f64 = 0.125;
 const THET: f64 = 0.001;
+/// The same for a Jacobian by differences of a system of [`COSTLY_DIFFERENCES`] components
+/// or more: RADAU5's advice (its WORK(3): 0.001 for small systems, "increase to 0.1, say,
+/// when Jacobian evaluations are costly"). Such a Jacobian costs n evaluations, an iteration
+/// three: the iteration then converges a little more slowly on an older Jacobian instead of
+/// paying n evaluations after nearly every step. Measured (`benches/work_precision`): on
+/// POLLU (n = 20) 0.1 takes the evaluations from 1.48 to 0.90 times scipy's `Radau` by
+/// differences at equal error; on ROBER (n = 3) from 1.01 to 1.29, and Robertson's y₁ at
+/// 4·10¹⁰ from 1.5·10⁻⁵ to 1.8·10⁻⁴ of its value; HIRES (n = 8) about even.
+const THET_DIFFERENCED: f64 = 0.1;
+
+/// The size from which a Jacobian by differences counts as costly ([`THET_DIFFERENCED`]).
+const COSTLY_DIFFERENCES: usize = 10;
 const QUOT1: f64 = 1.0;
 const QUOT2: f64 = 1.2;
 
@@ -154,6 +169,17 @@ impl Radau5 {
         self
     }
 
+    fn settings(&self) -> Adaptive {
+        Adaptive {
+            rtol: self.rtol,
+            atol: self.atol,
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            min_step: self.min_step,
+        }
+    }
+
     fn check_settings(&self) -> Result<(), Error> {
         let floor = RtolFloor {
             value: 10.0 * f64::EPSILON,
@@ -161,17 +187,7 @@ impl Radau5 {
             reason: "the relative tolerance of Radau5 must be a finite number above 10 ε ≈ \
                      2.2e-15 (its error control works with rtol^(2/3))",
         };
-        settings::check(
-            &Adaptive {
-                rtol: self.rtol,
-                atol: self.atol,
-                initial_step: self.initial_step,
-                max_step: self.max_step,
-                max_steps: self.max_steps,
-                min_step: self.min_step,
-            },
-            floor,
-        )?;
+        settings::check(&self.settings(), floor)?;
         if self.max_iterations < 2 {
             return Err(Error::InvalidSetting {
                 name: "max iterations",
@@ -210,6 +226,7 @@ impl Integrator for Radau5 {
             return Ok(Stats::default());
         };
         check_span(ode, t0, t_end, x0)?;
+        settings::check_relative_floor(&self.settings(), t0, t_end)?;
         let tableau = Tableau::radau_iia();
         let mut run = Run::new(self, &tableau, ode, (t0, x0), t_end)?;
         run.integrate(&mut samples)?;
@@ -219,7 +236,7 @@ impl Integrator for Radau5 {
 
 /// The constants of RADAU5's error estimate: the weights of the stage increments in the
 /// embedded formula (its DD1…DD3); its matrix (u₁/h) I − J, u₁ the real eigenvalue of A⁻¹, is
-/// the transformed iteration's real one ([`TransformedStages::real_lu`]).
+/// the transformed iteration's real one ([`TransformedStages::solve_real`]).
 struct Estimate {
     dd: [f64; 3],
 }
@@ -237,13 +254,14 @@ impl Estimate {
 struct Run<'a, 't, O: Ode> {
     method: &'a Radau5,
     tableau: &'t Tableau<3>,
-    ode: &'a mut O,
+    /// The ODE, its right-hand side's values watched for NaN (named when the run ends).
+    ode: Watched<'a, O>,
     stats: Stats,
     /// The Jacobian, evaluated afresh when the iteration slows down.
-    newton: Newton,
+    jacobian: Jacobian,
     /// The factored matrices of RADAU5's transformed iteration (the real one is the error
     /// estimate's too).
-    stages: TransformedStages,
+    stages: TransformedStages<O::State>,
     estimate: Estimate,
     /// The tolerances as RADAU5 transforms them, and its Newton tolerance.
     rtol: f64,
@@ -348,10 +366,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         Ok(Run {
             method,
             tableau,
-            ode,
+            ode: Watched::new(ode),
             stats,
-            newton: Newton::new(O::State::LEN, controlled, 3),
-            stages: TransformedStages::new(O::State::LEN, controlled, tableau),
+            jacobian: Jacobian::new(O::State::LEN, method.atol),
+            stages: TransformedStages::new(controlled, tableau),
             estimate: Estimate::new(),
             rtol,
             atol,
@@ -383,8 +401,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         &mut self,
         samples: &mut Samples<'_, T, O::State>,
     ) -> Result<(), Error> {
-        let (t, y) = (self.t, self.y);
-        self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        self.evaluate_jacobian()?;
         // Stretch a first step that nearly reaches the end (RADAU5's rule).
         let mut last = self.t + self.h * QUOT1 >= self.t_end;
         if last {
@@ -394,14 +411,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             let (t, y, h) = (self.t, self.y, self.h);
             let tried = self.stats.steps + self.stats.rejected;
             if tried >= self.method.max_steps {
-                return Err(too_many_steps(&*self.ode, t, h, &y, tried));
+                return Err(too_many_steps(&self.ode, t, h, &y, tried));
             }
             if h < self.floor(t) {
-                return Err(Error::StepSizeUnderflow {
+                return Err(self.ode.explain(Error::StepSizeUnderflow {
                     t,
                     h,
                     state: self.ode.describe(&y),
-                });
+                }));
             }
             let Some((z, iterations)) = self.attempt()? else {
                 last = false;
@@ -435,10 +452,9 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                     Next::Continue => {}
                 }
                 last = self.next_step(h / quot);
-                self.newton.fresh = false;
-                if self.theta > THET {
-                    let (t, y) = (self.t, self.y);
-                    self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+                self.jacobian.fresh = false;
+                if self.theta > self.thet() {
+                    self.evaluate_jacobian()?;
                 }
             } else {
                 self.stats.rejected += 1;
@@ -466,7 +482,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         }
         // Within a band of ratios the step, and so the factorization, is kept.
         let ratio = h_new / h;
-        if !(self.theta <= THET && (QUOT1..=QUOT2).contains(&ratio)) {
+        if !(self.theta <= self.thet() && (QUOT1..=QUOT2).contains(&ratio)) {
             self.h = h_new;
         }
         false
@@ -490,7 +506,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     fn singular(&mut self, e: Error) -> Result<(), Error> {
         self.failures.singular_in_a_row += 1;
         if self.failures.singular_in_a_row >= SINGULAR_IN_A_ROW {
-            return Err(e);
+            return Err(self.ode.explain(e));
         }
         self.stats.rejected += 1;
         self.reject = true;
@@ -500,11 +516,26 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
 
     /// Evaluates the Jacobian at the current point unless it was evaluated there.
     fn refresh_unless_fresh(&mut self) -> Result<(), Error> {
-        if !self.newton.fresh {
-            let (t, y) = (self.t, self.y);
-            self.newton.evaluate(self.ode, t, &y, &mut self.stats)?;
+        if !self.jacobian.fresh {
+            self.evaluate_jacobian()?;
         }
         Ok(())
+    }
+
+    /// The contraction below which the Jacobian is kept after a step (RADAU5's THET).
+    fn thet(&self) -> f64 {
+        if self.jacobian.differenced() && O::State::LEN >= COSTLY_DIFFERENCES {
+            THET_DIFFERENCED
+        } else {
+            THET
+        }
+    }
+
+    /// Evaluates the Jacobian at the current point (t, y), where f is `f0`.
+    fn evaluate_jacobian(&mut self) -> Result<(), Error> {
+        let (t, y, f0) = (self.t, self.y, self.f0);
+        self.jacobian
+            .evaluate(&mut self.ode, t, &y, Some(&f0), &mut self.stats)
     }
 
     /// The stage increments of a step of size h from (t, y) and the iterations they took, or
@@ -522,14 +553,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             tolerance: self.fnewt,
             max_iterations: self.method.max_iterations,
         };
-        let fresh = self.newton.fresh;
+        let fresh = self.jacobian.fresh;
         let outcome = self.stages.iterate(
-            self.ode,
+            &mut self.ode,
             self.tableau,
             (t, &y, h),
             &mut z,
             criterion,
-            scale.as_ref(),
+            &scale,
             &mut self.stats,
         )?;
         match outcome {
@@ -550,14 +581,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                         || (self.failures.newton >= NEWTON_FAILURES_SUSTAINED
                             && self.failures.newton > self.stats.steps)
                     {
-                        return Err(Error::NewtonNotConverged {
+                        return Err(self.ode.explain(Error::NewtonNotConverged {
                             t,
                             h,
                             iterations,
                             increment,
                             rate,
                             state: self.ode.describe(&y),
-                        });
+                        }));
                     }
                 }
                 self.stats.rejected += 1;
@@ -591,11 +622,9 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// components.
     fn error(&mut self, z: &[O::State; 3]) -> Result<f64, Error> {
         let (t, y, h) = (self.t, self.y, self.h);
-        let lu = self.stages.real_lu();
-        // On the stack, solved in place through a view: the estimate allocates nothing.
-        let solve = |v: &mut O::State| {
-            lu.solve_mut(&mut DVectorViewMut::from_slice(v.as_mut(), O::State::LEN));
-        };
+        let stages = &self.stages;
+        // On the stack, solved in place: the estimate allocates nothing.
+        let solve = |v: &mut O::State| stages.solve_real(v);
         let mut f2 = O::State::zeros();
         for (i, zi) in z.iter().enumerate() {
             for (f, v) in f2.as_mut().iter_mut().zip(zi.as_ref()) {
@@ -639,10 +668,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// Factors the transformed iteration's matrices for the current h and Jacobian (unless
     /// done already); a singular one is an error naming the growing mode that makes it so.
     fn factor(&mut self) -> Result<(), Error> {
-        let id = (self.h, self.stats.jacobians);
+        let id = (self.h, self.jacobian.count());
         let singular =
             self.stages
-                .factor(self.newton.jacobian(), id, self.tableau, &mut self.stats);
+                .factor(self.jacobian.matrix(), id, self.tableau, &mut self.stats);
         match singular {
             None => Ok(()),
             Some((growth, frequency)) => Err(Error::SingularIterationMatrix {
@@ -673,8 +702,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             z,
         };
         let raw = self.tableau.end(&y, &z);
-        check_state(&*self.ode, t1, &raw)?;
+        check_state(&self.ode, t1, &raw)?;
         self.stats.steps += 1;
+        // A value that was not finite at a rejected attempt is no longer a cause.
+        self.ode.non_finite = None;
         let mut y1 = raw;
         self.ode.project(t1, &mut y1)?;
         let control = if samples.observer.watches_steps() {
@@ -693,7 +724,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             Control::Continue => None,
             Control::Stop(ts) => Some(ts.clamp(t, t1)),
         };
-        let stop = samples.report(self.ode, (t1, &y1), |s| step.at(s), stop)?;
+        let stop = samples.report(&mut self.ode, (t1, &y1), |s| step.at(s), stop)?;
         if stop.is_some() {
             self.stats.stopped = stop;
             return Ok(Next::Done);

@@ -3,6 +3,11 @@
 
 use crate::error::Error;
 
+/// The largest absolute tolerance accepted: an error of 10¹⁰⁰ in any component of a
+/// physical state is no control at all (at 10³⁰⁰ Radau5 crossed its span in one step and
+/// returned that step's value).
+pub(crate) const ATOL_CEILING: f64 = 1e100;
+
 /// An adaptive method's tolerances and step limits, as the user set them.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Adaptive {
@@ -60,6 +65,15 @@ pub(crate) fn check(s: &Adaptive, floor: RtolFloor) -> Result<(), Error> {
             "the absolute tolerance must be a positive finite number",
         );
     }
+    if s.atol > ATOL_CEILING {
+        return invalid(
+            "atol",
+            s.atol,
+            "an absolute tolerance above 1e100 controls nothing (every step of any state \
+             passes, and the run returns whatever one step gives); use one of the size of the \
+             smallest change that matters, such as 1e-9",
+        );
+    }
     if let Some(h) = s.initial_step.filter(|h| !positive(*h)) {
         return invalid(
             "initial step",
@@ -82,6 +96,45 @@ pub(crate) fn check(s: &Adaptive, floor: RtolFloor) -> Result<(), Error> {
             "min step",
             s.min_step,
             "the relative floor on the step must be in [0, 1)",
+        );
+    }
+    Ok(())
+}
+
+/// Refuses steps that cannot be taken from the start, for a method whose smallest step is
+/// `min_step` of |t| (at least 16 ulps of t) where it is taken: a first step below that floor
+/// at t0 (it would be a step-size underflow before any step), and a largest step below it
+/// somewhere in the span (every step there would be).
+pub(crate) fn check_relative_floor(s: &Adaptive, t0: f64, t_end: f64) -> Result<(), Error> {
+    let floor = |t: f64| (s.min_step * t.abs()).max(16.0 * f64::EPSILON * t.abs());
+    check_floor(s, floor(t0), floor(t0).max(floor(t_end)))
+}
+
+/// [`check_relative_floor`] for a method whose smallest step is `min_step` of the span.
+pub(crate) fn check_span_floor(s: &Adaptive, t0: f64, t_end: f64) -> Result<(), Error> {
+    let floor = |t: f64| (s.min_step * (t_end - t0)).max(16.0 * f64::EPSILON * t.abs());
+    check_floor(s, floor(t0), floor(t0).max(floor(t_end)))
+}
+
+/// The checks of [`check_relative_floor`] with the floor at the start and the largest floor
+/// in the span.
+fn check_floor(s: &Adaptive, at_start: f64, largest: f64) -> Result<(), Error> {
+    if let Some(h) = s.initial_step.filter(|h| *h < at_start.max(1e-300)) {
+        return invalid(
+            "initial step",
+            h,
+            "the initial step is below the smallest step the integration may take at the \
+             start time (`min_step` of |t| or of the span, and 16 ulps of t): no step could \
+             be taken; give a larger one, or none to have it estimated",
+        );
+    }
+    if s.max_step < largest {
+        return invalid(
+            "max step",
+            s.max_step,
+            "the largest step is below the smallest step the integration may take in the span \
+             (`min_step` of |t| or of the span, and 16 ulps of t): no step could be taken \
+             there; raise the largest step or lower `min_step`",
         );
     }
     Ok(())

@@ -14,7 +14,7 @@
 //! absolute (relative to atol/rtol) below. Each problem sets atol/rtol
 //! ([`StiffProblem::ATOL_RATIO`]) to the size below which a component is negligible.
 
-use hamel::{Error, Integrator, Ode, Radau5, Stats};
+use hamel::{Error, Integrator, NamedValues, Ode, Radau5, Rodas5P, Stats, Vector};
 
 /// A problem of the test set.
 pub trait StiffProblem: Ode + Default {
@@ -45,6 +45,42 @@ pub fn radau5<P: StiffProblem>(rtol: f64) -> Result<(P::State, Stats), Error> {
         },
     )?;
     Ok((end, stats))
+}
+
+/// Rodas5P with rtol and atol = rtol·`P::ATOL_RATIO` (as [`radau5`]).
+pub fn rodas5p<P: StiffProblem>(rtol: f64) -> Result<(P::State, Stats), Error> {
+    run::<P, _, _>(&Rodas5P::new(rtol, rtol * P::ATOL_RATIO), &mut P::default())
+}
+
+/// `method` from the start to the end of `P`'s span on `ode` (`P` itself, or `P` without its
+/// Jacobian): the end state and the statistics.
+pub fn run<P: StiffProblem, I: Integrator, O: Ode<State = P::State>>(
+    method: &I,
+    ode: &mut O,
+) -> Result<(P::State, Stats), Error> {
+    let mut end = P::start();
+    let stats = method.integrate(ode, 0.0, &P::start(), &[P::T_END], &mut |_, y| {
+        end = *y;
+        Ok(())
+    })?;
+    Ok((end, stats))
+}
+
+/// A problem with its right-hand side alone, as a user's `Ode` without a Jacobian or ∂f/∂t:
+/// the methods difference them.
+#[derive(Default)]
+pub struct Differenced<P>(pub P);
+
+impl<P: Ode> Ode for Differenced<P> {
+    type State = P::State;
+
+    fn rhs(&mut self, t: f64, y: &P::State, f: &mut P::State) -> Result<(), Error> {
+        self.0.rhs(t, y, f)
+    }
+
+    fn describe(&self, y: &P::State) -> NamedValues {
+        self.0.describe(y)
+    }
 }
 
 /// The Test Set's mixed error of `y` at the end of `P`'s span.
@@ -84,6 +120,17 @@ impl Ode for Robertson {
             6e7 * y[1],
             0.0,
         ]);
+        Ok(true)
+    }
+
+    /// Autonomous: ∂f/∂t = 0.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _y: &Self::State,
+        d: &mut Self::State,
+    ) -> Result<bool, Error> {
+        *d = Self::State::zeros();
         Ok(true)
     }
 }
@@ -129,6 +176,17 @@ impl Ode for VanDerPol {
             (-2.0 * y[0] * y[1] - 1.0) / VDPOL_EPS,
             (1.0 - y[0] * y[0]) / VDPOL_EPS,
         ]);
+        Ok(true)
+    }
+
+    /// Autonomous: ∂f/∂t = 0.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _y: &Self::State,
+        d: &mut Self::State,
+    ) -> Result<bool, Error> {
+        *d = Self::State::zeros();
         Ok(true)
     }
 }
@@ -195,6 +253,17 @@ impl Ode for Hires {
         set(7, 7, -280.0 * y[5]);
         Ok(true)
     }
+
+    /// Autonomous: ∂f/∂t = 0.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _y: &Self::State,
+        d: &mut Self::State,
+    ) -> Result<bool, Error> {
+        *d = Self::State::zeros();
+        Ok(true)
+    }
 }
 
 impl StiffProblem for Hires {
@@ -245,6 +314,17 @@ impl Ode for Oregonator {
             0.0,
             -0.161,
         ]);
+        Ok(true)
+    }
+
+    /// Autonomous: ∂f/∂t = 0.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _y: &Self::State,
+        d: &mut Self::State,
+    ) -> Result<bool, Error> {
+        *d = Self::State::zeros();
         Ok(true)
     }
 }
@@ -397,6 +477,17 @@ impl Ode for Pollution {
                 }
             }
         }
+        Ok(true)
+    }
+
+    /// Autonomous: ∂f/∂t = 0.
+    fn time_derivative(
+        &mut self,
+        _t: f64,
+        _y: &Self::State,
+        d: &mut Self::State,
+    ) -> Result<bool, Error> {
+        *d = Self::State::zeros();
         Ok(true)
     }
 }

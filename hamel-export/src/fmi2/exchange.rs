@@ -1,0 +1,188 @@
+//! Model Exchange: the importer integrates. `fmi2GetDerivatives` is the generated
+//! right-hand side at the time, state and inputs the importer set; the model has no events
+//! and no discrete states of its own (hamel's events belong to a simulation, not to a
+//! model), so event mode only passes through.
+
+use super::api::{call, check_count, count_refusal, read, write, write_one};
+use super::instance::Refusal;
+use super::modes::{Function, Mode};
+use super::types::*;
+use crate::model::Model;
+use hamel_runtime::{HamelSystem, Vector};
+
+/// `fmi2EnterEventMode`.
+///
+/// # Safety
+/// `c` is null or an instance of `M` not yet freed.
+pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::EnterEventMode, "fmi2EnterEventMode", |inst| {
+            inst.mode = Mode::Event;
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2NewDiscreteStates`: nothing changes at an event of this model.
+///
+/// # Safety
+/// `c` as above; `info` null or writable.
+pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) -> Status {
+    let f = Function::NewDiscreteStates;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2NewDiscreteStates", |_| {
+            *write_one(info, "fmi2EventInfo")? = EventInfo::default();
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2EnterContinuousTimeMode`.
+///
+/// # Safety
+/// `c` as above.
+pub unsafe fn enter_continuous_time_mode<M: Model>(c: Component) -> Status {
+    let f = Function::EnterContinuousTimeMode;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2EnterContinuousTimeMode", |inst| {
+            inst.mode = Mode::Continuous;
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2CompletedIntegratorStep`: no event, no termination.
+///
+/// # Safety
+/// `c` as above; the flags null or writable.
+pub unsafe fn completed_integrator_step<M: Model>(
+    c: Component,
+    enter_event_mode: *mut Boolean,
+    terminate_simulation: *mut Boolean,
+) -> Status {
+    let f = Function::CompletedIntegratorStep;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2CompletedIntegratorStep", |_| {
+            *write_one(enter_event_mode, "enterEventMode")? = FALSE;
+            *write_one(terminate_simulation, "terminateSimulation")? = FALSE;
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2SetTime`.
+///
+/// # Safety
+/// `c` as above.
+pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::SetTime, "fmi2SetTime", |inst| {
+            if !t.is_finite() {
+                return Err(Refusal::error(format!(
+                    "the time {t} is not a finite number"
+                )));
+            }
+            inst.t = t;
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2SetContinuousStates`: every value finite, named if not.
+///
+/// # Safety
+/// `c` as above; `x` null or of `nx` entries.
+pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
+    let f = Function::SetContinuousStates;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2SetContinuousStates", |inst| {
+            check_count("x", nx, inst.table.sizes.nx)?;
+            let values = read(x, nx, "x")?;
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(Refusal::error(format!(
+                    "x[{i}] ({}) = {} is not a finite number",
+                    <M::System as HamelSystem>::STATE[i],
+                    values[i]
+                )));
+            }
+            inst.x.as_mut().copy_from_slice(values);
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2GetDerivatives`: the generated right-hand side, allocation-free.
+///
+/// # Safety
+/// `c` as above; `dx` null or of `nx` entries.
+pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, Function::GetDerivatives, "fmi2GetDerivatives", |inst| {
+            let out = write(dx, nx, "derivatives")?;
+            let out = <M::System as HamelSystem>::State::head_mut(out)
+                .filter(|_| nx == inst.table.sizes.nx)
+                .ok_or_else(|| count_refusal("derivatives", nx, inst.table.sizes.nx))?;
+            if inst.mode == Mode::Continuous {
+                // The hot path: the importer's state, straight into its array.
+                inst.derivatives_into(&inst.x, out)
+            } else {
+                inst.derivatives_into(&inst.current()?, out)
+            }
+        })
+    }
+}
+
+/// `fmi2GetEventIndicators`: the model has none.
+///
+/// # Safety
+/// `c` as above.
+pub unsafe fn get_event_indicators<M: Model>(c: Component, _z: *mut Real, nz: usize) -> Status {
+    let f = Function::GetEventIndicators;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2GetEventIndicators", |_| {
+            check_count("eventIndicators", nz, 0)
+        })
+    }
+}
+
+/// `fmi2GetContinuousStates`.
+///
+/// # Safety
+/// `c` as above; `x` null or of `nx` entries.
+pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
+    let f = Function::GetContinuousStates;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2GetContinuousStates", |inst| {
+            check_count("x", nx, inst.table.sizes.nx)?;
+            let out = write(x, nx, "x")?;
+            out.copy_from_slice(inst.current()?.as_ref());
+            Ok(())
+        })
+    }
+}
+
+/// `fmi2GetNominalsOfContinuousStates`: 1 for every state (the model gives no scales; the
+/// importer's absolute tolerance is then its relative one, FMPy's CVode included).
+///
+/// # Safety
+/// `c` as above; `nominals` null or of `nx` entries.
+pub unsafe fn get_nominals<M: Model>(c: Component, nominals: *mut Real, nx: usize) -> Status {
+    let f = Function::GetNominalsOfContinuousStates;
+    // SAFETY: the caller's contract.
+    unsafe {
+        call::<M>(c, f, "fmi2GetNominalsOfContinuousStates", |inst| {
+            check_count("x_nominal", nx, inst.table.sizes.nx)?;
+            write(nominals, nx, "x_nominal")?.fill(1.0);
+            Ok(())
+        })
+    }
+}

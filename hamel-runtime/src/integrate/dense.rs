@@ -1,0 +1,234 @@
+//! The square linear systems of an implicit method, n × n for a state of n components: LU
+//! factorization with partial pivoting and solves in place, sized at compile time.
+//!
+//! For n up to [`FIXED_LIMIT`] the matrix and its row permutation are nalgebra's statically
+//! sized storage (`SMatrix`, `PermutationSequence<Const<N>>`), in one block allocated with
+//! the integration and reused by every factorization after it; above it the same steps run on
+//! nalgebra's dynamically sized storage, whose matrix a large n would not fit on a stack.
+//! Either way the factorization is nalgebra's: its partial-pivoting Gauss steps
+//! (`linalg::gauss_step`, `gauss_step_swap`, as `LU::new` takes them) and its triangular
+//! solves (as `LU::solve_mut`). nalgebra's `LU` type itself cannot be named for a statically
+//! sized matrix in code generic over the size: its `DimMin` bound holds for `Const<N>` only
+//! through typenum, that is for each literal N, not for every N at once.
+//!
+//! Which path a state takes is decided by its type ([`crate::Vector::Lu`]): the branch on N
+//! is a constant, so each state's code holds one path.
+
+use nalgebra::allocator::Allocator;
+use nalgebra::linalg::{gauss_step, gauss_step_swap};
+use nalgebra::{
+    Complex, ComplexField, Const, DefaultAllocator, Dim, Dyn, Matrix, OMatrix, PermutationSequence,
+    StorageMut, U1,
+};
+
+/// The largest n whose matrices are sized at compile time. Above it the storage is dynamic
+/// (an n × n complex matrix of 32² entries is 16 KiB, a size still comfortable on a thread's
+/// stack when the method forms its matrices; the catalogue's models have at most 20 states).
+pub const FIXED_LIMIT: usize = 32;
+
+/// A matrix entry: `f64`, or `Complex<f64>` for Radau5's complex system.
+pub trait Entry: ComplexField<RealField = f64> + Copy {}
+
+impl Entry for f64 {}
+impl Entry for Complex<f64> {}
+
+/// An n × n matrix and its LU factors, for one size n (the state's).
+#[doc(hidden)]
+pub trait SquareLu<T: Entry> {
+    /// Storage for the matrix of the state's size, nothing factored yet (all it allocates,
+    /// once).
+    fn new() -> Self;
+
+    /// Forms the matrix by `fill`, which writes its n² entries column by column (column-major
+    /// order: entry (r, c) at c·n + r), and factors it in place; its smallest pivot in
+    /// modulus (infinite for n = 0), for the singularity test (`super::singular`; the caller
+    /// knows the largest entry more cheaply than a modulus of every entry, which for a
+    /// complex one is a `hypot`).
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64;
+
+    /// Solves the factored system in place, `b` of length n; `false` when a pivot is zero.
+    fn solve(&self, b: &mut [T]) -> bool;
+}
+
+/// The LU factors of an n × n matrix: the packed L and U and the row interchanges.
+#[doc(hidden)]
+pub struct Factors<T: Entry, D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    lu: OMatrix<T, D, D>,
+    p: PermutationSequence<D>,
+    dim: D,
+}
+
+impl<T: Entry, D: Dim> Factors<T, D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    fn zeros(dim: D) -> Self {
+        Factors {
+            lu: OMatrix::zeros_generic(dim, dim),
+            p: PermutationSequence::identity_generic(dim),
+            dim,
+        }
+    }
+
+    /// `LU::new`'s steps on the storage in place.
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
+        let n = self.dim.value();
+        fill(self.lu.as_mut_slice());
+        self.p = PermutationSequence::identity_generic(self.dim);
+        for i in 0..n {
+            let piv = self.lu.view_range(i.., i).icamax() + i;
+            let diag = self.lu[(piv, i)];
+            if diag.is_zero() {
+                // No non-zero entry below: the pivot stays 0 and solves fail.
+                continue;
+            }
+            if piv != i {
+                self.p.append_permutation(i, piv);
+                self.lu.columns_range_mut(..i).swap_rows(i, piv);
+                gauss_step_swap(&mut self.lu, diag, i, piv);
+            } else {
+                gauss_step(&mut self.lu, diag, i);
+            }
+        }
+        (0..n)
+            .map(|i| self.lu[(i, i)].modulus())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// `LU::solve_mut`'s steps on one column.
+    fn solve_column<S: StorageMut<T, D, U1>>(&self, b: &mut Matrix<T, D, U1, S>) -> bool {
+        self.p.permute_rows(b);
+        let _ = self.lu.solve_lower_triangular_with_diag_mut(b, T::one());
+        self.lu.solve_upper_triangular_mut(b)
+    }
+}
+
+/// The factors of an n × n matrix, n = `N`: statically sized up to [`FIXED_LIMIT`], in one
+/// block on the heap (so that a `Run` holding it stays small to move), dynamically above.
+#[doc(hidden)]
+pub enum Lu<T: Entry, const N: usize> {
+    Fixed(Box<Factors<T, Const<N>>>),
+    General(Factors<T, Dyn>),
+}
+
+/// The statically sized storage, formed in a function of its own: its frame, N² entries,
+/// exists only when it is called (for N ≤ [`FIXED_LIMIT`]).
+#[inline(never)]
+fn fixed<T: Entry, const N: usize>() -> Box<Factors<T, Const<N>>> {
+    Box::new(Factors::zeros(Const::<N>))
+}
+
+impl<T: Entry, const N: usize> SquareLu<T> for Lu<T, N> {
+    fn new() -> Self {
+        if N <= FIXED_LIMIT {
+            Lu::Fixed(fixed())
+        } else {
+            Lu::General(Factors::zeros(Dyn(N)))
+        }
+    }
+
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
+        match self {
+            Lu::Fixed(factors) => factors.factor(fill),
+            Lu::General(factors) => factors.factor(fill),
+        }
+    }
+
+    fn solve(&self, b: &mut [T]) -> bool {
+        match self {
+            Lu::Fixed(factors) => {
+                let mut view = nalgebra::SVectorViewMut::<T, N>::from_slice(b);
+                factors.solve_column(&mut view)
+            }
+            Lu::General(factors) => {
+                let mut view = nalgebra::DVectorViewMut::from_slice(b, N);
+                factors.solve_column(&mut view)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// A matrix that needs row interchanges (a zero leading entry, for n > 1), of any size.
+    fn entry(n: usize) -> impl Fn(usize, usize) -> f64 + Copy {
+        move |r, c| {
+            if r == 0 && c == 0 && n > 1 {
+                0.0
+            } else {
+                ((r * 7 + c * 3) % 11) as f64 - 5.0 + if r == c { 2.0 * n as f64 } else { 0.0 }
+            }
+        }
+    }
+
+    /// Writes the entries `entry(r, c)` column by column.
+    fn fill<T>(slice: &mut [T], n: usize, entry: impl Fn(usize, usize) -> T) {
+        for (k, v) in slice.iter_mut().enumerate() {
+            *v = entry(k % n, k / n);
+        }
+    }
+
+    /// Both paths give nalgebra's `LU` to the bit: the same steps on other storage.
+    fn same_as_nalgebra<const N: usize>() {
+        let e = entry(N);
+        let mut ours = <Lu<f64, N> as SquareLu<f64>>::new();
+        let smallest_pivot = ours.factor(|m| fill(m, N, e));
+        let reference = DMatrix::from_fn(N, N, &e).lu();
+        let b: Vec<f64> = (0..N).map(|i| 1.0 + i as f64).collect();
+        let mut x = b.clone();
+        assert!(ours.solve(&mut x));
+        let mut y = nalgebra::DVector::from_vec(b);
+        assert!(reference.solve_mut(&mut y));
+        assert_eq!(
+            x.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            y.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+        let smallest = (0..N)
+            .map(|i| reference.lu_internal()[(i, i)].abs())
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(smallest_pivot, smallest);
+    }
+
+    #[test]
+    fn both_paths_are_nalgebras_lu() {
+        same_as_nalgebra::<1>();
+        same_as_nalgebra::<3>();
+        same_as_nalgebra::<8>();
+        same_as_nalgebra::<{ FIXED_LIMIT }>();
+        same_as_nalgebra::<{ FIXED_LIMIT + 1 }>();
+        assert!(matches!(<Lu<f64, 8> as SquareLu<f64>>::new(), Lu::Fixed(_)));
+        assert!(matches!(
+            <Lu<f64, { FIXED_LIMIT + 1 }> as SquareLu<f64>>::new(),
+            Lu::General(_)
+        ));
+    }
+
+    #[test]
+    fn a_complex_system_is_solved() {
+        let mut lu = <Lu<Complex<f64>, 2> as SquareLu<Complex<f64>>>::new();
+        // [[i, 1], [1, 0]] x = [1 + i, 1]: x = [1, 1].
+        let m = [
+            [Complex::new(0.0, 1.0), Complex::new(1.0, 0.0)],
+            [Complex::new(1.0, 0.0), Complex::new(0.0, 0.0)],
+        ];
+        lu.factor(|s| fill(s, 2, |r, c| m[r][c]));
+        let mut b = [Complex::new(1.0, 1.0), Complex::new(1.0, 0.0)];
+        assert!(lu.solve(&mut b));
+        assert!((b[0] - Complex::new(1.0, 0.0)).norm() < 1e-15);
+        assert!((b[1] - Complex::new(1.0, 0.0)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn a_singular_matrix_fails_its_solve() {
+        let mut lu = <Lu<f64, 2> as SquareLu<f64>>::new();
+        let singular = |r: usize, _| if r == 0 { 1.0 } else { 0.0 };
+        assert_eq!(lu.factor(|s| fill(s, 2, singular)), 0.0);
+        assert!(!lu.solve(&mut [1.0, 1.0]));
+    }
+}
