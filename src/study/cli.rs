@@ -125,6 +125,7 @@ fn help(study: &Study) -> String {
   --format csv|parquet     the files' format (default csv; parquet needs hamel's feature `parquet`)
   --threads N              threads (default: every core)
   --help                   this text
+An option's value follows it, or an `=` (`--threads=2`).
 
 Parameters (the table's columns):
 "
