@@ -14,6 +14,11 @@ use hamel_browser::catalogue::{Case, cases, long_ride, rolling_disk};
 use hamel_browser::chromium::{Browser, INSTALL, Image, find};
 use hamel_browser::page::{show_at, shown_now};
 
+// The examples' command line (`--animate`, `--help`), read by the examples that write scenes.
+#[allow(dead_code)]
+#[path = "../../../examples/support/animate.rs"]
+mod animate;
+
 /// The tests take turns: one Chromium at a time on the machine's cores.
 fn one_browser_at_a_time() -> std::sync::MutexGuard<'static, ()> {
     static BROWSER: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -269,4 +274,46 @@ fn right_drag_pans_with_and_without_follow() {
     }
     drop(browser);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The examples that write scenes read `--animate PATH`, `--animate=PATH`, `--help` or
+/// nothing, and refuse anything else naming the argument at fault. Before, `bicycle_control`
+/// ignored its arguments, `--animate a.html extra` said `--animate` needed a file name, and
+/// no example had `--help`.
+#[test]
+fn the_examples_read_their_command_line_or_name_what_is_wrong() {
+    use animate::{Request, request};
+    let read = |args: &[&str]| request(&args.iter().map(|a| a.to_string()).collect::<Vec<_>>());
+    let run = |path: &str| Ok(Request::Run(Some(PathBuf::from(path))));
+    assert_eq!(read(&[]), Ok(Request::Run(None)));
+    assert_eq!(read(&["--help"]), Ok(Request::Help));
+    assert_eq!(read(&["-h"]), Ok(Request::Help));
+    assert_eq!(read(&["--animate", "a.html"]), run("a.html"));
+    assert_eq!(read(&["--animate=a.html"]), run("a.html"));
+    for missing in [
+        &["--animate"][..],
+        &["--animate", "--help"],
+        &["--animate="],
+        &["--animate", ""],
+    ] {
+        let e = read(missing).unwrap_err();
+        assert!(
+            e.contains("`--animate` needs a file name"),
+            "{missing:?}: {e}"
+        );
+    }
+    for (args, wrong) in [
+        (&["--frobnicate"][..], "--frobnicate"),
+        (&["a.html"], "a.html"),
+        (&["--animate", "a.html", "extra"], "extra"),
+        (&["--animate=a.html", "--help"], "--help"),
+        (&["--help", "--animate"], "--help"),
+        (&["--animatex"], "--animatex"),
+    ] {
+        let e = read(args).unwrap_err();
+        assert!(
+            e.contains(&format!("unexpected argument `{wrong}`")),
+            "{args:?}: {e}"
+        );
+    }
 }
