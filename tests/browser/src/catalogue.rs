@@ -174,11 +174,12 @@ pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
     ])
 }
 
+/// The bicycle example's `--animate` ride (`examples/support/capsize.rs`).
 #[path = "../../../examples/support/capsize.rs"]
-mod capsize;
+pub mod capsize;
 
-/// The bicycle capsizing, as `cargo run --example bicycle -- --animate` writes it, to
-/// `dir/bicycle_capsize.html`.
+/// The bicycle falling as its weave grows, as `cargo run --example bicycle -- --animate`
+/// writes it, to `dir/bicycle_capsize.html`.
 pub fn bicycle_capsize_page(dir: &Path) -> Result<PathBuf, Error> {
     let bike = WhippleBicycle::default();
     let path = dir.join("bicycle_capsize.html");
