@@ -6,6 +6,10 @@
 //! Without Chromium the test prints how to install it and passes as skipped. Cost: about
 //! 20 s on two cores for the five scenes (a browser start, then two or three page loads and
 //! screenshots each).
+//!
+//! Two tests need no browser and always run: the command line of the examples that write
+//! scenes (`examples/support/animate.rs`), and the bicycle example's ride
+//! (`examples/support/capsize.rs`) ending at a physical event.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
