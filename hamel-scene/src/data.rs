@@ -55,10 +55,10 @@ pub(crate) fn json(c: &Contents) -> String {
         })
         .collect();
     let warnings: Vec<String> = c.warnings.iter().map(|w| string(w)).collect();
-    let samples = c.motion.times.len();
+    let samples = c.motion.rows.len();
     let mut values = Vec::with_capacity(samples * c.shown.len());
-    for i in 0..samples {
-        values.extend(c.shown.iter().map(|s| s.values[i]));
+    for &row in &c.motion.rows {
+        values.extend(c.shown.iter().map(|s| s.values[row]));
     }
     let size = largest_size(c.looks);
     // A model without contacts stands on the ground z = 0.

@@ -47,6 +47,27 @@ pub enum ErrorKind {
         /// The model's bodies, separated by commas.
         known: String,
     },
+    /// A unit given with `unit` is for a column the trajectory does not have.
+    UnknownUnitColumn {
+        /// The name given.
+        name: String,
+        /// The trajectory's columns, separated by commas.
+        known: String,
+    },
+    /// Two of the trajectory's columns have one name.
+    DuplicateColumn {
+        /// The name.
+        name: String,
+    },
+    /// A sample's time is not finite, or not after the time of the sample before.
+    Time {
+        /// The sample, counted from 0.
+        sample: usize,
+        /// Its time.
+        t: f64,
+        /// The time of the sample before, if the time is finite.
+        before: Option<f64>,
+    },
     /// The trajectory has no samples.
     EmptyTrajectory,
     /// The model states no bodies at run time.
@@ -141,6 +162,34 @@ impl fmt::Display for ErrorKind {
             ErrorKind::UnknownBody { name, known } => {
                 write!(f, "the model has no body `{name}`; its bodies are {known}")
             }
+            ErrorKind::UnknownUnitColumn { name, known } => write!(
+                f,
+                "a unit is given for `{name}`, which is not a column of the trajectory; its \
+                 columns are {known}"
+            ),
+            ErrorKind::DuplicateColumn { name } => write!(
+                f,
+                "the trajectory has two columns named `{name}`, and which one is meant cannot \
+                 be told"
+            ),
+            ErrorKind::Time { sample, t, before } => match before {
+                None => write!(
+                    f,
+                    "the time of sample {sample} is {t}: a scene's times must be finite"
+                ),
+                Some(before) if t == before => write!(
+                    f,
+                    "samples {} and {sample} have the same time, {t}: a scene's times must \
+                     increase, one sample at each",
+                    sample - 1
+                ),
+                Some(before) => write!(
+                    f,
+                    "the time of sample {sample}, {t}, is before the time of sample {}, \
+                     {before}: a scene's times must increase",
+                    sample - 1
+                ),
+            },
             ErrorKind::EmptyTrajectory => f.write_str("the trajectory has no samples"),
             ErrorKind::NoBodies => f.write_str("the model states no bodies to draw"),
             ErrorKind::Count {

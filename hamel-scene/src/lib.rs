@@ -29,7 +29,10 @@
 //! pose as a grid in its own plane, a sphere (or a bowl) as a sphere; a model without
 //! contacts gets the ground z = 0. Each contact leaves its trace. A contact point that is not
 //! on its surface — a tilted plane taken as flat, a sphere of the wrong radius — is a
-//! warning, and the picture shows the gap.
+//! warning, and the picture shows the gap. So is a body drawn through a surface the contacts
+//! touch, at any sample: a solid that is not the body's shape where it rolls (the
+//! rattleback's inertia ellipsoid is drawn 5.8 mm into its floor), or a body with no contact
+//! that the motion takes through it.
 //!
 //! The page is one HTML file of about 0.8 MB plus the samples (three.js 0.185.1 is embedded,
 //! with its MIT licence; nothing is fetched), which opens from `file://` in any current
@@ -37,15 +40,17 @@
 //! orbit camera (drag, scroll, right-drag), follows the mechanism, and shows the time and
 //! the chosen columns with their units beside the scene. Its frames are the trajectory's
 //! samples as computed: nothing is interpolated or smoothed, so sample at the rate you want
-//! to watch. The fragment `#t=1.5&pause` opens it at a time. In a browser that draws without
+//! to watch. A trajectory of more than [`MAX_SCENE_SAMPLES`] samples (a quarter of a
+//! million) is drawn at one sample in k, and the last, with a warning. The fragment `#t=1.5&pause` opens it at a time. In a browser that draws without
 //! a graphics processor (SwiftShader), the page lowers the resolution it plays at, to as
 //! little as half, when frames come slower than 50 per second, and says so; paused, it draws
 //! at full resolution.
 //!
 //! A scene or a picture is written whole or not at all, and every bad input is a
 //! [`SceneError`] naming it: a trajectory without the model's coordinates (the missing
-//! column), an empty trajectory, an unknown column or body name, a shape or value that is
-//! not finite, a path that cannot be written. A model without bodies does not compile.
+//! column), an empty trajectory, times that are not finite or do not increase, two columns
+//! of one name, an unknown column or body name (to show, or given a unit), a shape or value
+//! that is not finite, a path that cannot be written. A model without bodies does not compile.
 //!
 //! ```
 //! use hamel::models::ChaplyginBall;
@@ -80,6 +85,7 @@ mod look;
 mod motion;
 #[cfg(feature = "plot")]
 mod outline;
+mod penetration;
 #[cfg(feature = "plot")]
 mod picture;
 #[allow(clippy::module_inception)]
@@ -92,7 +98,7 @@ mod write;
 pub use error::{ErrorKind, SceneError};
 #[cfg(feature = "plot")]
 pub use picture::{PICTURE_SIZE, Picture};
-pub use scene::Scene;
+pub use scene::{MAX_SCENE_SAMPLES, Scene};
 pub use solid::Solid;
 
 #[cfg(test)]

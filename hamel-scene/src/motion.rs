@@ -8,9 +8,12 @@ use super::snapshot::checked_bodies;
 use hamel_runtime::geometry::{Mechanism, Vector3};
 use hamel_runtime::{Trajectory, Vector};
 
-/// The poses and contact points at every sample.
+/// The poses and contact points at every sample drawn.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Motion {
+    /// The trajectory's rows drawn: every row, or every k-th and the last of a trajectory
+    /// of more than [`MAX_SCENE_SAMPLES`](super::MAX_SCENE_SAMPLES) samples.
+    pub rows: Vec<usize>,
     pub times: Vec<f64>,
     /// Per sample, per body: the centre (x, y, z), then the orientation as a unit
     /// quaternion (x, y, z, w).
@@ -28,10 +31,25 @@ pub(crate) struct Motion {
 pub(crate) const POSE: usize = 7;
 
 /// The trajectory's columns for the model's coordinates, in order; an error names the first
-/// one missing. An empty trajectory is an error too.
+/// one missing. An empty trajectory is an error too, and so is a column name given twice or
+/// a time that is not finite or not after the one before.
 pub(crate) fn coordinate_columns<M: Mechanism>(
     trajectory: &Trajectory,
 ) -> Result<Vec<&[f64]>, SceneError> {
+    let names = trajectory.names();
+    let mut seen = std::collections::HashSet::new();
+    if let Some(name) = names.iter().find(|name| !seen.insert(name.as_str())) {
+        return Err(ErrorKind::DuplicateColumn { name: name.clone() }.into());
+    }
+    let times = trajectory.times();
+    for (sample, &t) in times.iter().enumerate() {
+        let before = sample.checked_sub(1).map(|i| times[i]);
+        let bad = !t.is_finite() || before.is_some_and(|b| t <= b);
+        if bad {
+            let before = before.filter(|_| t.is_finite());
+            return Err(ErrorKind::Time { sample, t, before }.into());
+        }
+    }
     let columns = M::COORDINATES
         .iter()
         .map(|name| {
@@ -58,23 +76,26 @@ pub(crate) fn configuration<V: Vector>(columns: &[&[f64]], i: usize) -> V {
     q
 }
 
-/// Every body's pose and every contact point at every sample; a value that is not finite is
-/// an error naming it and the time.
+/// Every body's pose and every contact point at the trajectory's `rows`; a value that is not
+/// finite is an error naming it and the time.
 pub(crate) fn sample<M: Mechanism>(
     model: &M,
     times: &[f64],
     columns: &[&[f64]],
+    rows: Vec<usize>,
 ) -> Result<Motion, SceneError> {
     let mut motion = Motion {
-        times: times.to_vec(),
-        poses: Vec::with_capacity(times.len() * M::BODIES.len() * POSE),
+        times: rows.iter().map(|&r| times[r]).collect(),
+        poses: Vec::with_capacity(rows.len() * M::BODIES.len() * POSE),
         contacts: 0,
         points: Vec::new(),
         low: [f64::INFINITY; 3],
         high: [f64::NEG_INFINITY; 3],
+        rows: Vec::new(),
     };
-    for (i, &t) in times.iter().enumerate() {
-        let q: M::Coordinates = configuration(columns, i);
+    for (i, &row) in rows.iter().enumerate() {
+        let t = times[row];
+        let q: M::Coordinates = configuration(columns, row);
         // Finite poses (checked_bodies), so every quaternion exists.
         for body in checked_bodies(model, t, &q)? {
             let rotation = quaternion(&body.orientation.matrix()).unwrap_or([0.0, 0.0, 0.0, 1.0]);
@@ -100,7 +121,22 @@ pub(crate) fn sample<M: Mechanism>(
             motion.extend_bounds(point);
         }
     }
+    motion.rows = rows;
     Ok(motion)
+}
+
+/// The rows of a trajectory of `samples` samples that a scene draws: all of them up to
+/// `limit`, else every k-th, the smallest k that keeps them within it, and the last.
+pub(crate) fn rows_drawn(samples: usize, limit: usize) -> Vec<usize> {
+    if samples <= limit {
+        return (0..samples).collect();
+    }
+    // Every k-th of 0 … n − 2, and n − 1: ⌈(n − 1)/k⌉ + 1 ≤ limit.
+    let limit = limit.max(2);
+    let k = (samples - 1).div_ceil(limit - 1);
+    let mut rows: Vec<usize> = (0..samples - 1).step_by(k).collect();
+    rows.push(samples - 1);
+    rows
 }
 
 impl Motion {

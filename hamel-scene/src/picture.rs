@@ -6,6 +6,7 @@ use super::error::{ErrorKind, SceneError};
 use super::ground::surface_lines;
 use super::look::{Look, looks};
 use super::outline::{Line, outline};
+use super::penetration::{Pose, Through, penetrations};
 use super::snapshot::Snapshot;
 use super::solid::Solid;
 use super::view::{Directions, View, direction_name};
@@ -80,13 +81,36 @@ impl Picture {
     /// What cannot be drawn as the model states it (see [`Scene::warnings`](super::Scene::warnings)).
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
         let looks = looks(&self.model, &self.shapes)?;
-        let bodies = looks.into_iter().filter_map(|l| l.warning);
-        Ok(bodies.chain(self.model.warnings.iter().cloned()).collect())
+        let bodies = looks.iter().filter_map(|l| l.warning.clone());
+        let through = self.through(&looks).into_iter().map(|t| t.message);
+        Ok(bodies
+            .chain(self.model.warnings.iter().cloned())
+            .chain(through)
+            .collect())
+    }
+
+    /// The warnings for bodies drawn as `looks` through a surface the contacts touch.
+    fn through(&self, looks: &[Look]) -> Vec<Through> {
+        let model = &self.model;
+        let poses = |b: usize| -> Box<dyn Iterator<Item = Pose> + '_> {
+            let body = &model.bodies[b];
+            Box::new(std::iter::once(Pose {
+                t: model.t,
+                centre: body.centre,
+                orientation: body.orientation,
+            }))
+        };
+        penetrations(looks, poses, model)
     }
 
     /// The three views as a [`Figure`] of three panels, to save or to combine.
     pub fn figure(&self) -> Result<Figure, SceneError> {
-        let looks = looks(&self.model, &self.shapes)?;
+        let mut looks = looks(&self.model, &self.shapes)?;
+        // A body drawn through a surface says so in the legend.
+        for through in self.through(&looks) {
+            let look = &mut looks[through.body];
+            look.name = format!("{} ({})", look.name, through.short);
+        }
         let model = &self.model;
         let contacts: Vec<Vector3> = model.contacts.iter().map(|(p, _)| *p).collect();
         let directions = Directions::new(model.gravity);

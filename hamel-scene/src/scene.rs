@@ -6,14 +6,15 @@ use super::data::{Contents, Shown, json};
 use super::equivalent::short;
 use super::error::{ErrorKind, SceneError};
 use super::html::page;
-use super::look::looks;
-use super::motion::{Motion, configuration, coordinate_columns, sample};
+use super::look::{Look, looks};
+use super::motion::{Motion, POSE, configuration, coordinate_columns, rows_drawn, sample};
+use super::penetration::{Pose, penetrations};
 use super::snapshot::Snapshot;
 use super::solid::Solid;
 use super::view::Directions;
 use super::write::write_whole;
 use hamel_runtime::Trajectory;
-use hamel_runtime::geometry::Mechanism;
+use hamel_runtime::geometry::{Mechanism, Rotation3, Vector3};
 
 /// A trajectory of a model stated from its bodies, as a 3D animation in one HTML file that
 /// opens from disk in any browser, with no network: three.js is embedded in it.
@@ -59,24 +60,56 @@ pub struct Scene<'a> {
     /// The model at the first sample.
     first: Snapshot,
     motion: Motion,
+    /// Why not every sample is drawn, if not.
+    thinned: Option<String>,
     shown: Option<Vec<String>>,
     units: Vec<(String, String)>,
     shapes: Vec<(String, Solid)>,
     title: Option<String>,
 }
 
+/// The most samples a scene's page carries: a quarter of a million, 69 minutes at 60 samples
+/// a second (the catalogue bicycle's page, 277 bytes a sample, is then 70 MB).
+/// A longer trajectory is drawn at every k-th sample and its last, with a warning, so that
+/// the page, and the memory that builds it, stay bounded (10⁷ samples made a page of 1.2 GB
+/// and took 6.6 GB to build).
+pub const MAX_SCENE_SAMPLES: usize = 250_000;
+
 impl<'a> Scene<'a> {
     /// The scene of `trajectory`, a run of `model`. The trajectory must have a column for
-    /// each of the model's coordinates and at least one sample; every body's pose is read
-    /// here, at every sample, and must be finite.
+    /// each of the model's coordinates, each column named once, and at least one sample, at
+    /// finite times that increase; every body's pose is read here, at every sample drawn,
+    /// and must be finite. A trajectory of more than [`MAX_SCENE_SAMPLES`] samples is drawn
+    /// at every k-th sample (and its last), and [`Scene::warnings`] says so.
     pub fn new<M: Mechanism>(model: &M, trajectory: &'a Trajectory) -> Result<Self, SceneError> {
+        Self::at_most(model, trajectory, MAX_SCENE_SAMPLES)
+    }
+
+    /// [`Scene::new`], drawing at most `limit` samples.
+    pub(crate) fn at_most<M: Mechanism>(
+        model: &M,
+        trajectory: &'a Trajectory,
+        limit: usize,
+    ) -> Result<Self, SceneError> {
         let columns = coordinate_columns::<M>(trajectory)?;
         let times = trajectory.times();
         let q: M::Coordinates = configuration(&columns, 0);
+        let rows = rows_drawn(times.len(), limit);
+        let thinned = (rows.len() < times.len()).then(|| {
+            format!(
+                "the trajectory has {} samples, more than a page carries ({limit}): it is \
+                 drawn at one sample in {} and the last ({} samples); sample the run less \
+                 often (`Simulation::sample_interval`) to choose them",
+                times.len(),
+                rows.get(1).copied().unwrap_or(1),
+                rows.len()
+            )
+        });
         Ok(Scene {
             trajectory,
             first: Snapshot::of(model, times[0], &q)?,
-            motion: sample(model, times, &columns)?,
+            motion: sample(model, times, &columns, rows)?,
+            thinned,
             shown: None,
             units: Vec::new(),
             shapes: Vec::new(),
@@ -96,7 +129,8 @@ impl<'a> Scene<'a> {
     }
 
     /// Shows the column `column` with the unit `unit` (for an output column of the
-    /// simulation, or in place of the model's own unit).
+    /// simulation, or in place of the model's own unit). A column the trajectory does not
+    /// have is an error when the page is made.
     pub fn unit(mut self, column: &str, unit: &str) -> Self {
         self.units.push((column.to_string(), unit.to_string()));
         self
@@ -121,11 +155,38 @@ impl<'a> Scene<'a> {
     /// body has (inertia not positive definite, principal moments that violate the triangle
     /// inequality) is drawn as a red marker, and the page lists the reason; a contact point
     /// off its surface at the first sample (a surface placed where the bodies do not meet
-    /// it) is listed too.
+    /// it) is listed too, and so is a body drawn through a surface the contacts touch, at
+    /// any sample: one whose solid is not its shape (drawn from its inertia where it rolls on
+    /// its base), or one the model lets pass through (it has no contact with the surface).
     pub fn warnings(&self) -> Result<Vec<String>, SceneError> {
         let looks = looks(&self.first, &self.shapes)?;
-        let bodies = looks.into_iter().filter_map(|l| l.warning);
-        Ok(bodies.chain(self.first.warnings.iter().cloned()).collect())
+        Ok(self.warnings_for(&looks))
+    }
+
+    /// The warnings of a scene whose bodies are drawn as `looks`.
+    fn warnings_for(&self, looks: &[Look]) -> Vec<String> {
+        let bodies = looks.iter().filter_map(|l| l.warning.clone());
+        let motion = &self.motion;
+        let count = looks.len();
+        let poses = |b: usize| -> Box<dyn Iterator<Item = Pose> + '_> {
+            Box::new(motion.times.iter().enumerate().map(move |(i, &t)| {
+                let at = (i * count + b) * POSE;
+                let p = &motion.poses[at..at + POSE];
+                Pose {
+                    t,
+                    centre: Vector3::new(p[0], p[1], p[2]),
+                    orientation: Rotation3::from_quaternion(p[6], p[3], p[4], p[5]),
+                }
+            }))
+        };
+        let through = penetrations(looks, poses, &self.first)
+            .into_iter()
+            .map(|t| t.message);
+        bodies
+            .chain(self.first.warnings.iter().cloned())
+            .chain(through)
+            .chain(self.thinned.clone())
+            .collect()
     }
 
     /// The page, as one HTML document.
@@ -136,8 +197,7 @@ impl<'a> Scene<'a> {
             self.first.contacts.iter().map(|(_, b)| *b).collect();
         // Up is fixed for the whole scene: against gravity at the first sample.
         let gravity = self.first.gravity;
-        let mut warnings: Vec<String> = looks.iter().filter_map(|l| l.warning.clone()).collect();
-        warnings.extend(self.first.warnings.iter().cloned());
+        let warnings = self.warnings_for(&looks);
         let data = json(&Contents {
             looks: &looks,
             surfaces: &self.first.surfaces,
@@ -162,6 +222,14 @@ impl<'a> Scene<'a> {
     }
 
     fn shown_columns(&self) -> Result<Vec<Shown<'_>>, SceneError> {
+        let columns = self.trajectory.names();
+        if let Some((name, _)) = self.units.iter().find(|(c, _)| !columns.contains(c)) {
+            return Err(ErrorKind::UnknownUnitColumn {
+                name: name.clone(),
+                known: columns.join(", "),
+            }
+            .into());
+        }
         let names: Vec<&str> = match &self.shown {
             Some(names) => names.iter().map(String::as_str).collect(),
             None => self.first.coordinates.to_vec(),

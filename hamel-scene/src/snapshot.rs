@@ -14,6 +14,8 @@ use hamel_runtime::geometry::{Body, Contact, Mechanism, Shape, Surface, Vector3}
 pub(crate) struct Snapshot {
     /// The model's type, for a title.
     pub model: &'static str,
+    /// The time of the configuration.
+    pub t: f64,
     pub names: &'static [&'static str],
     pub coordinates: &'static [&'static str],
     /// The unit of a named quantity (`HamelSystem::unit`).
@@ -65,6 +67,7 @@ impl Snapshot {
             warnings.extend(off_surface(j, name, c, scale, t));
         }
         Ok(Snapshot {
+            t,
             model: std::any::type_name::<M>()
                 .rsplit("::")
                 .next()
@@ -80,6 +83,38 @@ impl Snapshot {
             warnings,
             gravity: model.gravity_vector(t),
         })
+    }
+}
+
+impl Snapshot {
+    /// The side of surface `surface` (an index into `surfaces`) the bodies are on: 1 where
+    /// its height ([`Surface::height`]) is positive, −1 where it is negative. A sphere's
+    /// outside and a bowl's inside are positive; a plane's is the side of the centres of the
+    /// bodies that roll on it (the plane z = 0 of a model whose z points down has them
+    /// below), or else the side against gravity.
+    pub(crate) fn side(&self, surface: usize) -> f64 {
+        let plane = &self.surfaces[surface];
+        let Surface::Plane { orientation, .. } = *plane else {
+            return 1.0;
+        };
+        let heights: f64 = (0..self.bodies.len())
+            .filter(|&b| self.rolls_on(b, surface))
+            .map(|b| plane.height(self.bodies[b].centre))
+            .sum();
+        let up = match self.gravity {
+            Some(g) => -g.dot(&(orientation * Vector3::z())),
+            None => 1.0,
+        };
+        let side = if heights != 0.0 { heights } else { up };
+        if side < 0.0 { -1.0 } else { 1.0 }
+    }
+
+    /// Whether body `body` has a contact on surface `surface` (an index into `surfaces`).
+    pub(crate) fn rolls_on(&self, body: usize, surface: usize) -> bool {
+        self.contacts
+            .iter()
+            .zip(&self.contact_surfaces)
+            .any(|((_, b), s)| *b == Some(body) && *s == surface)
     }
 }
 

@@ -682,3 +682,234 @@ fn a_tilted_plane_is_drawn_in_its_own_plane_and_a_body_placed_as_on_flat_ground_
         None
     );
 }
+
+/// A writer killed before it renamed its file leaves it (`<name>.partial-<pid>-<n>`); the
+/// next write of the same name removes it, but not a running writer's. Before, the page
+/// was written through `.<name>.<pid>.<n>.partial` and nothing removed what a killed writer
+/// left.
+#[test]
+fn a_killed_writers_leftover_goes_with_the_next_write() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.1);
+    let dir = scratch("leftover");
+    let path = dir.join("scene.html");
+    // A process id above Linux's largest (2²²) runs nowhere; this process runs.
+    let dead = dir.join("scene.html.partial-4194305-0");
+    let running = dir.join(format!("scene.html.partial-{}-999", std::process::id()));
+    std::fs::write(&dead, "<!doctype html><html><body>cut sh").unwrap();
+    std::fs::write(&running, "<!doctype html>").unwrap();
+    Scene::new(&penny, &run).unwrap().write_html(&path).unwrap();
+    assert!(!dead.exists(), "the killed writer's file is still there");
+    assert!(running.exists(), "a running writer's file was removed");
+    let picture = Picture::new(&penny, 0.0, &[0.0; 5]).unwrap();
+    let svg = dir.join("penny.svg");
+    let dead = dir.join("penny.svg.partial-4194305-3");
+    std::fs::write(&dead, "<svg").unwrap();
+    picture.save(&svg).unwrap();
+    assert!(!dead.exists(), "the killed writer's picture is still there");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A body drawn through a surface is a warning (the page, the picture's legend and
+/// `warnings`): the rattleback's inertia ellipsoid sits 5.8 mm into the floor its base rolls
+/// on (its centre of mass is h = 10 mm above its base, the ellipsoid's semi-axis 15.8 mm),
+/// and the robot's body, which has no contact, reaches 5.4 mm under the floor upright.
+/// Wheels and balls touch their surfaces and no more (the bicycle's z points down: its
+/// bodies are below the plane z = 0, and no warning says they are in it). Before, nothing
+/// was said.
+#[test]
+fn a_body_drawn_through_a_surface_is_a_warning() {
+    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    fn picture<M: Mechanism>(model: &M) -> Picture {
+        let q = model
+            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .unwrap();
+        Picture::new(model, 0.0, &q).unwrap()
+    }
+    assert_eq!(
+        picture(&WhippleBicycle::default()).warnings().unwrap(),
+        Vec::<String>::new()
+    );
+    assert_eq!(
+        picture(&RollingDisk::default()).warnings().unwrap(),
+        Vec::<String>::new()
+    );
+    assert_eq!(
+        picture(&ChaplyginBall::default()).warnings().unwrap(),
+        Vec::<String>::new()
+    );
+    let celt = picture(&Rattleback::default());
+    let warnings = celt.warnings().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].starts_with("body `rattleback` is drawn 0.005811 m into the plane it rolls on")
+            && warnings[0].contains("is not the body's shape")
+            && warnings[0].contains("Scene::shape"),
+        "{warnings:?}"
+    );
+    assert!(
+        celt.to_svg()
+            .unwrap()
+            .contains("rattleback (drawn into the plane)")
+    );
+    let robot = picture(&MobileRobot::default()).warnings().unwrap();
+    assert_eq!(robot.len(), 1, "{robot:?}");
+    assert!(
+        robot[0].starts_with("body `body` is drawn 0.05355 m through the plane the contacts touch")
+            && robot[0].contains("it has no contact with it"),
+        "{robot:?}"
+    );
+    // In a scene, at any sample: the page lists the deepest. A flat box with its bottom on
+    // the base's lowest point dips its corners into the floor as the body rocks (the base
+    // curves up from there); one that lies above the base everywhere stays out of it.
+    let rattleback = Rattleback::default();
+    let x0 = rattleback
+        .state_builder()
+        .set("yaw_rate", 3.0)
+        .set("roll_rate", 0.5)
+        .build()
+        .unwrap();
+    let run = sixty_per_second(&rattleback, x0, 1.0);
+    let scene = Scene::new(&rattleback, &run).unwrap();
+    let warnings = scene.warnings().unwrap();
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("into the plane it rolls on"),
+        "{warnings:?}"
+    );
+    assert!(
+        scene
+            .to_html()
+            .unwrap()
+            .contains("into the plane it rolls on")
+    );
+    let flat = Solid::box_(0.1, 0.03, 0.008).at(Vector3::new(0.0, 0.0, -0.006));
+    let rocking = Scene::new(&rattleback, &run)
+        .unwrap()
+        .shape("rattleback", flat);
+    let warnings = rocking.warnings().unwrap();
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("box 0.1 × 0.03 × 0.008, as given"),
+        "{warnings:?}"
+    );
+    // Its corners (±0.03, ±0.01, −0.005) are above the base, −0.01 + ξ²/(2 R₁) + η²/(2 R₂).
+    let inside = Solid::box_(0.06, 0.02, 0.004).at(Vector3::new(0.0, 0.0, -0.003));
+    let shaped = Scene::new(&rattleback, &run)
+        .unwrap()
+        .shape("rattleback", inside);
+    assert_eq!(shaped.warnings().unwrap(), Vec::<String>::new());
+}
+
+/// `run` with its rows replaced: through the trajectory's `Sink`, as any producer fills one.
+fn rewritten(run: &Trajectory, names: &[&str], edit: impl Fn(usize, &mut Vec<f64>)) -> Trajectory {
+    use crate::Sink;
+    let mut out = run.clone();
+    let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+    out.begin(&names).unwrap();
+    for (i, mut row) in run.rows().enumerate() {
+        edit(i, &mut row);
+        Sink::row(&mut out, &row).unwrap();
+    }
+    out
+}
+
+/// Times that are not finite or do not increase, a column name given twice and a unit for
+/// a column the trajectory does not have are errors naming them (before, each made a page:
+/// the slider jumped back, or a column was shown with another's values).
+#[test]
+fn times_that_do_not_increase_and_ambiguous_columns_are_errors() {
+    let penny = Penny::default();
+    let run = penny_run(&penny, 0.1);
+    let names: Vec<&str> = run.names().iter().map(String::as_str).collect();
+    let error = |trajectory: &Trajectory| {
+        Scene::new(&penny, trajectory)
+            .err()
+            .expect("the scene was made")
+            .to_string()
+    };
+    let nan = rewritten(&run, &names, |i, row| {
+        if i == 3 {
+            row[0] = f64::NAN;
+        }
+    });
+    let e = error(&nan);
+    assert!(
+        e.contains("the time of sample 3 is NaN: a scene's times must be finite"),
+        "{e}"
+    );
+    let back = rewritten(&run, &names, |i, row| {
+        if i == 4 {
+            row[0] = 0.01;
+        }
+    });
+    let e = error(&back);
+    assert!(
+        e.contains("the time of sample 4, 0.01, is before the time of sample 3, 0.05"),
+        "{e}"
+    );
+    let repeated = rewritten(&run, &names, |i, row| {
+        if i == 2 {
+            row[0] = 1.0 / 60.0;
+        }
+    });
+    let e = error(&repeated);
+    assert!(e.contains("samples 1 and 2 have the same time"), "{e}");
+    let mut twice = names.clone();
+    twice[7] = "phi";
+    let e = error(&rewritten(&run, &twice, |_, _| {}));
+    assert!(e.contains("two columns named `phi`"), "{e}");
+    let e = Scene::new(&penny, &run)
+        .unwrap()
+        .unit("lean", "rad")
+        .to_html()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a unit is given for `lean`, which is not a column of the trajectory"),
+        "{e}"
+    );
+}
+
+/// A trajectory of more samples than a page carries is drawn at one sample in k and its
+/// last, the values shown with them, and a warning says so; within the limit, every sample.
+/// Before, 10⁷ samples made a page of 1.2 GB, built in 6.6 GB of memory.
+#[test]
+fn a_trajectory_longer_than_a_page_carries_is_thinned_with_a_warning() {
+    assert_eq!(motion::rows_drawn(5, 5), [0, 1, 2, 3, 4]);
+    assert_eq!(motion::rows_drawn(6, 5), [0, 2, 4, 5]);
+    assert_eq!(motion::rows_drawn(10, 4), [0, 3, 6, 9]);
+    let penny = Penny::default();
+    let run = penny_run(&penny, 2.0);
+    assert_eq!(run.len(), 121);
+    let scene = Scene::at_most(&penny, &run, 50).unwrap().show(["phi"]);
+    let html = scene.to_html().unwrap();
+    let data = data_of(&html);
+    let times = floats64(field(data, "times"));
+    let rows: Vec<usize> = (0..120).step_by(3).chain([120]).collect();
+    assert_eq!(
+        times,
+        rows.iter().map(|&r| run.times()[r]).collect::<Vec<_>>()
+    );
+    let phi = run.column("phi").unwrap();
+    assert_eq!(
+        floats64(field(data, "values")),
+        rows.iter().map(|&r| phi[r]).collect::<Vec<_>>()
+    );
+    let warnings = scene.warnings().unwrap();
+    assert!(
+        warnings.iter().any(|w| w.contains(
+            "the trajectory has 121 samples, more than a page carries (50): it is drawn at one \
+             sample in 3 and the last (41 samples)"
+        )),
+        "{warnings:?}"
+    );
+    assert!(html.contains("drawn at one sample in 3"));
+    let whole = Scene::new(&penny, &run).unwrap();
+    assert!(
+        whole
+            .warnings()
+            .unwrap()
+            .iter()
+            .all(|w| !w.contains("samples"))
+    );
+    assert_eq!(MAX_SCENE_SAMPLES, 250_000);
+}

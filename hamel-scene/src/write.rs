@@ -1,9 +1,12 @@
-//! Writing a file whole or not at all: into a temporary file beside it, renamed over it
-//! once complete, so that a failure leaves no partial file and a reader never sees one.
+//! Writing a file whole or not at all: into a file of its own beside it
+//! (`<name>.partial-<pid>-<n>`, as every file hamel writes whole), renamed over it once
+//! complete, so that a failure leaves no partial file and a reader never sees one. A process
+//! killed while writing leaves that file; the next write of the same name removes it.
 
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
+
+use crate::whole_file::{partial_path, remove_dead_leftovers};
 
 use super::error::{ErrorKind, SceneError};
 
@@ -16,7 +19,7 @@ pub(crate) fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
         })
         .at(path)
     };
-    let temporary = temporary_beside(path);
+    let temporary = partial_path(path);
     let mut file = std::fs::File::create(&temporary).map_err(|e| {
         io(
             e,
@@ -34,8 +37,12 @@ pub(crate) fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
             drop(file);
             std::fs::rename(&temporary, path).map_err(|e| io(e, "cannot replace the file"))
         });
-    if written.is_err() {
-        let _ = std::fs::remove_file(&temporary);
+    match written {
+        // What writers killed before they renamed left goes now.
+        Ok(()) => remove_dead_leftovers(path),
+        Err(_) => {
+            let _ = std::fs::remove_file(&temporary);
+        }
     }
     written
 }
@@ -45,18 +52,4 @@ fn directory(path: &Path) -> &Path {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),
     }
-}
-
-/// A name beside `path` that no other writer in this or another process uses.
-fn temporary_beside(path: &Path) -> PathBuf {
-    static COUNT: AtomicU64 = AtomicU64::new(0);
-    let name = path
-        .file_name()
-        .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
-    let unique = format!(
-        ".{name}.{}.{}.partial",
-        std::process::id(),
-        COUNT.fetch_add(1, Ordering::Relaxed)
-    );
-    directory(path).join(unique)
 }

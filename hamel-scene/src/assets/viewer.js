@@ -219,15 +219,66 @@
     return placed;
   }
 
+  // A plane's grid: one square in the plane's own xy, its lines drawn by the fragment shader
+  // where the square's points lie on them (a line as wide as a pixel, at any distance). Not
+  // line primitives: software WebGL (SwiftShader) drops a line whose end is behind the
+  // camera, and on a long run every line of a grid under the whole motion has one there, so
+  // the ground vanished. The lines through the grid's centre are darker; where lines are
+  // closer than a few pixels (towards the horizon) they fade, rather than shimmer.
+  function gridOf(THREE, grid) {
+    const grey = (v) => new THREE.Vector3(v / 255, v / 255, v / 255);
+    const material = new THREE.ShaderMaterial({
+      uniforms: {
+        spacing: { value: grid.step },
+        minor: { value: grey(0xd4) },
+        major: { value: grey(0xaa) },
+      },
+      vertexShader: `
+        varying vec2 local;
+        void main() {
+          local = position.xy;
+          gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
+        }`,
+      fragmentShader: `
+        uniform float spacing;
+        uniform vec3 minor;
+        uniform vec3 major;
+        varying vec2 local;
+        // How much of this pixel a line of the lattice spaced 1 apart in c covers.
+        float lines(vec2 c) {
+          vec2 d = abs(fract(c - 0.5) - 0.5) / fwidth(c);
+          return 1.0 - min(min(d.x, d.y), 1.0);
+        }
+        void main() {
+          vec2 cells = local / spacing;
+          vec2 perPixel = fwidth(cells);
+          float fade = 1.0 - smoothstep(0.15, 0.45, max(perPixel.x, perPixel.y));
+          float minorLines = lines(cells) * fade;
+          vec2 d = abs(local) / fwidth(local);
+          float centreLines = 1.0 - min(min(d.x, d.y), 1.0);
+          float alpha = max(minorLines, centreLines);
+          if (alpha <= 0.0) discard;
+          gl_FragColor = vec4(mix(minor, major, centreLines), alpha);
+        }`,
+      transparent: true,
+      depthWrite: false,
+      side: THREE.DoubleSide,
+      // Behind what lies in the plane (the contacts' traces).
+      polygonOffset: true,
+      polygonOffsetFactor: 1,
+      polygonOffsetUnits: 1,
+    });
+    const square = new THREE.Mesh(new THREE.PlaneGeometry(grid.size, grid.size), material);
+    square.position.set(grid.centre[0], grid.centre[1], 0);
+    return square;
+  }
+
   // A surface the contacts touch, where the model puts it: a plane as a grid in its own
-  // plane (three.js draws a grid in its xz plane), a sphere as a sphere, a bowl as the
-  // inside of one, both faint so that what rolls on them shows.
+  // plane, a sphere as a sphere, a bowl as the inside of one, both faint so that what rolls
+  // on them shows.
   function surfaceOf(THREE, surface) {
     if (surface.kind === 'plane') {
-      const divisions = Math.round(surface.grid.size / surface.grid.step);
-      const grid = new THREE.GridHelper(surface.grid.size, divisions, 0xaaaaaa, 0xd4d4d4);
-      grid.rotation.x = Math.PI / 2;
-      grid.position.set(surface.grid.centre[0], surface.grid.centre[1], 0);
+      const grid = gridOf(THREE, surface.grid);
       const plane = new THREE.Group().add(grid);
       plane.position.set(...surface.origin);
       plane.quaternion.set(...surface.rotation);
@@ -423,6 +474,10 @@
       this.first = times[0];
       this.last = times[samples.n - 1];
       this.origin = centroid(0);
+      // The point the camera keeps its place to: the centroid of the sample shown when
+      // following, else the first sample's. The camera and its target move with it, so that
+      // a pan (right-drag), which moves them both, is kept.
+      this.anchor = this.origin.clone();
       this.clock = this.first;
       this.playing = false;
       this.shown = -1;
@@ -503,8 +558,11 @@
       const centre = this.centroid(i);
       const reach = this.data.radius;
       if (this.drawn.arrow) this.drawn.arrow.position.copy(centre).addScaledVector(this.directions.up, 0.9 * reach).addScaledVector(this.directions.left, 0.9 * reach);
-      // The camera follows the mechanism's centroid, or stays on the first sample's.
-      const shift = (this.controls.follow.checked ? centre : this.origin).clone().sub(this.orbit.target);
+      // The camera follows the mechanism's centroid, or stays on the first sample's: it moves
+      // as far as that point moved since the last frame, wherever the user turned or panned it.
+      const anchor = this.controls.follow.checked ? centre : this.origin;
+      const shift = anchor.clone().sub(this.anchor);
+      this.anchor.copy(anchor);
       this.orbit.target.add(shift);
       this.view.camera.position.add(shift);
       this.orbit.update();
@@ -550,6 +608,8 @@
         pixelRatio: window.devicePixelRatio || 1,
         // The fraction of the resolution drawn while playing (below 1 where frames were slow).
         scale: this.scale,
+        // What the camera looks at (the orbit's centre).
+        target: this.orbit.target.toArray(),
       };
     }
 
