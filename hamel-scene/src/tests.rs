@@ -719,10 +719,10 @@ fn a_killed_writers_leftover_goes_with_the_next_write() {
 /// was said.
 #[test]
 fn a_body_drawn_through_a_surface_is_a_warning() {
-    use crate::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
+    use hamel::models::{ChaplyginBall, MobileRobot, Rattleback, RollingDisk, WhippleBicycle};
     fn picture<M: Mechanism>(model: &M) -> Picture {
         let q = model
-            .assemble(0.0, &<M::Coordinates as crate::Vector>::zeros())
+            .assemble(0.0, &<M::Coordinates as hamel::Vector>::zeros())
             .unwrap();
         Picture::new(model, 0.0, &q).unwrap()
     }
@@ -801,7 +801,7 @@ fn a_body_drawn_through_a_surface_is_a_warning() {
 
 /// `run` with its rows replaced: through the trajectory's `Sink`, as any producer fills one.
 fn rewritten(run: &Trajectory, names: &[&str], edit: impl Fn(usize, &mut Vec<f64>)) -> Trajectory {
-    use crate::Sink;
+    use hamel::Sink;
     let mut out = run.clone();
     let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
     out.begin(&names).unwrap();

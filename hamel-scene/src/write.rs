@@ -6,7 +6,7 @@
 use std::io::Write as _;
 use std::path::Path;
 
-use crate::whole_file::{partial_path, remove_dead_leftovers};
+use hamel_runtime::whole_file::{partial_path, remove_dead_leftovers};
 
 use super::error::{ErrorKind, SceneError};
 
