@@ -39,6 +39,14 @@
 //! Instructions a run at 7df9148: ode_solvers 5.59 M, DormandPrince 5.31 M, Simulation 7.08 M
 //! (within 1–3 % of i19b's, so the time ratio's move from 1.049 is not more work per run).
 //!
+//! On 2026-11-29 (constant inputs checked once, no work integral when the inputs are zero,
+//! the progress clock read about once a millisecond; three runs of 401 rounds, load average
+//! 2.8–2.9 falling, no other build running, ms a run of `ode_solvers` about 0.57):
+//! DormandPrince alone 0.856, 0.856, 0.853; Simulation with default monitors 1.030, 1.014,
+//! 1.073; no crossing watch 1.019, 1.005, 1.063; with a progress callback 1.043, 1.034, 1.091.
+//! Instructions a run: ode_solvers 5.59 M, DormandPrince 5.33 M, Simulation 6.58 M, with a
+//! progress callback 6.78 M.
+//!
 //! (Each column is this file built against the runtime at that commit: 20a32f0 before issue
 //! 19, b11e5e0 its first lean path, i19b the branch that reads fresh slopes component by
 //! component; the last two were measured one after the other.) Instructions a run
