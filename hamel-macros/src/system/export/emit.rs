@@ -182,17 +182,19 @@ fn arguments(s: &Sizes) -> TokenStream {
     }
 }
 
+/// Each input node of the exported code and the expression it reads.
+type Bindings<'a> = &'a [(NodeId, TokenStream)];
+
 /// A family's functions and tables.
 fn family(
     cx: &Context<'_>,
     f: &Family,
     columns: &Columns,
-    (bindings, parameters): (&[(NodeId, TokenStream)], &[(NodeId, TokenStream)]),
+    (bindings, parameters): (Bindings<'_>, Bindings<'_>),
     s: &Sizes,
 ) -> syn::Result<TokenStream> {
     let d = &f.derivatives;
     let name = |suffix: &str| format_ident!("__hamel_export_{}{}", f.name, suffix);
-    let table = |suffix: &str| format_ident!("__HAMEL_EXPORT_{}_{}", f.name.to_uppercase(), suffix);
     let args = arguments(s);
     let allow = allow();
     let result = quote!(::core::result::Result);
@@ -200,70 +202,24 @@ fn family(
     let emit = |stages: &[&[NodeId]]| {
         cx.emit_bound_stages(Source::State, Scalar::F64, stages, f.checks, bindings)
     };
-    let no = lit(d.roots.len());
-    // The values.
-    let (codes, checks) = emit(&[&d.roots])?;
-    let [value_code] = exactly(codes)?;
-    let value_stmts = &value_code.stmts;
-    let value_writes = writes(&value_code, "out", d.roots.iter().copied().enumerate());
-    let value = name("");
-    // The staged derivatives.
-    let jacobian = staged_entries(&d.jacobian);
-    let second = staged_entries(&d.second);
-    let jacobian_fn = name("_jacobian");
+    let (no, nc) = (lit(d.roots.len()), lit(s.columns));
+    let value_body = value_body(&emit, d)?;
     let jacobian_body = staged_body(&emit, &d.jacobian, &[], "out")?;
-    let second_fn = name("_second");
     let second_body = staged_body(&emit, &d.second, &[(&d.jacobian, "jacobian")], "second")?;
-    let (nj, nh) = (lit(jacobian.0.len()), lit(second.0.len()));
-    // Forward and adjoint.
-    let forward_fn = name("_forward");
-    let (all, all_checks) = emit(&[&d.forward])?;
-    let (states, states_checks) = emit(&[&d.forward_states])?;
-    let ([all], [states]) = (exactly(all)?, exactly(states)?);
-    let (all_stmts, states_stmts) = (&all.stmts, &states.stmts);
-    let all_writes = writes(&all, "out", d.forward.iter().copied().enumerate());
-    let states_writes = writes(&states, "out", d.forward_states.iter().copied().enumerate());
-    let adjoint_fn = name("_adjoint");
-    let (adjoint_parameters, adjoint_states): (Vec<(usize, NodeId)>, Vec<(usize, NodeId)>) = d
-        .adjoint
-        .iter()
-        .copied()
-        .enumerate()
-        .partition(|(c, _)| columns.is_parameter(*c));
-    let a_states: Vec<NodeId> = adjoint_states.iter().map(|e| e.1).collect();
-    let a_parameters: Vec<NodeId> = adjoint_parameters.iter().map(|e| e.1).collect();
-    let (adjoint_codes, adjoint_checks) = emit(&[&a_states, &a_parameters])?;
-    let [adjoint_code_first, adjoint_code_second] = exactly(adjoint_codes)?;
-    let adjoint_first = &adjoint_code_first.stmts;
-    let adjoint_second = &adjoint_code_second.stmts;
-    let adjoint_writes_first = writes(&adjoint_code_first, "out", adjoint_states.iter().copied());
-    let adjoint_writes_second = writes(
-        &adjoint_code_second,
-        "out",
-        adjoint_parameters.iter().copied(),
+    let forward_body = forward_body(&emit, d)?;
+    let adjoint_body = adjoint_body(&emit, d, columns)?;
+    let (nj, nh) = (
+        lit(staged_entries(&d.jacobian).0.len()),
+        lit(staged_entries(&d.second).0.len()),
     );
-    let nc = lit(s.columns);
-    let compiled = [
-        d.jacobian.states.is_some(),
-        d.jacobian.parameters.is_some(),
-        d.second.states.is_some(),
-        d.second.parameters.is_some(),
-    ];
-    let (jacobian_entries, jacobian_states) = (&jacobian.0, lit(jacobian.1));
-    let (second_entries, second_states) = (&second.0, lit(second.1));
-    let (jacobian_table, second_table, compiled_table, states_table) = (
-        table("JACOBIAN"),
-        table("SECOND"),
-        table("COMPILED"),
-        table("STATES"),
+    let (value, jacobian_fn, forward_fn, adjoint_fn, second_fn) = (
+        name(""),
+        name("_jacobian"),
+        name("_forward"),
+        name("_adjoint"),
+        name("_second"),
     );
-    let depends_table = table("DEPENDS");
-    let depends = crate::system::parametric::dependencies(cx.graph, &d.roots, &columns.nodes)
-        .into_iter()
-        .map(|row| {
-            let row = row.into_iter().map(lit);
-            quote!(&[#(#row),*])
-        });
+    let tables = tables(cx, f, columns);
     let generic = generic_value(cx, f, parameters, s)?;
     let doc = |what: &str| {
         format!(
@@ -292,10 +248,7 @@ fn family(
         #allow
         #[inline]
         pub fn #value<E>(#args out: &mut [f64; #no]) -> #result<(), #singularity> {
-            #value_stmts
-            #checks
-            #value_writes
-            #result::Ok(())
+            #value_body
         }
 
         #[doc = #jacobian_doc]
@@ -311,16 +264,7 @@ fn family(
         #allow
         #[inline]
         pub fn #forward_fn<E>(#args direction: &[f64; #nc], parameters: bool, out: &mut [f64; #no]) -> #result<(), #singularity> {
-            if parameters {
-                #all_stmts
-                #all_checks
-                #all_writes
-            } else {
-                #states_stmts
-                #states_checks
-                #states_writes
-            }
-            #result::Ok(())
+            #forward_body
         }
 
         #[doc = #adjoint_doc]
@@ -328,14 +272,7 @@ fn family(
         #allow
         #[inline]
         pub fn #adjoint_fn<E>(#args weights: &[f64; #no], parameters: bool, out: &mut [f64; #nc]) -> #result<(), #singularity> {
-            #adjoint_first
-            #adjoint_checks
-            #adjoint_writes_first
-            if parameters {
-                #adjoint_second
-                #adjoint_writes_second
-            }
-            #result::Ok(())
+            #adjoint_body
         }
 
         #[doc = #second_doc]
@@ -346,6 +283,103 @@ fn family(
             #second_body
         }
 
+        #tables
+
+        #generic
+    })
+}
+
+/// The body of the values' function.
+fn value_body(emit: &Emit<'_>, d: &Derivatives) -> syn::Result<TokenStream> {
+    let (codes, checks) = emit(&[&d.roots])?;
+    let [code] = exactly(codes)?;
+    let stmts = &code.stmts;
+    let out = writes(&code, "out", d.roots.iter().copied().enumerate());
+    Ok(quote! {
+        #stmts
+        #checks
+        #out
+        ::core::result::Result::Ok(())
+    })
+}
+
+/// The body of the forward derivative: along every column, or (`parameters` false) along
+/// the state, inputs and time only, a smaller code.
+fn forward_body(emit: &Emit<'_>, d: &Derivatives) -> syn::Result<TokenStream> {
+    let (all, all_checks) = emit(&[&d.forward])?;
+    let (states, states_checks) = emit(&[&d.forward_states])?;
+    let ([all], [states]) = (exactly(all)?, exactly(states)?);
+    let (all_stmts, states_stmts) = (&all.stmts, &states.stmts);
+    let all_writes = writes(&all, "out", d.forward.iter().copied().enumerate());
+    let states_writes = writes(&states, "out", d.forward_states.iter().copied().enumerate());
+    Ok(quote! {
+        if parameters {
+            #all_stmts
+            #all_checks
+            #all_writes
+        } else {
+            #states_stmts
+            #states_checks
+            #states_writes
+        }
+        ::core::result::Result::Ok(())
+    })
+}
+
+/// The body of the adjoint derivative: its columns by the state, inputs and time, then
+/// (`parameters`) those by the parameters.
+fn adjoint_body(emit: &Emit<'_>, d: &Derivatives, columns: &Columns) -> syn::Result<TokenStream> {
+    let (by_parameters, by_states): (Vec<_>, Vec<_>) = d
+        .adjoint
+        .iter()
+        .copied()
+        .enumerate()
+        .partition(|(c, _)| columns.is_parameter(*c));
+    let nodes = |entries: &[(usize, NodeId)]| entries.iter().map(|e| e.1).collect::<Vec<_>>();
+    let (codes, checks) = emit(&[&nodes(&by_states), &nodes(&by_parameters)])?;
+    let [first, second] = exactly(codes)?;
+    let (first_stmts, second_stmts) = (&first.stmts, &second.stmts);
+    let first_writes = writes(&first, "out", by_states.iter().copied());
+    let second_writes = writes(&second, "out", by_parameters.iter().copied());
+    Ok(quote! {
+        #first_stmts
+        #checks
+        #first_writes
+        if parameters {
+            #second_stmts
+            #second_writes
+        }
+        ::core::result::Result::Ok(())
+    })
+}
+
+/// The tables of a family's sparse entries, stages and dependencies.
+fn tables(cx: &Context<'_>, f: &Family, columns: &Columns) -> TokenStream {
+    let d = &f.derivatives;
+    let table = |suffix: &str| format_ident!("__HAMEL_EXPORT_{}_{}", f.name.to_uppercase(), suffix);
+    let (jacobian, second) = (staged_entries(&d.jacobian), staged_entries(&d.second));
+    let compiled = [
+        d.jacobian.states.is_some(),
+        d.jacobian.parameters.is_some(),
+        d.second.states.is_some(),
+        d.second.parameters.is_some(),
+    ];
+    let (jacobian_entries, jacobian_states) = (&jacobian.0, lit(jacobian.1));
+    let (second_entries, second_states) = (&second.0, lit(second.1));
+    let (jacobian_table, second_table, compiled_table, states_table, depends_table) = (
+        table("JACOBIAN"),
+        table("SECOND"),
+        table("COMPILED"),
+        table("STATES"),
+        table("DEPENDS"),
+    );
+    let depends = crate::system::parametric::dependencies(cx.graph, &d.roots, &columns.nodes)
+        .into_iter()
+        .map(|row| {
+            let row = row.into_iter().map(lit);
+            quote!(&[#(#row),*])
+        });
+    quote! {
         /// The Jacobian's entries (row, column over x, u, p, t), by the state, inputs and
         /// time first, then by the parameters. Generated by `#[hamel_system]`.
         #[doc(hidden)]
@@ -366,9 +400,7 @@ fn family(
         /// says. Generated by `#[hamel_system]`.
         #[doc(hidden)]
         pub const #depends_table: &'static [&'static [usize]] = &[#(#depends),*];
-
-        #generic
-    })
+    }
 }
 
 /// The values over any `hamel::Scalar`, for the stages `hamel-export` computes by dual
@@ -377,7 +409,7 @@ fn family(
 fn generic_value(
     cx: &Context<'_>,
     f: &Family,
-    parameters: &[(NodeId, TokenStream)],
+    parameters: Bindings<'_>,
     s: &Sizes,
 ) -> syn::Result<TokenStream> {
     if f.name != "lie" {
