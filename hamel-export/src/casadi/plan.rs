@@ -77,11 +77,7 @@ impl Structure {
 
     /// The second derivatives' entries of a stage, each in both orientations: (index, block
     /// of the row, within, block of the column, within).
-    fn second_entries(
-        &self,
-        primal: &Primal,
-        parameters: bool,
-    ) -> Option<Vec<SecondEntry>> {
+    fn second_entries(&self, primal: &Primal, parameters: bool) -> Option<Vec<SecondEntry>> {
         let (tables, local) = self.stage(1, parameters)?;
         let range = if parameters {
             tables.states[1]..tables.second.len()
