@@ -16,8 +16,10 @@
 //!    simulation that takes more than a second shows a progress bar on a terminal).
 //!
 //! With `--animate bicycle.html` it does none of that, but rides from upright at 3 m/s,
-//! below the weave speed, until the bicycle falls, and writes the ride as a 3D scene to
-//! open in a browser (`hamel::scene`).
+//! below the weave speed, until the growing weave makes the bicycle fall (the run ends where
+//! the front wheel turns square across the frame, just before the model stops determining
+//! the motion: `support/capsize.rs`), and writes the ride as a 3D scene to open in a
+//! browser (`hamel::scene`).
 //!
 //! ```text
 //! cargo run --release --example bicycle
@@ -321,13 +323,21 @@ fn run() -> Result<(), Error> {
     Ok(())
 }
 
-/// The bicycle capsizing, as a scene at `path`.
+/// The bicycle falling over as its weave grows, as a scene at `path`.
 fn animate(path: &std::path::Path) -> Result<(), Error> {
     let bike = WhippleBicycle::default();
     let ride = capsize::ride(&bike)?;
-    let end = match ride.event_times("fallen").first() {
-        Some(t) => format!("the roll angle reaches 60° at t = {t:.3} s"),
-        None => format!("still up at t = {} s", ride.times()[ride.len() - 1]),
+    let (fallen, across) = (ride.event_times("fallen"), ride.event_times("across"));
+    let end = match (fallen.first(), across.first()) {
+        (Some(t), _) => format!("the roll angle reaches 60° at t = {t:.3} s"),
+        (None, Some(t)) => format!(
+            "the weave grows until it falls: the front wheel turns square across the frame \
+             at t = {t:.3} s (roll {:.2} rad, steer {:.2} rad), just before the model's \
+             constraints stop determining the motion",
+            last(&ride, "phi"),
+            last(&ride, "delta")
+        ),
+        (None, None) => format!("still up at t = {} s", ride.times()[ride.len() - 1]),
     };
     println!(
         "from upright at {} m/s with a lean of {} rad: {end}",
@@ -335,6 +345,13 @@ fn animate(path: &std::path::Path) -> Result<(), Error> {
         capsize::LEAN
     );
     animate::write(&bike, &ride, &capsize::SHOWN, &[("speed", "m/s")], path)
+}
+
+/// The last value of a column of the run.
+fn last(run: &Trajectory, column: &str) -> f64 {
+    run.column(column)
+        .and_then(|c| c.last().copied())
+        .unwrap_or(f64::NAN)
 }
 
 fn main() -> ExitCode {

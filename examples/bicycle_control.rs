@@ -11,15 +11,27 @@
 //!    bicycle starts leaning 0.1 rad and the controller brings it upright; the roll over
 //!    time is written to `bicycle_control.csv`.
 //!
+//! `--animate bicycle_control.html` also writes that run as a 3D scene (`hamel::scene`), the
+//! lean, steer and steer torque beside it; `--help` says so, and any other argument is an
+//! error.
+//!
 //! ```text
 //! cargo run --release --example bicycle_control
+//! cargo run --release --example bicycle_control -- --animate bicycle_control.html
 //! ```
 
 use hamel::control::Lqr;
 use hamel::models::WhippleBicycle;
 use hamel::nalgebra::{self, DMatrix, DVector};
 use hamel::prelude::*;
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+// `main` below keeps its own exit codes (a controller that does not bring the bicycle back
+// fails): it reads the command line with `animate::request`, and `animate::main` goes unused.
+#[allow(dead_code)]
+#[path = "support/animate.rs"]
+mod animate;
 
 /// The speed (m/s), the initial lean (rad), and how far back it must come (rad) by when (s).
 const SPEED: f64 = 2.0;
@@ -27,8 +39,30 @@ const LEAN: f64 = 0.1;
 const BACK_WITHIN: f64 = 0.01;
 const BY: f64 = 5.0;
 
+/// The columns the scene shows beside the bicycle.
+const SHOWN: [&str; 3] = ["phi", "delta", "steer_torque"];
+
 fn main() -> ExitCode {
-    match run() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let animation = match animate::request(&args) {
+        Ok(animate::Request::Run(path)) => path,
+        Ok(animate::Request::Help) => {
+            print!(
+                "{}",
+                animate::usage(
+                    "An LQR steer-torque controller rides the benchmark bicycle at 2 m/s, below \
+                     its weave speed: the linearization, the gain, and a nonlinear run from a \
+                     0.1 rad lean (bicycle_control.csv)."
+                )
+            );
+            return ExitCode::SUCCESS;
+        }
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(animation) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {
@@ -38,7 +72,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run() -> Result<bool, Error> {
+fn run(animation: Option<PathBuf>) -> Result<bool, Error> {
     let bike = WhippleBicycle::default();
     let wheel_rate = -SPEED / bike.r_r;
     let upright = bike
@@ -102,6 +136,9 @@ fn run() -> Result<bool, Error> {
     );
     run.save_csv("bicycle_control.csv")?;
     println!("wrote {} rows to bicycle_control.csv", run.len());
+    if let Some(path) = animation {
+        animate::write(&bike, &run, &SHOWN, &[], &path)?;
+    }
     Ok(after <= BACK_WITHIN && lqr.closed_loop_eigenvalues().iter().all(|l| l.re < 0.0))
 }
 

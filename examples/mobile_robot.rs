@@ -29,7 +29,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-// The command line below reads `--animate` itself: `animate::requested` goes unused here.
+// The command line below reads `--animate` itself: `animate::request` goes unused here.
 #[allow(dead_code)]
 #[path = "support/animate.rs"]
 mod animate;

@@ -33,7 +33,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 // `main` below keeps its own exit codes (a tracking error above 1e-6 m fails): it reads
-// `--animate` with `animate::requested`, and `animate::main` goes unused here.
+// `--animate` with `animate::request`, and `animate::main` goes unused here.
 #[allow(dead_code)]
 #[path = "support/animate.rs"]
 mod animate;
@@ -72,8 +72,19 @@ const UNITS: [(&str, &str); 5] = [
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let animation = match animate::requested(&args) {
-        Ok(path) => path,
+    let animation = match animate::request(&args) {
+        Ok(animate::Request::Run(path)) => path,
+        Ok(animate::Request::Help) => {
+            print!(
+                "{}",
+                animate::usage(
+                    "The mobile robot's look-ahead point tracks a figure-eight by exact \
+                     input-output linearization; its body, the zero dynamics of these \
+                     outputs, falls over as it tracks."
+                )
+            );
+            return ExitCode::SUCCESS;
+        }
         Err(message) => {
             eprintln!("error: {message}");
             return ExitCode::from(2);

@@ -66,10 +66,14 @@ pub mod docs;
 pub mod models;
 #[cfg(feature = "parquet")]
 pub mod parquet;
+// `plot` and `scene` are crates of their own (`hamel-plot`, `hamel-scene`), so that a build
+// compiles them beside the catalogue once the runtime's metadata is ready.
 #[cfg(feature = "plot")]
-pub mod plot;
+#[doc(inline)]
+pub use hamel_plot as plot;
 pub mod prelude;
-pub mod scene;
+#[doc(inline)]
+pub use hamel_scene as scene;
 #[cfg(feature = "study")]
 pub mod study;
 

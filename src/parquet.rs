@@ -249,13 +249,17 @@ pub fn write<W: Write + Send>(
     Ok(())
 }
 
-/// The table in a Parquet file [`write`] or a [`Writer`] wrote.
+/// The table in a Parquet file [`write`] or a [`Writer`] wrote. A file with a manifest beside
+/// it (a study's shard, or a file written whole: [`crate::whole_file`]) is checked against it
+/// first, as `Table::read_csv` checks a CSV file: a file altered or replaced since it was
+/// written (another shard's copied over it) is an error, not another table.
 pub fn read(path: impl AsRef<Path>) -> Result<Table, Error> {
     let path = path.as_ref();
     let io = |message: String| Error::Read {
         path: path.display().to_string(),
         message,
     };
+    let manifest = crate::whole_file::check_manifest(path)?;
     let file = std::fs::File::open(path).map_err(|e| io(e.to_string()))?;
     let reader = SerializedFileReader::new(file).map_err(|e| io(e.to_string()))?;
     let fields = reader.metadata().file_metadata().schema().get_fields();
@@ -300,7 +304,14 @@ pub fn read(path: impl AsRef<Path>) -> Result<Table, Error> {
             .push_row(case, values, error)
             .map_err(|e| io(e.to_string()))?;
     }
-    Ok(table)
+    match manifest {
+        Some(m) if m.rows != table.len() as u64 => Err(io(format!(
+            "it holds {} rows where its manifest says {}: it is not the file that was written",
+            table.len(),
+            m.rows
+        ))),
+        _ => Ok(table),
+    }
 }
 
 #[cfg(test)]
@@ -381,6 +392,47 @@ mod tests {
             Some("the position at t = 0.25")
         );
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A file written whole is read against its manifest, as a CSV file is. Before, a Parquet
+    /// file was read without it: a shard with another's file copied over it read as the
+    /// other's table.
+    #[test]
+    fn a_file_written_whole_is_read_against_its_manifest() {
+        use crate::whole_file::WholeFile;
+        let dir =
+            std::env::temp_dir().join(format!("hamel-parquet-manifest-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let written = |name: &str, rows: u64| {
+            let mut table = Table::new(vec!["v".into()]).unwrap();
+            for case in 0..rows {
+                table.push(case, Ok(vec![case as f64])).unwrap();
+            }
+            let path = dir.join(name);
+            let mut file = WholeFile::create(&path).unwrap();
+            write(&table, &mut file, name, &[]).unwrap();
+            file.commit(rows).unwrap();
+            path
+        };
+        let (one, other) = (written("one.parquet", 3), written("other.parquet", 5));
+        assert_eq!(read(&one).unwrap().len(), 3);
+        std::fs::copy(&other, &one).unwrap();
+        let e = read(&one).unwrap_err().to_string();
+        assert!(
+            e.contains("its manifest") && e.contains("one.parquet"),
+            "{e}"
+        );
+        // Cut short (a copy interrupted): the manifest's size, not a reader's error deep in
+        // the footer, or a shorter table.
+        let bytes = std::fs::read(&other).unwrap();
+        std::fs::write(&other, &bytes[..bytes.len() / 2]).unwrap();
+        let e = read(&other).unwrap_err().to_string();
+        assert!(
+            e.contains("truncated") && e.contains("other.parquet"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// The bytes depend on the rows alone: written in blocks of any size, or whole.

@@ -21,6 +21,13 @@ pub const PUBLISHED: (f64, f64) = (4.29238253634111, 6.02426201538837);
 /// speed.
 pub type Abscissa<'a> = &'a (dyn Fn(f64, f64, f64) -> Result<f64, Error> + Sync);
 
+/// A line on the standard output, if it can be written: a reader that closed it early
+/// (`bicycle_study | head -1`) loses the report's lines, not the files.
+fn say(line: std::fmt::Arguments) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stdout(), "{line}");
+}
+
 /// The benchmark point's check, the figures and the stability maps.
 pub fn report(
     run: &Finished,
@@ -28,25 +35,25 @@ pub fn report(
     abscissa: Abscissa,
 ) -> Result<(), Error> {
     let (result, count) = (run.table, linearizations());
-    println!(
+    say(format_args!(
         "Whipple bicycle: weave and capsize speeds for {} cases (trail 0.04 … 0.12 m × rider \
          mass 60 … 110 kg), {count} linearizations, {} failed, in {:.2} s on {} threads",
         result.len(),
         result.failed(),
         run.elapsed.as_secs_f64(),
         run.threads_used
-    );
+    ));
     let at = (0..result.len()).find(|&i| result.row(i).is_some_and(|r| r[..2] == [0.08, 85.0]));
     let row = result.row(at.unwrap_or(usize::MAX)).unwrap_or_default();
     let (weave, capsize) = (
         row.get(2).copied().unwrap_or(f64::NAN),
         row.get(3).copied().unwrap_or(f64::NAN),
     );
-    println!(
+    say(format_args!(
         "benchmark point (trail 0.08 m, rider 85 kg): weave {weave:.14} m/s, capsize \
          {capsize:.14} m/s (published {} and {})",
         PUBLISHED.0, PUBLISHED.1
-    );
+    ));
     // Eleven decimals, as the published values agree with the others of the benchmark's
     // literature.
     if !((weave - PUBLISHED.0).abs() <= 1e-11 && (capsize - PUBLISHED.1).abs() <= 1e-11) {
@@ -60,17 +67,17 @@ pub fn report(
     let plot = figure(result);
     plot.save("bicycle_study.svg")?;
     plot.save("bicycle_study.png")?;
-    println!(
+    say(format_args!(
         "wrote bicycle_study.svg and bicycle_study.png (the speeds against trail and against rider mass)"
-    );
+    ));
     let maps = stability_figure(result, run.threads, abscissa)?;
     maps.save("bicycle_stability.svg")?;
     maps.save("bicycle_stability.png")?;
-    println!(
+    say(format_args!(
         "wrote bicycle_stability.svg and bicycle_stability.png (the largest real part over \
          speed and trail, and over speed and rider mass); {} linearizations in all",
         linearizations()
-    );
+    ));
     Ok(())
 }
 

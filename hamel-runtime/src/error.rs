@@ -468,9 +468,14 @@ pub enum Error {
     )]
     ProgressPanicked { message: String },
 
-    /// An output column's name cannot be a column name (`Simulation::output`).
-    #[error("the output name {name:?} cannot name a column: {reason}")]
-    InvalidColumnName { name: String, reason: &'static str },
+    /// A name that cannot be a column's: an output's (`Simulation::output`), a study's
+    /// parameter's or output's, or a table's column's (`kind` says which).
+    #[error("the {kind} name {name:?} cannot name a column: {reason}")]
+    InvalidColumnName {
+        kind: &'static str,
+        name: String,
+        reason: &'static str,
+    },
 
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },

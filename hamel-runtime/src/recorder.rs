@@ -63,6 +63,7 @@ impl<S: HamelSystem> Columns<'_, '_, S> {
             };
             if let Some(reason) = reason {
                 return Err(Error::InvalidColumnName {
+                    kind: "output",
                     name: name.to_string(),
                     reason,
                 });

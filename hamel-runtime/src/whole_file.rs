@@ -37,8 +37,10 @@ pub fn manifest_of(path: &Path) -> PathBuf {
     with_suffix(path, ".manifest")
 }
 
-/// A name no other writer uses, beside `path`: `<name>.partial-<pid>-<n>`.
-pub(crate) fn partial_path(path: &Path) -> PathBuf {
+/// A name no other writer uses, beside `path`: `<name>.partial-<pid>-<n>`, where a file is
+/// written before it is renamed to `path`. A process killed while writing leaves it;
+/// [`remove_dead_leftovers`] removes it.
+pub fn partial_path(path: &Path) -> PathBuf {
     static NEXT: AtomicU64 = AtomicU64::new(0);
     let n = NEXT.fetch_add(1, Ordering::Relaxed);
     with_suffix(path, &format!(".partial-{}-{n}", std::process::id()))
@@ -168,8 +170,10 @@ pub(crate) fn sync_directory(path: &Path) {
 
 /// Removes the `.partial-<pid>-<n>` files of `path` and of its manifest that processes which
 /// no longer run left (killed while writing): where the system lists its processes
-/// (`/proc`), those of a running process, this one's included, are left to it.
-pub(crate) fn remove_dead_leftovers(path: &Path) {
+/// (`/proc`), those of a running process, this one's included, are left to it. Every write
+/// of a file whole calls it once the file is in place, so that a killed write's leftover
+/// lasts until the next write of the same name.
+pub fn remove_dead_leftovers(path: &Path) {
     let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
         return;
     };

@@ -43,22 +43,24 @@ pub fn shard_from_environment(
         let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
         let step = number("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1).max(1);
         let n = number("SLURM_ARRAY_TASK_COUNT")?;
-        (
-            id.saturating_sub(min) / step,
-            n,
-            format!("SLURM_ARRAY_TASK_ID={id}"),
-        )
+        let described = format!("SLURM_ARRAY_TASK_ID={id}");
+        let place =
+            format!("{described}, SLURM_ARRAY_TASK_MIN={min}, SLURM_ARRAY_TASK_STEP={step}");
+        (on_steps(id, min, step, &place)?, n, described)
     } else if let Some(i) = number("PBS_ARRAY_INDEX")?.or(number("PBS_ARRAYID")?) {
         (i, None, format!("PBS array index {i}"))
     } else if let Some(i) = number("LSB_JOBINDEX")? {
         let step = number("LSB_JOBINDEX_STEP")?.unwrap_or(1).max(1);
         let end = number("LSB_JOBINDEX_END")?;
-        let index = i.checked_sub(1).ok_or(Error::InvalidShard {
-            spec: "LSB_JOBINDEX=0".into(),
-            reason: "is not an LSF array's index: they count from 1 (`bsub -J \"study[1-8]\"`)",
-        })?;
+        if i == 0 {
+            return Err(Error::InvalidShard {
+                spec: "LSB_JOBINDEX=0".into(),
+                reason: "is not an LSF array's index: they count from 1 (`bsub -J \"study[1-8]\"`)",
+            });
+        }
+        let place = format!("LSB_JOBINDEX={i}, LSB_JOBINDEX_STEP={step}");
         (
-            index / step,
+            on_steps(i, 1, step, &place)?,
             end.map(|e| (e.max(1) - 1) / step + 1),
             format!("LSB_JOBINDEX={i}"),
         )
@@ -80,4 +82,25 @@ pub fn shard_from_environment(
         reason: "is out of range: the array's indices must run over 0 … n − 1 (Slurm from \
                  its minimum, PBS from 0, LSF from 1)",
     })
+}
+
+/// The place of the array index `id` among `first`, `first + step`, …: an index below the
+/// first, or between two steps, is no task of the array (a variable set by hand, or an
+/// array other than the one described), and an error rather than another task's shard.
+fn on_steps(id: usize, first: usize, step: usize, place: &str) -> Result<usize, Error> {
+    let Some(offset) = id.checked_sub(first) else {
+        return Err(Error::InvalidShard {
+            spec: format!("env ({place})"),
+            reason: "is below the array's minimum, so it is no task of the array: run it \
+                     in the array, or give the shard as i/n",
+        });
+    };
+    if offset % step != 0 {
+        return Err(Error::InvalidShard {
+            spec: format!("env ({place})"),
+            reason: "is between two of the array's steps, so it is no task of the array: \
+                     run it in the array, or give the shard as i/n",
+        });
+    }
+    Ok(offset / step)
 }

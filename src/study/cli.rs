@@ -2,6 +2,7 @@
 //! before any case runs.
 
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -38,22 +39,70 @@ struct Settings {
 
 /// Runs the study as `args` ask; see [`Study::main`].
 pub(crate) fn main(study: &Study, args: &[String]) -> ExitCode {
+    let (mut out, mut err) = (std::io::stdout(), std::io::stderr());
+    main_to(study, args, &mut Console::new(&mut out, &mut err))
+}
+
+/// [`main`], its messages written to `console`.
+pub(crate) fn main_to(study: &Study, args: &[String], console: &mut Console) -> ExitCode {
     let settings = match parse(args) {
         Ok(Some(s)) => s,
         Ok(None) => {
-            print!("{}", help(study));
+            console.out(&help(study));
             return ExitCode::SUCCESS;
         }
         Err(message) => {
-            eprintln!("error: {message}");
+            console.err(&format!("error: {message}\n"));
             return ExitCode::from(2);
         }
     };
-    match run(study, &settings) {
+    match run(study, &settings, console) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            console.err(&format!("error: {e}\n"));
             ExitCode::FAILURE
+        }
+    }
+}
+
+/// Where the command line's messages go. They only report on the files, which are written
+/// whole whatever happens to them: a closed standard output (`study | head -1`) or error
+/// stream loses them and fails nothing (`println!` panics there).
+pub(crate) struct Console<'w> {
+    out: &'w mut dyn Write,
+    err: &'w mut dyn Write,
+}
+
+impl<'w> Console<'w> {
+    pub(crate) fn new(out: &'w mut dyn Write, err: &'w mut dyn Write) -> Self {
+        Console { out, err }
+    }
+
+    /// `text` on the standard output, if it can be written.
+    fn out(&mut self, text: &str) {
+        let _ = self
+            .out
+            .write_all(text.as_bytes())
+            .and_then(|()| self.out.flush());
+    }
+
+    /// `line` and a line break on the standard output.
+    fn say(&mut self, line: &str) {
+        self.out(&format!("{line}\n"));
+    }
+
+    /// `text` on the standard error stream, if it can be written.
+    fn err(&mut self, text: &str) {
+        let _ = self
+            .err
+            .write_all(text.as_bytes())
+            .and_then(|()| self.err.flush());
+    }
+
+    /// The summary of the cases that panicked, if any did.
+    fn panics(&mut self, summary: Option<&str>) {
+        if let Some(summary) = summary {
+            self.err(&format!("{summary}\n"));
         }
     }
 }
@@ -76,6 +125,7 @@ fn help(study: &Study) -> String {
   --format csv|parquet     the files' format (default csv; parquet needs hamel's feature `parquet`)
   --threads N              threads (default: every core)
   --help                   this text
+An option's value follows it, or an `=` (`--threads=2`).
 
 Parameters (the table's columns):
 "
@@ -99,7 +149,24 @@ Parameters (the table's columns):
     text
 }
 
-/// Parses the options; `None` for `--help`. Every mistake is a message, never a panic.
+/// The options that take a value.
+const OPTIONS: [&str; 8] = [
+    "--write-grid",
+    "--table",
+    "--shard",
+    "--out",
+    "--merge",
+    "--into",
+    "--format",
+    "--threads",
+];
+
+/// The options that name a file or a directory: never empty (an empty path would be the
+/// current directory).
+const PATHS: [&str; 5] = ["--write-grid", "--table", "--out", "--merge", "--into"];
+
+/// Parses the options, each `--name value` or `--name=value`; `None` for `--help`. Every
+/// mistake is a message, never a panic.
 fn parse(args: &[String]) -> Result<Option<Settings>, String> {
     let mut s = Settings {
         write_grid: None,
@@ -111,15 +178,44 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
         threads: None,
         format: Format::Csv,
     };
-    let mut i = 0;
-    while i < args.len() {
-        let option = args[i].as_str();
+    let mut rest = args.iter();
+    while let Some(arg) = rest.next() {
+        let (option, inline) = match arg.split_once('=') {
+            Some((option, value)) if option.starts_with("--") => (option, Some(value)),
+            _ => (arg.as_str(), None),
+        };
         if option == "--help" || option == "-h" {
-            return Ok(None);
+            return match inline {
+                Some(_) => Err(format!("--help takes no value, not `{arg}`")),
+                None => Ok(None),
+            };
         }
-        let value = args
-            .get(i + 1)
-            .ok_or_else(|| format!("option `{option}` needs a value (see --help)"))?;
+        if !option.starts_with("--") {
+            return Err(format!(
+                "`{arg}` is not an option: options begin with `--`, and each takes one value \
+                 (see --help)"
+            ));
+        }
+        if !OPTIONS.contains(&option) {
+            return Err(format!("unknown option `{option}` (see --help)"));
+        }
+        let value = match inline {
+            Some(value) => value,
+            None => match rest.next() {
+                Some(next) if next.starts_with("--") && next.len() > 2 => {
+                    return Err(format!(
+                        "option `{option}` needs a value, not the option `{next}` (see --help)"
+                    ));
+                }
+                Some(next) => next.as_str(),
+                None => return Err(format!("option `{option}` needs a value (see --help)")),
+            },
+        };
+        if value.is_empty() && PATHS.contains(&option) {
+            return Err(format!(
+                "{option} needs a path, not '' (an empty path would be the current directory)"
+            ));
+        }
         match option {
             "--write-grid" => s.write_grid = Some(value.into()),
             "--table" => s.table = Some(value.into()),
@@ -128,13 +224,11 @@ fn parse(args: &[String]) -> Result<Option<Settings>, String> {
             "--merge" => s.merge = Some(value.into()),
             "--into" => s.into = Some(value.into()),
             "--format" => s.format = Format::from_name(value)?,
-            "--threads" => match value.parse::<usize>() {
+            _ => match value.parse::<usize>() {
                 Ok(n) if n > 0 => s.threads = Some(n),
                 _ => return Err(format!("--threads needs a whole number ≥ 1, not `{value}`")),
             },
-            _ => return Err(format!("unknown option `{option}` (see --help)")),
         }
-        i += 2;
     }
     check(&s)?;
     Ok(Some(s))
@@ -191,20 +285,19 @@ fn check(s: &Settings) -> Result<(), String> {
 }
 
 /// Does what the settings ask.
-fn run(study: &Study, s: &Settings) -> Result<(), Error> {
+fn run(study: &Study, s: &Settings, console: &mut Console) -> Result<(), Error> {
     study.check()?;
     if let Some(path) = &s.write_grid {
         let grid = study.grid()?;
         write_complete(path, |file| {
-            use std::io::Write;
             file.write_all(grid.to_csv().as_bytes())
                 .map_err(|e| super::output::io(path, e))
         })?;
-        println!("wrote {} cases to {}", grid.len(), path.display());
+        console.say(&format!("wrote {} cases to {}", grid.len(), path.display()));
         return Ok(());
     }
     match (&s.table, &s.out, &s.merge) {
-        (Some(table), Some(out), _) => shard_task(study, s, table, out),
+        (Some(table), Some(out), _) => shard_task(study, s, table, out, console),
         (Some(table), None, Some(dir)) => {
             let cases = read_table(study, table)?;
             let into = s
@@ -212,14 +305,14 @@ fn run(study: &Study, s: &Settings) -> Result<(), Error> {
                 .clone()
                 .unwrap_or_else(|| default_path(study, s.format));
             let (rows, shards) = merge(study, &cases, dir, s.format, &into)?;
-            println!(
+            console.say(&format!(
                 "merged {shards} shards ({rows} rows) of {} into {}",
                 dir.display(),
                 into.display()
-            );
+            ));
             Ok(())
         }
-        _ => local(study, s),
+        _ => local(study, s, console),
     }
 }
 
@@ -231,7 +324,13 @@ fn read_table(study: &Study, path: &Path) -> Result<ParameterTable, Error> {
 }
 
 /// One task of a batch engine: its shard of the table at `table` into `out`.
-fn shard_task(study: &Study, s: &Settings, table: &Path, out: &Path) -> Result<(), Error> {
+fn shard_task(
+    study: &Study,
+    s: &Settings,
+    table: &Path,
+    out: &Path,
+    console: &mut Console,
+) -> Result<(), Error> {
     // Everything that can be refused is refused before any case runs.
     let shard = match s.shard.unwrap_or(ShardSpec::Given(Shard::ALL)) {
         ShardSpec::Given(shard) => shard,
@@ -246,31 +345,40 @@ fn shard_task(study: &Study, s: &Settings, table: &Path, out: &Path) -> Result<(
     match shard_state(&path, &stamp) {
         ShardState::Complete => {
             remove_leftovers(&path);
-            println!("{} is complete: nothing to do", path.display());
+            console.say(&format!("{} is complete: nothing to do", path.display()));
             return Ok(());
         }
         ShardState::Incomplete(why) => {
-            println!(
+            console.say(&format!(
                 "{} is not complete ({why}): computing it again",
                 path.display()
-            );
+            ));
         }
         ShardState::Missing => {}
     }
     let rows = shard.rows(cases.len());
     let started = Instant::now();
-    let mut failed = 0;
+    let mut done = None;
     let written = write_shard(&path, &stamp, |file| {
         let mut sink = Sink::open(s.format, file, study, &path)?;
         let mut write = |block: &Table| sink.write(block, &path);
-        failed = stream::run(study, &cases, rows.clone(), s.threads, true, &mut write)?.failed;
+        done = Some(stream::run(
+            study,
+            &cases,
+            rows.clone(),
+            s.threads,
+            true,
+            &mut write,
+        )?);
         sink.finish(&path)
     })?;
+    let failed = done.as_ref().map_or(0, |d| d.failed);
+    console.panics(done.and_then(|d| d.panics).as_deref());
     let by = match written {
         Written::Written => "wrote",
         Written::ByAnother => "another task given the same shard completed",
     };
-    println!(
+    console.say(&format!(
         "shard {}/{}: rows {}..{} of {}, {failed} failed, in {:.1} s; {by} {}",
         shard.index,
         shard.count,
@@ -279,12 +387,12 @@ fn shard_task(study: &Study, s: &Settings, table: &Path, out: &Path) -> Result<(
         cases.len(),
         started.elapsed().as_secs_f64(),
         path.display()
-    );
+    ));
     Ok(())
 }
 
 /// The default grid on this machine, into `<name>.<format>`, then the study's report.
-fn local(study: &Study, s: &Settings) -> Result<(), Error> {
+fn local(study: &Study, s: &Settings, console: &mut Console) -> Result<(), Error> {
     let cases = study.grid()?;
     let path = default_path(study, s.format);
     let mut all = Table::new(study.columns())?;
@@ -307,8 +415,9 @@ fn local(study: &Study, s: &Settings) -> Result<(), Error> {
         sink.finish(&path)
     })?;
     let elapsed = started.elapsed();
-    let threads_used = done.map_or(1, |d| d.threads);
-    println!(
+    let threads_used = done.as_ref().map_or(1, |d| d.threads);
+    console.panics(done.and_then(|d| d.panics).as_deref());
+    console.say(&format!(
         "{}: {} cases, {} failed, in {:.2} s on {threads_used} threads; wrote {} ({})",
         study.name(),
         all.len(),
@@ -322,7 +431,7 @@ fn local(study: &Study, s: &Settings) -> Result<(), Error> {
             .chain(["error_kind".into(), "error".into()])
             .collect::<Vec<_>>()
             .join(",")
-    );
+    ));
     match &study.report {
         Some(report) => report(&Finished {
             table: &all,
@@ -378,6 +487,58 @@ mod tests {
             .unwrap();
         assert_eq!(s.shard, Some(ShardSpec::Environment(Some(8))));
         assert_eq!(parse(&args("--help")).unwrap(), None);
+    }
+
+    /// Before, `--threads=2` was "unknown option `--threads=2`" (or, last, "needs a value"),
+    /// a trailing unknown option "needs a value", and an empty path was taken as the current
+    /// directory (`--out ''` wrote the shard there).
+    #[test]
+    fn options_are_read_as_a_user_writes_them() {
+        let s = parse(&args("--table=g.csv --out=r --threads=2 --shard=1/4"))
+            .unwrap()
+            .unwrap();
+        assert_eq!(s.threads, Some(2));
+        assert_eq!(s.table, Some(PathBuf::from("g.csv")));
+        assert_eq!(
+            s.shard,
+            Some(ShardSpec::Given(Shard { index: 1, count: 4 }))
+        );
+        for (line, says) in [
+            ("--threads=0", "whole number ≥ 1, not `0`"),
+            (
+                "--table g.csv --out r --colour",
+                "unknown option `--colour`",
+            ),
+            (
+                "--table g.csv --out r --colour=red",
+                "unknown option `--colour`",
+            ),
+            (
+                "--table g.csv --out r results",
+                "`results` is not an option",
+            ),
+            ("--help=yes", "--help takes no value"),
+        ] {
+            let e = parse(&args(line)).unwrap_err();
+            assert!(e.contains(says), "{line}: {e}");
+            assert!(!e.contains("needs a value"), "{line}: {e}");
+        }
+        // `--threads=2` alone is a complete command line: the default grid on two threads.
+        assert_eq!(
+            parse(&args("--threads=2")).unwrap().unwrap().threads,
+            Some(2)
+        );
+        for option in ["--out", "--table", "--merge", "--into", "--write-grid"] {
+            let mut line = match option {
+                "--out" => args("--table g.csv"),
+                "--merge" => args("--table g.csv"),
+                "--into" => args("--table g.csv --merge r"),
+                _ => Vec::new(),
+            };
+            line.extend([option.to_string(), String::new()]);
+            let e = parse(&line).unwrap_err();
+            assert!(e.contains(&format!("{option} needs a path, not ''")), "{e}");
+        }
     }
 
     /// Before, the format depended on whether the binary was last built with the feature.

@@ -40,6 +40,7 @@
 mod array;
 mod cli;
 mod output;
+mod panics;
 mod progress;
 mod stream;
 #[cfg(test)]
@@ -237,11 +238,17 @@ impl<'a> Study<'a> {
     }
 
     /// Runs every row of `table` (columns: the study's parameters) on `threads` threads
-    /// (`None`: every core) and returns the results in memory.
+    /// (`None`: every core; `Some(0)` is an error) and returns the results in memory. Cases
+    /// that panic are rows with their error, and summed up on the standard error stream in
+    /// a few lines (how many, and the first three with where they panicked).
     pub fn run(&self, table: &ParameterTable, threads: Option<usize>) -> Result<Table, Error> {
         let mut all = Table::new(self.columns())?;
         let mut keep = |block: &Table| all.append(block.clone());
-        stream::run(self, table, 0..table.len(), threads, false, &mut keep)?;
+        let done = stream::run(self, table, 0..table.len(), threads, false, &mut keep)?;
+        if let Some(summary) = done.panics {
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "{summary}");
+        }
         Ok(all)
     }
 
@@ -270,6 +277,7 @@ impl<'a> Study<'a> {
         }
         if let Some((c, _)) = self.parameters.iter().find(|(_, v)| v.is_empty()) {
             return Err(Error::InvalidColumnName {
+                kind: "parameter",
                 name: c.name.clone(),
                 reason: "a parameter needs at least one value on the default grid",
             });
@@ -277,8 +285,22 @@ impl<'a> Study<'a> {
         if self.case.is_none() {
             return Err(invalid("a study needs its case (`Study::case`)"));
         }
+        // Each name is checked as what it is, so that the error calls a parameter one.
+        let outputs = self.outputs.iter().map(|c| c.name.clone()).collect();
+        named("parameter", self.parameter_names())?;
+        named("output", outputs)?;
         Table::new(self.columns()).map(|_| ())
     }
+}
+
+/// `names` checked as a table's columns, a bad one called a `kind` name.
+fn named(kind: &'static str, names: Vec<String>) -> Result<(), Error> {
+    Table::new(names).map(|_| ()).map_err(|e| match e {
+        Error::InvalidColumnName { name, reason, .. } => {
+            Error::InvalidColumnName { kind, name, reason }
+        }
+        other => other,
+    })
 }
 
 fn column(name: &str, unit: &str, description: &str) -> Column {

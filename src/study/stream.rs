@@ -3,10 +3,12 @@
 //! size runs in the memory of two blocks and writing costs no computing time.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::ensemble::CaseError;
 use crate::{Ensemble, Error, ParameterTable, Table};
 
+use super::panics::{InCase, Panics};
 use super::progress::Bar;
 use super::{Row, Study};
 
@@ -18,6 +20,9 @@ pub(crate) const BLOCK: usize = 4096;
 pub(crate) struct Done {
     pub failed: usize,
     pub threads: usize,
+    /// How many cases panicked and the first few, for the standard error stream (their
+    /// panics were not printed one by one).
+    pub panics: Option<String>,
 }
 
 /// Runs `rows` of `table` on `threads` threads (every core for `None`) and hands each block
@@ -31,6 +36,13 @@ pub(crate) fn run(
     sink: &mut (dyn FnMut(&Table) -> Result<(), Error> + Send),
 ) -> Result<Done, Error> {
     study.check()?;
+    if threads == Some(0) {
+        return Err(Error::InvalidSetting {
+            name: "threads",
+            value: 0.0,
+            reason: "a study runs on at least 1 thread (`None` for every core)",
+        });
+    }
     let order = parameter_order(study, table)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
@@ -55,6 +67,7 @@ pub(crate) fn run(
         columns: study.columns(),
         outputs: study.outputs.iter().map(|c| c.name.clone()).collect(),
         order,
+        panics: Arc::new(Panics::default()),
     };
     let compute = |block: Range<usize>| plan.block(table, block, rows.start, &progress);
     let mut failed = 0;
@@ -76,6 +89,7 @@ pub(crate) fn run(
     Ok(Done {
         failed,
         threads: pool.current_num_threads(),
+        panics: plan.panics.summary(),
     })
 }
 
@@ -114,6 +128,8 @@ struct Plan<'s> {
     outputs: Vec<String>,
     /// Where each parameter is among the table's columns.
     order: Vec<usize>,
+    /// The cases' panics, recorded instead of printed.
+    panics: Arc<Panics>,
 }
 
 impl Plan<'_> {
@@ -138,6 +154,7 @@ impl Plan<'_> {
             .first_case(block.start)
             .on_progress(|p| progress.set(before + p.done));
         let results = ensemble.run(|i| {
+            let _recorded = InCase::new(&self.panics, block.start + i);
             let values = self.parameters(table, block.start + i);
             (self.case)(&Row {
                 index: block.start + i,

@@ -12,6 +12,11 @@ use crate::ensemble::{Shard, manifest_path};
 /// with a message of two lines and x = 20, y = 5 (case 804) with one. With `HAMEL_STUDY_SLOW` set, each case sleeps a millisecond.
 fn study() -> Study<'static> {
     let slow = std::env::var_os("HAMEL_STUDY_SLOW").is_some();
+    // With `HAMEL_STUDY_PANIC_FROM=i`, every case from i on panics too.
+    let panic_from = std::env::var("HAMEL_STUDY_PANIC_FROM")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .unwrap_or(usize::MAX);
     Study::new("squares", "x² + y")
         .parameter("x", "m", "a length", steps(0.0, 0.5, 50))
         .parameter("y", "m²", "an area", steps(1.0, 1.0, 20))
@@ -31,6 +36,7 @@ fn study() -> Study<'static> {
             // Case 804, in the seventh of eight shards: its message must name it as the
             // study's case, as one task names it.
             assert!((x, y) != (20.0, 5.0), "x = 20 and y = 5");
+            assert!(row.index() < panic_from, "case {} of many", row.index());
             Ok(vec![x * x + y])
         })
 }
@@ -50,9 +56,16 @@ fn args(parts: &[&dyn AsRef<std::ffi::OsStr>]) -> Vec<String> {
         .collect()
 }
 
+/// Runs the study's command line in this process, its messages kept from the test's
+/// output (written to the standard streams, they would pass the harness' capture).
+fn quiet(args: &[String]) -> ExitCode {
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    cli::main_to(&study(), args, &mut cli::Console::new(&mut out, &mut err))
+}
+
 /// Runs the study's command line in this process; panics unless it succeeds.
 fn run_here(args: &[String]) {
-    assert_eq!(study().main_with(args), ExitCode::SUCCESS, "{args:?}");
+    assert_eq!(quiet(args), ExitCode::SUCCESS, "{args:?}");
 }
 
 /// The formats this build writes.
@@ -198,7 +211,11 @@ fn worker(args: &[String], slow: bool) -> Command {
 #[test]
 fn worker_entry() {
     if let Ok(line) = std::env::var(WORKER) {
-        let args: Vec<String> = line.split('\u{1f}').map(String::from).collect();
+        let args: Vec<String> = line
+            .split('\u{1f}')
+            .filter(|a| !a.is_empty())
+            .map(String::from)
+            .collect();
         let code = study().main_with(&args);
         std::process::exit(if code == ExitCode::SUCCESS { 0 } else { 1 });
     }
@@ -335,7 +352,7 @@ fn stale_and_truncated_shards_are_computed_again() {
     let into = dir.join("all.csv");
     let merge = args(&[&"--table", &grid, &"--merge", &out, &"--into", &into]);
     assert_eq!(
-        study().main_with(&merge),
+        quiet(&merge),
         ExitCode::FAILURE,
         "shard 1 is of the old grid"
     );
@@ -372,7 +389,7 @@ fn a_table_without_a_parameter_is_refused() {
         "{e}"
     );
     let out = dir.join("out");
-    let code = study().main_with(&args(&[&"--table", &grid, &"--out", &out]));
+    let code = quiet(&args(&[&"--table", &grid, &"--out", &out]));
     assert_eq!(code, ExitCode::FAILURE);
     assert!(!shard_file(&out, 0, 1, Format::Csv).exists());
     std::fs::remove_dir_all(dir).unwrap();
@@ -437,4 +454,181 @@ fn the_shard_is_read_from_a_job_arrays_environment() {
         &[("LSB_JOBINDEX", "0"), ("LSB_JOBINDEX_END", "8")],
         "count from 1",
     );
+}
+
+/// Before, a task whose index was below the array's minimum ran shard 0 (a second task on
+/// it), and an index between the array's steps ran the shard below it.
+#[test]
+fn an_array_index_off_the_array_is_refused() {
+    let vars = |id: &'static str| {
+        move |name: &str| {
+            match name {
+                "SLURM_ARRAY_TASK_ID" => Some(id),
+                "SLURM_ARRAY_TASK_MIN" => Some("1"),
+                "SLURM_ARRAY_TASK_STEP" => Some("2"),
+                "SLURM_ARRAY_TASK_COUNT" => Some("4"),
+                _ => None,
+            }
+            .map(String::from)
+        }
+    };
+    // `--array=1-7:2`: the tasks 1, 3, 5, 7 are the shards 0 … 3.
+    let shard = |id| shard_from_environment(None, vars(id)).map(|s| (s.index, s.count));
+    assert_eq!(shard("1").unwrap(), (0, 4));
+    assert_eq!(shard("7").unwrap(), (3, 4));
+    let below = shard("0").unwrap_err().to_string();
+    assert!(
+        below.contains("SLURM_ARRAY_TASK_ID=0, SLURM_ARRAY_TASK_MIN=1")
+            && below.contains("below the array's minimum"),
+        "{below}"
+    );
+    let between = shard("4").unwrap_err().to_string();
+    assert!(
+        between.contains("SLURM_ARRAY_TASK_STEP=2")
+            && between.contains("between two of the array's steps"),
+        "{between}"
+    );
+}
+
+/// Before, `Study::run(.., Some(0))` ran on every core, where `--threads 0` is refused.
+#[test]
+fn zero_threads_are_refused_in_a_program_too() {
+    let study = study();
+    let grid = study.grid().unwrap();
+    let e = study.run(&grid, Some(0)).unwrap_err().to_string();
+    assert!(e.contains("threads") && e.contains("at least 1"), "{e}");
+}
+
+/// Before, a parameter whose name cannot be a column was called "the output name".
+#[test]
+fn a_bad_parameter_name_is_called_a_parameter_name() {
+    let bad = Study::new("bad", "a bad name")
+        .parameter("x,y", "m", "two names in one", [1.0])
+        .output("z", "m", "an output")
+        .case(|_| Ok(vec![0.0]));
+    let e = bad.grid().unwrap_err().to_string();
+    assert!(e.contains("parameter name \"x,y\""), "{e}");
+    assert!(!e.contains("output"), "{e}");
+    let bad = Study::new("bad", "a bad name")
+        .parameter("x", "m", "a length", [1.0])
+        .output(" z", "m", "a space before")
+        .case(|_| Ok(vec![0.0]));
+    let e = bad.grid().unwrap_err().to_string();
+    assert!(e.contains("output name \" z\""), "{e}");
+}
+
+/// Before, each of a thousand panicking cases printed its panic (four lines) on the
+/// standard error stream; now the run prints how many panicked and the first few, with
+/// where they panicked. The worker is another process, so that its stderr is counted.
+#[test]
+fn panicking_cases_are_summed_up_on_stderr() {
+    let dir = scratch("panics");
+    let grid = grid_file(&dir);
+    let out = dir.join("out");
+    let mut command = worker(
+        &args(&[&"--table", &grid, &"--out", &out, &"--threads", &"2"]),
+        false,
+    );
+    command.env("HAMEL_STUDY_PANIC_FROM", "600");
+    let output = command.output().unwrap();
+    assert!(output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let lines = stderr.lines().count();
+    assert!(lines <= 12, "{lines} lines:\n{stderr}");
+    assert!(
+        stderr.contains("401 cases panicked")
+            && stderr.contains("case 42 panicked")
+            && stderr.contains("src/study/tests.rs"),
+        "{stderr}"
+    );
+    let table = Table::read_csv(shard_file(&out, 0, 1, Format::Csv)).unwrap();
+    assert_eq!(table.failed(), 402);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A writer whose reader has gone, as a closed pipe's.
+struct Closed;
+
+impl std::io::Write for Closed {
+    fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+        Err(std::io::ErrorKind::BrokenPipe.into())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Err(std::io::ErrorKind::BrokenPipe.into())
+    }
+}
+
+/// Before, a closed standard output (`study | true`) made the study panic at its first
+/// message, after or before writing its file; now the messages are lost and the run is not.
+#[test]
+fn a_closed_standard_output_fails_nothing() {
+    let dir = scratch("closed");
+    let grid = dir.join("grid.csv");
+    let out = dir.join("out");
+    let (mut stdout, mut stderr) = (Closed, Closed);
+    let mut console = cli::Console::new(&mut stdout, &mut stderr);
+    for line in [
+        args(&[&"--write-grid", &grid]),
+        args(&[&"--table", &grid, &"--out", &out]),
+        args(&[&"--help"]),
+        args(&[&"--colour"]),
+    ] {
+        let code = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            cli::main_to(&study(), &line, &mut console)
+        }))
+        .unwrap_or_else(|_| panic!("{line:?} panicked"));
+        let expected = if line[0] == "--colour" {
+            ExitCode::from(2)
+        } else {
+            ExitCode::SUCCESS
+        };
+        assert_eq!(code, expected, "{line:?}");
+    }
+    assert_eq!(
+        Table::read_csv(shard_file(&out, 0, 1, Format::Csv))
+            .unwrap()
+            .len(),
+        1000
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The names in `dir` that are not the files a study writes whole: its writers' leftovers.
+fn leftovers(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.contains(".partial"))
+        .collect()
+}
+
+/// The default grid's task killed while it writes `squares.csv` leaves its `.partial` file;
+/// the next run removes it (before, the leftovers of every killed run stayed).
+#[test]
+fn a_killed_run_of_the_default_grid_leaves_nothing_behind_the_next() {
+    let dir = scratch("killed-grid");
+    let started = std::time::Instant::now();
+    let mut killed = 0;
+    while leftovers(&dir).is_empty() {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "no run was killed while writing"
+        );
+        let mut child = worker(&args(&[&"--threads", &"1"]), true)
+            .current_dir(&dir)
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(150 + 50 * killed));
+        let _ = child.kill();
+        let _ = child.wait();
+        killed += 1;
+    }
+    let output = worker(&[], false).current_dir(&dir).output().unwrap();
+    assert!(output.status.success());
+    assert_eq!(leftovers(&dir), Vec::<String>::new());
+    assert_eq!(
+        Table::read_csv(dir.join("squares.csv")).unwrap().len(),
+        1000
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -80,23 +80,70 @@ fn factors<'e>(e: &'e syn::Expr, into: &mut Vec<&'e syn::Expr>) {
     }
 }
 
+/// The turns of a product, left to right: each factor's (axis, coordinate), `None` for a
+/// factor that is no turn by a coordinate.
+type Turns = Vec<Option<(usize, usize)>>;
+
 /// Every three consecutive turns by coordinates in the products of the impl block's
-/// functions.
+/// functions, through the `let` bindings of a function (`let heading = about_z(q[2]) *
+/// about_x(q[3]);` then `heading * about_y(q[4])`, as the catalogue's rolling disk writes
+/// it).
 struct Finder<'c> {
     coordinates: &'c [syn::Ident],
     found: Vec<ThreeTurns>,
+    /// The turns bound to each name so far in the function being read.
+    bound: Vec<(String, Turns)>,
+}
+
+impl Finder<'_> {
+    /// The turns of `e`, a product or a single factor, a bound name standing for its turns.
+    fn turns(&self, e: &syn::Expr) -> Turns {
+        let mut all = Vec::new();
+        factors(e, &mut all);
+        let n = self.coordinates.len();
+        all.iter()
+            .flat_map(|f| match (turn(f, n), strip(f)) {
+                (Some(t), _) => vec![Some(t)],
+                (None, syn::Expr::Path(p)) if p.path.segments.len() == 1 => {
+                    let name = p.path.segments[0].ident.to_string();
+                    let bound = self.bound.iter().rev().find(|(b, _)| *b == name);
+                    bound.map_or_else(|| vec![None], |(_, turns)| turns.clone())
+                }
+                _ => vec![None],
+            })
+            .collect()
+    }
 }
 
 impl<'ast> Visit<'ast> for Finder<'_> {
+    fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
+        self.bound.clear();
+        syn::visit::visit_impl_item_fn(self, f);
+        self.bound.clear();
+    }
+
+    fn visit_local(&mut self, local: &'ast syn::Local) {
+        syn::visit::visit_local(self, local);
+        // `let name = …` or `let name: Rotation3 = …`.
+        let pattern = match &local.pat {
+            syn::Pat::Type(typed) => &*typed.pat,
+            other => other,
+        };
+        let (syn::Pat::Ident(name), Some(init)) = (pattern, &local.init) else {
+            return;
+        };
+        // Bound whatever it is: a later `let` of the same name shadows an earlier one of
+        // turns, and its turns (none, if it is no product of turns) replace theirs.
+        let turns = self.turns(&init.expr);
+        self.bound.push((name.ident.to_string(), turns));
+    }
+
     fn visit_expr_binary(&mut self, b: &'ast syn::ExprBinary) {
         if !matches!(b.op, syn::BinOp::Mul(_)) {
             return syn::visit::visit_expr_binary(self, b);
         }
-        let mut all = Vec::new();
-        factors(&b.left, &mut all);
-        factors(&b.right, &mut all);
-        let n = self.coordinates.len();
-        let turns: Vec<Option<(usize, usize)>> = all.iter().map(|f| turn(f, n)).collect();
+        let mut turns = self.turns(&b.left);
+        turns.extend(self.turns(&b.right));
         for window in turns.windows(3) {
             if let [Some(a), Some(b), Some(c)] = window {
                 let axes = [a.0, b.0, c.0];
@@ -124,6 +171,7 @@ pub fn singular(imp: &syn::ItemImpl, coordinates: &[syn::Ident]) -> Option<Token
     let mut finder = Finder {
         coordinates,
         found: Vec::new(),
+        bound: Vec::new(),
     };
     finder.visit_item_impl(imp);
     if finder.found.is_empty() {
@@ -175,6 +223,42 @@ mod tests {
         let tokens = singular(&imp, &coordinates).unwrap().to_string();
         assert!(
             tokens.contains("about_y(alpha) * about_z(beta) * about_y(gamma)"),
+            "{tokens}"
+        );
+        assert_eq!(tokens.matches("ThreeTurns").count(), 1, "{tokens}");
+    }
+
+    /// The catalogue's rolling disk turns by two coordinates in a `let`, then by the third
+    /// (before, only a product of three turns written out was found: its singularity kept
+    /// the message of a singular mass matrix). A name bound in another function, bound to
+    /// something else, or shadowed by a `let` of something else, is no turn.
+    #[test]
+    fn turns_are_followed_through_let_bindings() {
+        let coordinates: Vec<syn::Ident> = ["x", "y", "psi", "phi", "theta"]
+            .iter()
+            .map(|n| syn::Ident::new(n, proc_macro2::Span::call_site()))
+            .collect();
+        let imp: syn::ItemImpl = syn::parse_quote! {
+            impl Disk {
+                fn bodies(&self, q: &[f64; 5]) -> [Body; 1] {
+                    let heading: Rotation3 = Rotation3::about_z(q[2]) * Rotation3::about_x(q[3]);
+                    let centre = heading * Vector3::new(0.0, 0.0, self.r);
+                    [Body::new(self.m, i, centre, heading * Rotation3::about_y(q[4]))]
+                }
+                fn other(&self, q: &[f64; 5]) -> Rotation3 {
+                    let centre = Rotation3::about_z(self.a);
+                    heading * Rotation3::about_y(q[4]) * Rotation3::about_x(q[3]) * centre
+                }
+                fn shadowed(&self, q: &[f64; 5]) -> Rotation3 {
+                    let tilt = Rotation3::about_y(q[4]) * Rotation3::about_x(q[3]);
+                    let tilt = Rotation3::about_x(self.a);
+                    Rotation3::about_z(q[2]) * tilt
+                }
+            }
+        };
+        let tokens = singular(&imp, &coordinates).unwrap().to_string();
+        assert!(
+            tokens.contains("about_z(psi) * about_x(phi) * about_y(theta)"),
             "{tokens}"
         );
         assert_eq!(tokens.matches("ThreeTurns").count(), 1, "{tokens}");

@@ -18,7 +18,9 @@ use std::path::{Path, PathBuf};
 use twox_hash::XxHash3_64;
 
 use crate::error::Error;
-use crate::whole_file::{checksum, partial_path, sync_directory, with_suffix};
+use crate::whole_file::{
+    checksum, partial_path, remove_dead_leftovers, sync_directory, with_suffix,
+};
 
 /// Shard `index` of `count` (0 ≤ index < count): `Shard::parse("3/8")`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -471,13 +473,18 @@ pub fn remove_leftovers(path: &Path) {
 
 /// Writes a file whole or not at all (no manifest: a study's single result file): `write`
 /// fills a file of this task's own beside `path`, flushed to disk and renamed to `path`.
+/// What killed writers of `path` left (`<name>.partial-<pid>-<n>` of processes that no
+/// longer run) is removed then.
 pub fn write_complete(
     path: impl AsRef<Path>,
     write: impl FnOnce(&mut ShardFile) -> Result<(), Error>,
 ) -> Result<(), Error> {
     let path = path.as_ref();
     match write_renamed(path, write)? {
-        Some(_) => Ok(()),
+        Some(_) => {
+            remove_dead_leftovers(path);
+            Ok(())
+        }
         None => Err(Error::Io {
             path: path.display().to_string(),
             message: "the file being written was removed before it was complete".into(),

@@ -446,6 +446,7 @@ fn check_names(names: &[String]) -> Result<(), Error> {
         };
         if let Some(reason) = reason {
             return Err(Error::InvalidColumnName {
+                kind: "column",
                 name: name.clone(),
                 reason,
             });

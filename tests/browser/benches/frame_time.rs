@@ -3,7 +3,7 @@
 //! the page spends drawing each one.
 //!
 //! ```text
-//! cargo bench -p hamel-browser --bench frame_time                  # the bicycle capsizing
+//! cargo bench -p hamel-browser --bench frame_time                  # the bicycle falling
 //! cargo bench -p hamel-browser --bench frame_time -- bicycle.html  # any scene page
 //! ```
 //!

@@ -80,6 +80,26 @@ fn run<M: HamelSystem>(model: &M, x0: M::State, seconds: f64) -> Result<Trajecto
         )
 }
 
+/// The rolling disk leaning and turning for a second, its disk looked for.
+pub fn rolling_disk(dir: &Path) -> Result<Case, Error> {
+    let disk = RollingDisk::default();
+    let rolling = disk
+        .state_builder()
+        .set("phi", 0.3)
+        .set("spin_rate", -6.0)
+        .set("yaw_rate", 1.0)
+        .build()?;
+    case(
+        dir,
+        "rolling_disk",
+        &disk,
+        &run(&disk, rolling, 1.0)?,
+        "disk",
+        true,
+        [0.1, 0.5],
+    )
+}
+
 /// Every catalogue model with bodies in a short run, written into `dir`, each with the body
 /// looked for and two times to look at (where it has moved but is still in the first
 /// sample's view: the test opens the pages with the camera fixed there).
@@ -89,13 +109,6 @@ pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
         .state_builder()
         .set("rear_wheel_rate", -4.6 / bike.r_r)
         .set("roll_rate", 0.5)
-        .build()?;
-    let disk = RollingDisk::default();
-    let rolling = disk
-        .state_builder()
-        .set("phi", 0.3)
-        .set("spin_rate", -6.0)
-        .set("yaw_rate", 1.0)
         .build()?;
     let ball = ChaplyginBall::default();
     let rolled = ball
@@ -130,15 +143,7 @@ pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
             true,
             [0.1, 0.5],
         )?,
-        case(
-            dir,
-            "rolling_disk",
-            &disk,
-            &run(&disk, rolling, 1.0)?,
-            "disk",
-            true,
-            [0.1, 0.5],
-        )?,
+        rolling_disk(dir)?,
         case(
             dir,
             "chaplygin_ball",
@@ -169,11 +174,12 @@ pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
     ])
 }
 
+/// The bicycle example's `--animate` ride (`examples/support/capsize.rs`).
 #[path = "../../../examples/support/capsize.rs"]
-mod capsize;
+pub mod capsize;
 
-/// The bicycle capsizing, as `cargo run --example bicycle -- --animate` writes it, to
-/// `dir/bicycle_capsize.html`.
+/// The bicycle falling as its weave grows, as `cargo run --example bicycle -- --animate`
+/// writes it, to `dir/bicycle_capsize.html`.
 pub fn bicycle_capsize_page(dir: &Path) -> Result<PathBuf, Error> {
     let bike = WhippleBicycle::default();
     let path = dir.join("bicycle_capsize.html");
@@ -182,4 +188,24 @@ pub fn bicycle_capsize_page(dir: &Path) -> Result<PathBuf, Error> {
         .unit("speed", "m/s")
         .write_html(&path)?;
     Ok(path)
+}
+
+/// The bicycle riding straight at 5 m/s, in its self-stable speed range, for `seconds`
+/// (about 100 m in 20 s), at 30 samples a second, written to `dir/long_ride.html`; and the
+/// run.
+pub fn long_ride(dir: &Path, seconds: f64) -> Result<(PathBuf, Trajectory), Error> {
+    let bike = WhippleBicycle::default();
+    let x0 = bike
+        .state_builder()
+        .set("rear_wheel_rate", -5.0 / bike.r_r)
+        .set("roll_rate", 0.2)
+        .build()?;
+    let run = Simulation::new(&bike, x0)
+        .end_time(seconds)
+        .sample_interval(1.0 / 30.0)
+        .project_holonomic(true)
+        .run_constant(&DormandPrince::new(1e-8, 1e-10), [0.0; 2])?;
+    let html = dir.join("long_ride.html");
+    Scene::new(&bike, &run)?.write_html(&html)?;
+    Ok((html, run))
 }

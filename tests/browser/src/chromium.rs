@@ -246,6 +246,47 @@ impl Browser {
         Ok(result["result"]["value"].clone())
     }
 
+    /// Drags the mouse from `from` to `to` (CSS pixels in the viewport) with `button`
+    /// (`"left"`, `"right"`) held, in `steps` moves, as a user's hand does.
+    pub fn drag(
+        &mut self,
+        from: (f64, f64),
+        to: (f64, f64),
+        button: &str,
+        steps: usize,
+    ) -> Result<(), String> {
+        let buttons = if button == "right" { 2 } else { 1 };
+        let event = |kind: &str, (x, y): (f64, f64), held: u32| {
+            json!({ "type": kind, "x": x, "y": y, "button": button, "buttons": held,
+                    "clickCount": 1 })
+        };
+        self.call(
+            "Input.dispatchMouseEvent",
+            event("mouseMoved", from, 0),
+            true,
+        )?;
+        self.call(
+            "Input.dispatchMouseEvent",
+            event("mousePressed", from, buttons),
+            true,
+        )?;
+        for k in 1..=steps.max(1) {
+            let f = k as f64 / steps.max(1) as f64;
+            let at = (from.0 + f * (to.0 - from.0), from.1 + f * (to.1 - from.1));
+            self.call(
+                "Input.dispatchMouseEvent",
+                event("mouseMoved", at, buttons),
+                true,
+            )?;
+        }
+        self.call(
+            "Input.dispatchMouseEvent",
+            event("mouseReleased", to, 0),
+            true,
+        )?;
+        Ok(())
+    }
+
     /// A screenshot of the viewport, decoded.
     pub fn screenshot(&mut self) -> Result<Image, String> {
         let shot = self.call("Page.captureScreenshot", json!({ "format": "png" }), true)?;

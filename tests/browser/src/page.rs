@@ -18,6 +18,8 @@ pub struct Shown {
     /// The canvas: left, top, width, height, in CSS pixels.
     pub viewport: [f64; 4],
     pub pixel_ratio: f64,
+    /// The point the camera looks at and orbits about.
+    pub target: [f64; 3],
 }
 
 impl Shown {
@@ -59,6 +61,9 @@ impl Shown {
                 .try_into()
                 .map_err(|_| "the viewport has not 4 entries")?,
             pixel_ratio: state["pixelRatio"].as_f64().ok_or("no pixel ratio")?,
+            target: numbers("target")?
+                .try_into()
+                .map_err(|_| "the target has not 3 entries")?,
         })
     }
 }
@@ -99,4 +104,14 @@ pub fn show_at(
     let shown = Shown::from_json(&state)?;
     let image = browser.screenshot()?;
     Ok((shown, image))
+}
+
+/// What the open page shows once two more frames are drawn (so that an input or a change of
+/// time has reached the screen).
+pub fn shown_now(browser: &mut Browser) -> Result<Shown, String> {
+    let state = browser.evaluate(
+        "new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => \
+         done(window.hamelScene.state()))))",
+    )?;
+    Shown::from_json(&state)
 }

@@ -339,6 +339,16 @@ fn the_stability_functions_give_the_searchs_weave_and_capsize_speeds() {
         );
         assert!(!opens.destabilizing && opens.frequency > 1.0);
         assert!(closes.destabilizing && closes.frequency == 0.0);
+        // The study's guide quotes the speeds its scan gives, as `bicycle_study` prints them
+        // (before, it quoted a capsize speed of …836 where the program printed …833).
+        if step == 0.5 {
+            let guide = include_str!("../../../src/docs/studies.md").replace('\n', " ");
+            let printed = format!("{:.14} and {:.14} m/s", opens.parameter, closes.parameter);
+            assert!(
+                guide.contains(&printed),
+                "studies.md does not quote {printed}"
+            );
+        }
     }
 }
 

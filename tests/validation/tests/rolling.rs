@@ -1052,6 +1052,32 @@ fn quaternion_ball_integrals(ball: &ChaplyginQuaternion, x: &[f64; 9]) -> [f64; 
     [ball.energy(0.0, x).unwrap(), m.z, m.norm_squared()]
 }
 
+/// The catalogue's rolling disk lying flat (φ = π/2), where its yaw and spin turn about one
+/// axis: its orientation is written through a `let` (`heading = about_z(ψ) * about_x(φ)`,
+/// then `heading * about_y(θ)`). Before, only three turns written in one product were
+/// found, and a run started there said the mass matrix was singular, as if the disk's
+/// kinetic energy were wrong; the message names the orientation's singularity and the
+/// quaternion.
+#[test]
+fn the_rolling_disk_lying_flat_is_at_its_orientations_singularity() {
+    let disk = hamel::models::RollingDisk::default();
+    let run = disk
+        .state_from_speeds(0.0, &[0.0, 0.0, 0.0, PI / 2.0, 0.0], &[1.0, 0.0, 1.0])
+        .and_then(|x| {
+            Simulation::new(&disk, x)
+                .end_time(0.1)
+                .run_constant(&DormandPrince::new(1e-9, 1e-9), [])
+        });
+    let e = run.unwrap_err();
+    assert!(matches!(e, Error::SingularOrientation { .. }), "{e}");
+    let message = e.to_string();
+    assert!(
+        message.contains("`about_z(psi) * about_x(phi) * about_y(theta)` is at its singularity")
+            && message.contains("Rotation3::from_quaternion(w, x, y, z)"),
+        "{message}"
+    );
+}
+
 /// Started with its body's y axis along the ground's — where the catalogue's Euler angles
 /// are singular, and its model cannot start — and turning about a tilted axis, the ball
 /// oriented by a quaternion runs through that orientation and far from it, its integrals
@@ -1244,6 +1270,13 @@ fn a_free_top_tumbles_for_a_thousand_seconds_as_euler_and_poinsot_say() {
     let x0 = top
         .state_from_speeds(0.0, &[1.0, 0.0, 0.0, 0.0], &start)
         .unwrap();
+    // The guide quotes the figures of this run with the tolerances they need (before, it
+    // quoted 1.9·10⁻¹⁰ without them).
+    let guide = include_str!("../../../src/docs/geometry.md").replace('\n', " ");
+    assert!(
+        guide.contains("DormandPrince::new(1e-14, 1e-14)"),
+        "geometry.md does not say the free top's tolerances"
+    );
     let run = Simulation::new(&top, x0)
         .end_time(TUMBLE)
         .sample_interval(1.0)
