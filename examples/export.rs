@@ -15,8 +15,9 @@
 //!
 //! How: this program is a thin driver. It writes a small crate of type `cdylib` into
 //! `target/hamel-export/<model>/` that exports the model with `hamel-export`'s macros
-//! (`model!`, `c_api!`, `casadi!`), builds it with `cargo build --release` in this build's
-//! target directory (so that the catalogue's release build is reused), runs the
+//! (`model!`, `c_api!`, `casadi!`, with `hamel-export`'s feature `compiled`: derivatives as
+//! straight-line code), builds it with `cargo build --release` in this build's target
+//! directory (the catalogue is built again there, with the derivative code), runs the
 //! crate's small binary that writes the header, and copies the library and the header. A
 //! model of your own is exported the same way from your own crate: `hamel::docs::export`.
 //! The first export compiles the catalogue in release (a minute or two on two cores); each
@@ -108,8 +109,9 @@ fn repository() -> PathBuf {
 }
 
 /// This build's target directory: `target/release/examples/export` is three levels below
-/// it. The exported crates build there too, so that they reuse the release build of the
-/// catalogue this program's build made (the same crates, features and profile).
+/// it. The exported crates build there too, so that they reuse what this program's build
+/// made with the same features and profile (the runtime, the macro's dependencies; the
+/// C library's catalogue is built with the derivative code, once for every model).
 fn target_dir() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate this program: {e}"))?;
     exe.ancestors()
@@ -176,8 +178,10 @@ crate-type = ["cdylib", "rlib"]
 name = "{model}-export"
 path = "main.rs"
 
+# `compiled`: the derivatives as straight-line code that `#[hamel_system]` emits (every
+# catalogue model gets it in this build, which is why only the export turns it on).
 [dependencies]
-hamel-export = {{ path = "{export}" }}
+hamel-export = {{ path = "{export}", features = ["compiled"] }}
 hamel-models = {{ path = "{models}" }}
 
 # Not a member of hamel's workspace, though inside its directory.

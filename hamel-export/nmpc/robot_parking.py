@@ -10,7 +10,8 @@ The same problem is solved three times, on three implementations of the same rig
 
 - `hamel`: hamel's CasADi external functions (libmobile_robot.so from
   `cargo run --release --example export -- casadi mobile_robot OUTDIR`), whose Jacobian and
-  second derivatives are exact dual-number passes through the generated code;
+  second derivatives are straight-line code `#[hamel_system]` emits (hamel-export's feature
+  `compiled`, which the example turns on);
 - `sx`: the robot written in CasADi's SX from the paper's equations (tests/python/robot_sx.py),
   evaluated by CasADi's virtual machine;
 - `sx-c`: the same SX model through CasADi's own C code generation (the function and the

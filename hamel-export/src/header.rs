@@ -51,7 +51,10 @@ pub fn header<M: Model>(name: &str) -> String {
     status_codes(w, &upper);
     sizes::<M>(w, &upper, s);
     c_api(w, name, s);
-    for which in [Which::Rhs, Which::Outputs] {
+    for which in [Which::Rhs, Which::Outputs, Which::Lie] {
+        if which == Which::Lie && M::LIE == 0 {
+            continue;
+        }
         casadi_family::<M>(w, name, which);
     }
     line(w, "#ifdef __cplusplus");
@@ -135,8 +138,51 @@ fn components<M: Model>(block: &str) -> Vec<String> {
         }
         "y" | "h" => M::OUTPUTS.iter().map(|n| n.to_string()).collect(),
         "t" => vec![with_unit("t", unit("t"))],
+        "xdot" => <M::System as HamelSystem>::STATE
+            .iter()
+            .map(|n| {
+                let rate = unit(n).map(|u| rate_unit(u, unit("t").unwrap_or("s")));
+                with_unit(&format!("d{n}/dt"), rate.as_deref())
+            })
+            .collect(),
+        "lie" => lie_labels::<M>(),
         _ => Vec::new(),
     }
+}
+
+/// The unit of a quantity's rate: `m` gives `m/s`, `rad/s` gives `rad/s^2`.
+fn rate_unit(unit: &str, time: &str) -> String {
+    match unit.strip_suffix(&format!("/{time}")) {
+        Some(base) => format!("{base}/{time}^2"),
+        None => format!("{unit}/{time}"),
+    }
+}
+
+/// The Lie derivatives' components: `L_f^k h_i` for k = 0 … order (`px`, `L_f px`,
+/// `L_f^2 px`), then `L_gj L_f^k h_i` for k < order, i, j (`L_g_tau1 L_f px`).
+pub fn lie_labels<M: Model>() -> Vec<String> {
+    let (outputs, inputs) = (M::OUTPUTS, <M::System as HamelSystem>::INPUTS);
+    let (ny, nu) = (outputs.len(), inputs.len());
+    if ny == 0 {
+        return Vec::new();
+    }
+    // LIE = (order + 1) ny + order ny nu.
+    let order = (M::LIE - ny) / (ny * (1 + nu));
+    let power = |k: usize| match k {
+        0 => String::new(),
+        1 => "L_f ".to_string(),
+        k => format!("L_f^{k} "),
+    };
+    let mut labels = Vec::with_capacity(M::LIE);
+    for k in 0..=order {
+        labels.extend(outputs.iter().map(|h| format!("{}{h}", power(k))));
+    }
+    for k in 0..order {
+        for h in outputs {
+            labels.extend(inputs.iter().map(|u| format!("L_g_{u} {}{h}", power(k))));
+        }
+    }
+    labels
 }
 
 /// A C identifier from a component's name (`w[3]` gives `W_3`).
@@ -249,6 +295,10 @@ fn casadi_family<M: Model>(w: &mut String, name: &str, which: Which) {
     let what = match which {
         Which::Rhs => "the right-hand side xdot = F(x, u, p)",
         Which::Outputs => "the outputs y = h(x, p)",
+        Which::Lie => {
+            "the outputs' Lie derivatives along the drift f and the input fields g_j\n * \
+             (xdot = f(x) + sum_j g_j(x) u_j): L_f^k h for k = 0 .. order, then L_gj L_f^k h for\n * k < order"
+        }
     };
     line(
         w,
@@ -279,11 +329,12 @@ fn casadi_family<M: Model>(w: &mut String, name: &str, which: Which) {
             line(
                 w,
                 &format!(
-                    " /*   res[{i}] {}: {}x{}, {} nonzeros */",
+                    " /*   res[{i}] {}: {}x{}, {} nonzeros{} */",
                     port.name(),
                     p.nrow,
                     p.ncol,
-                    p.nnz()
+                    p.nnz(),
+                    block_note::<M>(port.name())
                 ),
             );
         }
@@ -304,7 +355,7 @@ fn block_note<M: Model>(port: &str) -> String {
 fn describe(kind: Kind) -> &'static str {
     match kind {
         Kind::Value => "the values",
-        Kind::Jacobian => "every Jacobian block, exact (dual numbers through the generated code)",
+        Kind::Jacobian => "every Jacobian block, exact",
         Kind::Forward => "one forward directional derivative",
         Kind::Adjoint => "one adjoint (reverse) directional derivative",
         Kind::AdjointJacobian => {

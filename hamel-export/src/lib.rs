@@ -29,6 +29,7 @@
 
 pub mod abi;
 pub mod c_api;
+mod cache;
 pub mod casadi;
 pub mod fmi2;
 pub mod header;
@@ -44,6 +45,7 @@ pub use primal::Which;
 /// What the macros' expansions name, from the crate that uses them.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::cache::Cache;
     pub use crate::casadi::sparsity::CasadiInt;
     pub use core::ffi::{c_char, c_int};
     pub use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
@@ -69,6 +71,22 @@ pub mod __private {
             k += 1;
         }
         out
+    }
+
+    pub const fn max(a: usize, b: usize) -> usize {
+        if a > b { a } else { b }
+    }
+
+    /// The first `N` values of `values` as an array; `None` when there are fewer.
+    #[inline(always)]
+    pub fn array<const N: usize>(values: &[f64]) -> Option<&[f64; N]> {
+        values.get(..N)?.try_into().ok()
+    }
+
+    /// The first `N` values of `values` as an array to write; `None` when there are fewer.
+    #[inline(always)]
+    pub fn array_mut<const N: usize>(values: &mut [f64]) -> Option<&mut [f64; N]> {
+        values.get_mut(..N)?.try_into().ok()
     }
 
     const fn equal(a: &[u8], b: &[u8]) -> bool {

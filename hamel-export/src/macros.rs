@@ -10,7 +10,8 @@
 
 /// `model!(Marker => path::to::Model)`: a marker type `Marker` of the calling crate that
 /// implements [`crate::Model`] for the model, from the items `#[hamel_system]` generates
-/// (`__hamel_rhs_parametric`, `__hamel_outputs_parametric` and their dependency tables).
+/// (`__hamel_rhs_parametric`, `__hamel_outputs_parametric` and their dependency tables; with
+/// the feature `compiled`, the exported functions' derivative code, `__hamel_export_*`).
 #[macro_export]
 macro_rules! model {
     ($marker:ident => $system:ty) => {
@@ -23,19 +24,42 @@ macro_rules! model {
             const NP: usize = <$system as $crate::__private::Parameters>::NAMES.len();
             const NY: usize = <$system>::__HAMEL_OUTPUT_NAMES.len();
             const Z: usize = <$marker>::NX + <$marker>::NU + <$marker>::NP + 1;
+            /// How many parameters the generated code reads.
+            const NPL: usize = <$system>::__HAMEL_PARAMETRIC_NAMES.len();
             /// The parameters the generated code reads, as positions in `Parameters::NAMES`.
             const READ: [usize; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
                 $crate::__private::positions(
                     <$system as $crate::__private::Parameters>::NAMES,
                     <$system>::__HAMEL_PARAMETRIC_NAMES,
                 );
-        }
+            /// The length of the arrays: z, and every function's output.
+            const LEN: usize = $crate::__private::max(
+                <$marker>::Z,
+                $crate::__private::max(<$marker>::NY, $crate::__lie_len!($system)),
+            );
 
-        const _: () = ::core::assert!(<$marker>::NY <= <$marker>::Z);
+            /// x, u, the parameters the generated code reads, and t, from z.
+            #[inline(always)]
+            fn split<S: ::core::marker::Copy>(
+                z: &[S; <$marker>::LEN],
+            ) -> (
+                [S; <$marker>::NX],
+                [S; <$marker>::NU],
+                [S; <$system>::__HAMEL_PARAMETRIC_NAMES.len()],
+                S,
+            ) {
+                let x = ::core::array::from_fn(|i| z[i]);
+                let u = ::core::array::from_fn(|i| z[<$marker>::NX + i]);
+                let p = ::core::array::from_fn(|i| {
+                    z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
+                });
+                (x, u, p, z[<$marker>::Z - 1])
+            }
+        }
 
         impl $crate::Model for $marker {
             type System = $system;
-            type Array<S: ::core::marker::Copy> = [S; <$marker>::Z];
+            type Array<S: ::core::marker::Copy> = [S; <$marker>::LEN];
 
             const TIME_DEPENDENT: bool = <$system>::__HAMEL_RHS_TIME;
             const RHS_COLUMNS: &'static [&'static [usize]] = <$system>::__HAMEL_RHS_COLUMNS;
@@ -45,24 +69,19 @@ macro_rules! model {
             const OUTPUT_COLUMNS: &'static [&'static [usize]] = <$system>::__HAMEL_OUTPUT_COLUMNS;
             const OUTPUT_PARAMETERS: &'static [&'static [&'static str]] =
                 <$system>::__HAMEL_OUTPUT_PARAMETERS;
+            const READ: &'static [usize] = &<$marker>::READ;
 
             #[inline]
-            fn array<S: ::core::marker::Copy>(fill: S) -> [S; <$marker>::Z] {
-                [fill; <$marker>::Z]
+            fn array<S: ::core::marker::Copy>(fill: S) -> [S; <$marker>::LEN] {
+                [fill; <$marker>::LEN]
             }
 
             #[inline]
             fn rhs<S: $crate::__private::Scalar>(
-                z: &[S; <$marker>::Z],
-                dx: &mut [S; <$marker>::Z],
+                z: &[S; <$marker>::LEN],
+                dx: &mut [S; <$marker>::LEN],
             ) -> ::core::result::Result<(), $crate::__private::Singularity> {
-                let x: [S; <$marker>::NX] = ::core::array::from_fn(|i| z[i]);
-                let u: [S; <$marker>::NU] = ::core::array::from_fn(|i| z[<$marker>::NX + i]);
-                let p: [S; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
-                    ::core::array::from_fn(|i| {
-                        z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
-                    });
-                let t = z[<$marker>::Z - 1];
+                let (x, u, p, t) = <$marker>::split(z);
                 let mut out = [S::from_f64(0.0); <$marker>::NX];
                 <$system>::__hamel_rhs_parametric(&p, t, &x, &u, &mut out)?;
                 dx[..<$marker>::NX].copy_from_slice(&out);
@@ -71,18 +90,427 @@ macro_rules! model {
 
             #[inline]
             fn outputs<S: $crate::__private::Scalar>(
-                z: &[S; <$marker>::Z],
-                y: &mut [S; <$marker>::Z],
+                z: &[S; <$marker>::LEN],
+                y: &mut [S; <$marker>::LEN],
             ) {
-                let x: [S; <$marker>::NX] = ::core::array::from_fn(|i| z[i]);
-                let p: [S; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
-                    ::core::array::from_fn(|i| {
-                        z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
-                    });
-                let t = z[<$marker>::Z - 1];
+                let (x, _, p, t) = <$marker>::split(z);
                 let out = <$system>::__hamel_outputs_parametric(&p, t, &x);
                 y[..<$marker>::NY].copy_from_slice(&out);
             }
+
+            $crate::__model_compiled!($marker => $system);
+        }
+    };
+}
+
+/// The length of the Lie derivatives' output (zero without compiled code).
+#[cfg(feature = "compiled")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __lie_len {
+    ($system:ty) => {
+        <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len()
+    };
+}
+
+#[cfg(not(feature = "compiled"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __lie_len {
+    ($system:ty) => {
+        0
+    };
+}
+
+/// The compiled functions of [`crate::Model`], without the feature `compiled`: none (every
+/// derivative by dual numbers, no Lie derivatives).
+#[cfg(not(feature = "compiled"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __model_compiled {
+    ($marker:ident => $system:ty) => {
+        type Prepared = ();
+        const LIE: usize = 0;
+
+        fn lie<S: $crate::__private::Scalar>(
+            _z: &[S; <$marker>::LEN],
+            _out: &mut [S; <$marker>::LEN],
+        ) -> ::core::result::Result<(), $crate::__private::Singularity> {
+            ::core::result::Result::Ok(())
+        }
+
+        fn tables(_which: $crate::Which) -> ::core::option::Option<$crate::model::Tables> {
+            ::core::option::Option::None
+        }
+
+        #[inline]
+        fn with_prepared<R>(_p: &[f64], then: impl FnOnce(&()) -> R) -> R {
+            then(&())
+        }
+
+        fn compiled_value(
+            _which: $crate::Which,
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn compiled_jacobian<R>(
+            _which: $crate::Which,
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _parameters: bool,
+            _then: impl FnOnce(&[f64]) -> R,
+        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn compiled_forward(
+            _which: $crate::Which,
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _direction: &[f64],
+            _parameters: bool,
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn compiled_adjoint(
+            _which: $crate::Which,
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _weights: &[f64],
+            _parameters: bool,
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn compiled_second<R>(
+            _which: $crate::Which,
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _weights: &[f64],
+            _parameters: bool,
+            _then: impl FnOnce(&[f64], &[f64]) -> R,
+        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+    };
+}
+
+/// The compiled functions of [`crate::Model`], from the items `#[hamel_system]` emits with
+/// the feature `compiled`: each function of the three families (`rhs`, `outputs`, `lie`)
+/// called with its own stack arrays.
+#[cfg(feature = "compiled")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __model_compiled {
+    ($marker:ident => $system:ty) => {
+        type Prepared = [f64; <$system>::__HAMEL_EXPORT_PREPARED];
+        const LIE: usize = <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len();
+
+        #[inline]
+        fn lie<S: $crate::__private::Scalar>(
+            z: &[S; <$marker>::LEN],
+            out: &mut [S; <$marker>::LEN],
+        ) -> ::core::result::Result<(), $crate::__private::Singularity> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let mut values = [S::from_f64(0.0); <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len()];
+            <$system>::__hamel_export_lie_generic(&p, t, &x, &u, &mut values)?;
+            out[..values.len()].copy_from_slice(&values);
+            ::core::result::Result::Ok(())
+        }
+
+        fn tables(which: $crate::Which) -> ::core::option::Option<$crate::model::Tables> {
+            ::core::option::Option::Some(match which {
+                $crate::Which::Rhs => $crate::__tables!($system, RHS),
+                $crate::Which::Outputs => $crate::__tables!($system, OUTPUTS),
+                $crate::Which::Lie => $crate::__tables!($system, LIE),
+            })
+        }
+
+        #[inline]
+        fn with_prepared<R>(
+            p: &[f64],
+            then: impl FnOnce(&[f64; <$system>::__HAMEL_EXPORT_PREPARED]) -> R,
+        ) -> R {
+            type Cache =
+                $crate::__private::Cache<{ <$marker>::NP }, { <$system>::__HAMEL_EXPORT_PREPARED }>;
+            ::std::thread_local! {
+                static CACHE: ::core::cell::RefCell<Cache> =
+                    const { ::core::cell::RefCell::new(Cache::EMPTY) };
+            }
+            let prepare = |p: &[f64; <$marker>::NP]| {
+                let read: [f64; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
+                    ::core::array::from_fn(|i| p[<$marker>::READ[i]]);
+                <$system>::__hamel_export_prepare::<()>(&read)
+            };
+            let Ok(p) = <&[f64; <$marker>::NP]>::try_from(p) else {
+                return then(&prepare(&[0.0; <$marker>::NP]));
+            };
+            CACHE.with(|cache| match cache.try_borrow_mut() {
+                ::core::result::Result::Ok(mut cache) => then(cache.get(p, prepare)),
+                ::core::result::Result::Err(_) => then(&prepare(p)),
+            })
+        }
+
+        #[inline]
+        fn compiled_value(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            ::core::option::Option::Some(match which {
+                $crate::Which::Rhs => <$system>::__hamel_export_rhs::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::Which::Outputs => <$system>::__hamel_export_outputs::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::Which::Lie => <$system>::__hamel_export_lie::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array_mut(out)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn compiled_jacobian<R>(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            parameters: bool,
+            then: impl FnOnce(&[f64]) -> R,
+        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            macro_rules! run {
+                ($f:ident, $table:ident) => {{
+                    let mut values = [0.0f64; <$system>::$table.len()];
+                    match <$system>::$f::<()>(prepared, p, t, x, u, parameters, &mut values) {
+                        ::core::result::Result::Ok(true) => {
+                            ::core::option::Option::Some(::core::result::Result::Ok(then(&values)))
+                        }
+                        ::core::result::Result::Ok(false) => ::core::option::Option::None,
+                        ::core::result::Result::Err(e) => {
+                            ::core::option::Option::Some(::core::result::Result::Err(e))
+                        }
+                    }
+                }};
+            }
+            match which {
+                $crate::Which::Rhs => {
+                    run!(__hamel_export_rhs_jacobian, __HAMEL_EXPORT_RHS_JACOBIAN)
+                }
+                $crate::Which::Outputs => {
+                    run!(
+                        __hamel_export_outputs_jacobian,
+                        __HAMEL_EXPORT_OUTPUTS_JACOBIAN
+                    )
+                }
+                $crate::Which::Lie => {
+                    run!(__hamel_export_lie_jacobian, __HAMEL_EXPORT_LIE_JACOBIAN)
+                }
+            }
+        }
+
+        #[inline]
+        fn compiled_forward(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            direction: &[f64],
+            parameters: bool,
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            let direction = $crate::__private::array(direction)?;
+            ::core::option::Option::Some(match which {
+                $crate::Which::Rhs => <$system>::__hamel_export_rhs_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    direction,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::Which::Outputs => <$system>::__hamel_export_outputs_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    direction,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::Which::Lie => <$system>::__hamel_export_lie_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    direction,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn compiled_adjoint(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            weights: &[f64],
+            parameters: bool,
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            let out = $crate::__private::array_mut(out)?;
+            ::core::option::Option::Some(match which {
+                $crate::Which::Rhs => <$system>::__hamel_export_rhs_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    out,
+                ),
+                $crate::Which::Outputs => <$system>::__hamel_export_outputs_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    out,
+                ),
+                $crate::Which::Lie => <$system>::__hamel_export_lie_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    out,
+                ),
+            })
+        }
+
+        #[inline]
+        fn compiled_second<R>(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            weights: &[f64],
+            parameters: bool,
+            then: impl FnOnce(&[f64], &[f64]) -> R,
+        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            macro_rules! run {
+                ($f:ident, $second:ident, $jacobian:ident) => {{
+                    let mut second = [0.0f64; <$system>::$second.len()];
+                    let mut jacobian = [0.0f64; <$system>::$jacobian.len()];
+                    let weights = $crate::__private::array(weights)?;
+                    match <$system>::$f::<()>(
+                        prepared,
+                        p,
+                        t,
+                        x,
+                        u,
+                        weights,
+                        parameters,
+                        &mut second,
+                        &mut jacobian,
+                    ) {
+                        ::core::result::Result::Ok(true) => ::core::option::Option::Some(
+                            ::core::result::Result::Ok(then(&second, &jacobian)),
+                        ),
+                        ::core::result::Result::Ok(false) => ::core::option::Option::None,
+                        ::core::result::Result::Err(e) => {
+                            ::core::option::Option::Some(::core::result::Result::Err(e))
+                        }
+                    }
+                }};
+            }
+            match which {
+                $crate::Which::Rhs => run!(
+                    __hamel_export_rhs_second,
+                    __HAMEL_EXPORT_RHS_SECOND,
+                    __HAMEL_EXPORT_RHS_JACOBIAN
+                ),
+                $crate::Which::Outputs => run!(
+                    __hamel_export_outputs_second,
+                    __HAMEL_EXPORT_OUTPUTS_SECOND,
+                    __HAMEL_EXPORT_OUTPUTS_JACOBIAN
+                ),
+                $crate::Which::Lie => run!(
+                    __hamel_export_lie_second,
+                    __HAMEL_EXPORT_LIE_SECOND,
+                    __HAMEL_EXPORT_LIE_JACOBIAN
+                ),
+            }
+        }
+    };
+}
+
+/// A family's [`crate::model::Tables`] from its generated constants.
+#[cfg(feature = "compiled")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __tables {
+    ($system:ty, RHS) => {
+        $crate::__tables!(@ $system, __HAMEL_EXPORT_RHS_DEPENDS, __HAMEL_EXPORT_RHS_JACOBIAN,
+            __HAMEL_EXPORT_RHS_SECOND, __HAMEL_EXPORT_RHS_COMPILED, __HAMEL_EXPORT_RHS_STATES)
+    };
+    ($system:ty, OUTPUTS) => {
+        $crate::__tables!(@ $system, __HAMEL_EXPORT_OUTPUTS_DEPENDS,
+            __HAMEL_EXPORT_OUTPUTS_JACOBIAN, __HAMEL_EXPORT_OUTPUTS_SECOND,
+            __HAMEL_EXPORT_OUTPUTS_COMPILED, __HAMEL_EXPORT_OUTPUTS_STATES)
+    };
+    ($system:ty, LIE) => {
+        $crate::__tables!(@ $system, __HAMEL_EXPORT_LIE_DEPENDS, __HAMEL_EXPORT_LIE_JACOBIAN,
+            __HAMEL_EXPORT_LIE_SECOND, __HAMEL_EXPORT_LIE_COMPILED, __HAMEL_EXPORT_LIE_STATES)
+    };
+    (@ $system:ty, $depends:ident, $jacobian:ident, $second:ident, $compiled:ident, $states:ident) => {
+        $crate::model::Tables {
+            outputs: <$system>::$depends.len(),
+            jacobian: <$system>::$jacobian,
+            second: <$system>::$second,
+            compiled: <$system>::$compiled,
+            states: <$system>::$states,
+            depends: <$system>::$depends,
         }
     };
 }
@@ -148,13 +576,33 @@ macro_rules! c_api {
 
 /// `casadi!(Marker, "name")`: CasADi's external functions of a model: `name_f` (the
 /// right-hand side) and `name_h` (the outputs), each with `jac_`, `fwd1_`, `adj1_` and
-/// `jac_adj1_` beside it, and every symbol CasADi looks for (see [`crate::casadi`]).
+/// `jac_adj1_` beside it, and every symbol CasADi looks for (see [`crate::casadi`]); with the
+/// feature `compiled`, `name_lie` too (the outputs' Lie derivatives, empty for a model
+/// without `control(..)`).
 #[macro_export]
 macro_rules! casadi {
     ($marker:ty, $name:literal) => {
         $crate::__casadi_family!($marker, $name, "_f", $crate::Which::Rhs);
         $crate::__casadi_family!($marker, $name, "_h", $crate::Which::Outputs);
+        $crate::__casadi_lie!($marker, $name);
     };
+}
+
+/// The Lie derivatives' family: only with compiled code, which computes them.
+#[cfg(feature = "compiled")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __casadi_lie {
+    ($marker:ty, $name:literal) => {
+        $crate::__casadi_family!($marker, $name, "_lie", $crate::Which::Lie);
+    };
+}
+
+#[cfg(not(feature = "compiled"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __casadi_lie {
+    ($marker:ty, $name:literal) => {};
 }
 
 #[doc(hidden)]

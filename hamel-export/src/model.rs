@@ -1,9 +1,32 @@
 //! A model as the export sees it: its functions over any scalar type with every argument in
-//! one flat vector z = (x, u, p, t), and what the generated code knows of them (which
-//! arguments each result depends on). Implemented for a model by [`crate::model!`] (from the
-//! items `#[hamel_system]` generates), on a marker type of the exporting crate.
+//! one flat vector z = (x, u, p, t), what the generated code knows of them (which arguments
+//! each result depends on), and — with this crate's feature `compiled` — the straight-line
+//! derivative code `#[hamel_system]` emits for the export. Implemented for a model by
+//! [`crate::model!`] (from the items `#[hamel_system]` generates), on a marker type of the
+//! exporting crate.
 
+use crate::primal::Which;
 use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
+
+/// What the generated code tells of a compiled function (`Which`): its sparse derivatives'
+/// entries over its local columns (x, u, the parameters it reads, t), in the order its code
+/// writes them.
+#[derive(Clone, Copy, Debug)]
+pub struct Tables {
+    /// How many output components.
+    pub outputs: usize,
+    /// The Jacobian's entries (row, column), those by x, u and t first.
+    pub jacobian: &'static [(usize, usize)],
+    /// The weighted second derivatives' entries (row ≥ column), likewise ordered.
+    pub second: &'static [(usize, usize)],
+    /// Which stages are compiled: the Jacobian by x, u, t; by p; the second derivatives
+    /// likewise. A stage that is not is computed by dual numbers.
+    pub compiled: [bool; 4],
+    /// How many entries of `jacobian` and of `second` are by x, u and t.
+    pub states: [usize; 2],
+    /// For each output component, the columns it depends on.
+    pub depends: &'static [&'static [usize]],
+}
 
 /// The functions of a model, over any [`Scalar`], on the flat argument vector
 /// z = (x, u, p, t): the state (`HamelSystem::STATE`), the inputs (`HamelSystem::INPUTS`), the
@@ -11,9 +34,12 @@ use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
 pub trait Model: 'static {
     /// The model's type (its parameter struct, with `HamelSystem` on it).
     type System: HamelSystem + Default;
-    /// A stack array of the length of z (the macro knows the sizes; this crate's generic
-    /// code does not, and allocates nothing).
+    /// A stack array at least as long as z and as each function's output (the macro knows
+    /// the sizes; this crate's generic code does not, and allocates nothing).
     type Array<S: Copy>: AsRef<[S]> + AsMut<[S]> + Copy;
+    /// The values of the compiled code that depend on the parameters alone (`()` without
+    /// compiled code).
+    type Prepared: 'static;
 
     /// Whether the right-hand side depends on the time explicitly (then the exported
     /// functions take it as their last argument).
@@ -29,8 +55,14 @@ pub trait Model: 'static {
     const OUTPUT_COLUMNS: &'static [&'static [usize]];
     /// For each output, the parameters it depends on, by name.
     const OUTPUT_PARAMETERS: &'static [&'static [&'static str]];
+    /// The parameters the generated code reads, as positions in `Parameters::NAMES`: the
+    /// compiled code's parameter columns.
+    const READ: &'static [usize];
+    /// How many Lie derivatives (L_f^k h for k = 0 … order, then L_{g_j} L_f^k h for
+    /// k < order); zero without compiled code or `control(..)`.
+    const LIE: usize;
 
-    /// An array of the length of z, every entry `fill`.
+    /// An array every entry `fill`.
     fn array<S: Copy>(fill: S) -> Self::Array<S>;
 
     /// ẋ = F(t, x, u; p) into `dx` (its first `nx` entries), from z.
@@ -39,6 +71,67 @@ pub trait Model: 'static {
     /// y = h(t, x; p) into `y` (its first `ny` entries), from z; nothing for a model without
     /// outputs.
     fn outputs<S: Scalar>(z: &Self::Array<S>, y: &mut Self::Array<S>);
+
+    /// The Lie derivatives into `out` (its first `LIE` entries), from z.
+    fn lie<S: Scalar>(z: &Self::Array<S>, out: &mut Self::Array<S>) -> Result<(), Singularity>;
+
+    /// The tables of `which`'s compiled code; `None` without it.
+    fn tables(which: Which) -> Option<Tables>;
+
+    /// `then` with the values the compiled code prepares for the parameters `p` (z's
+    /// parameter block), computed once per parameter set and thread.
+    fn with_prepared<R>(p: &[f64], then: impl FnOnce(&Self::Prepared) -> R) -> R;
+
+    /// The values of `which` at z into `out`; `None` without compiled code.
+    fn compiled_value(
+        which: Which,
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// `then` with the Jacobian's entries (`Tables::jacobian`; by the parameters only if
+    /// `parameters`); `None` where the stages asked for are not compiled.
+    fn compiled_jacobian<R>(
+        which: Which,
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        parameters: bool,
+        then: impl FnOnce(&[f64]) -> R,
+    ) -> Option<Result<R, Singularity>>;
+
+    /// The derivative along `direction` (over the local columns) into `out`; with the
+    /// parameters' part only if `parameters`.
+    fn compiled_forward(
+        which: Which,
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        direction: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// The adjoint derivative with `weights` into `out` (over the local columns; the
+    /// parameters' only if `parameters`).
+    fn compiled_adjoint(
+        which: Which,
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// `then` with the weighted second derivatives' entries and the Jacobian's
+    /// (`Tables::second`, `Tables::jacobian`); `None` where not compiled.
+    fn compiled_second<R>(
+        which: Which,
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        then: impl FnOnce(&[f64], &[f64]) -> R,
+    ) -> Option<Result<R, Singularity>>;
 }
 
 /// The sizes of z's parts.
@@ -79,4 +172,13 @@ impl Sizes {
     pub fn z(&self) -> usize {
         self.t() + 1
     }
+}
+
+/// The compiled code's columns (x, u, the parameters it reads, t) as indices into z.
+pub fn local_columns<M: Model>() -> Vec<usize> {
+    let s = Sizes::of::<M>();
+    (0..s.p())
+        .chain(M::READ.iter().map(|&i| s.p() + i))
+        .chain([s.t()])
+        .collect()
 }

@@ -1,7 +1,9 @@
 //! The model's function evaluated once over a chosen scalar: plain values, one direction of
 //! dual numbers (a Jacobian column, a forward derivative) or one pair of hyper-dual
 //! directions (a second derivative). Every argument is in the flat vector z; nothing is
-//! allocated (the arrays are the model's own stack arrays).
+//! allocated (the arrays are the model's own stack arrays). What the compiled code gives
+//! (feature `compiled`) is not computed here: these passes are the derivatives of a stage
+//! too large to compile, and all of them without the feature.
 
 use crate::abi::{Failure, Status};
 use crate::hyper::Hyper;
@@ -24,12 +26,13 @@ fn run<M: Model, S: Scalar>(
     match which {
         Which::Rhs => M::rhs(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
         Which::Outputs => M::outputs(&zs, &mut out),
+        Which::Lie => M::lie(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
     }
     Ok(out)
 }
 
 /// The error for a singularity met at z, naming the state.
-fn singular<M: Model>(s: Singularity, z: &[f64]) -> Failure {
+pub fn singular<M: Model>(s: Singularity, z: &[f64]) -> Failure {
     let names = <M::System as HamelSystem>::STATE;
     let state = NamedValues::new(names, &z[..names.len().min(z.len())]);
     Failure::new(Status::Singular, format!("{s} at {state}"))

@@ -1,8 +1,9 @@
-//! The two functions a model exports, each as CasADi sees a function: named dense inputs
+//! The functions a model exports, each as CasADi sees a function: named dense inputs
 //! (blocks of z) and one dense output, with the dependency of each output component on z's
-//! components (from the generated code's graph), which gives every derivative's sparsity.
+//! components (from the generated code's graph), which gives the sparsity of every
+//! derivative the compiled code does not give more exactly.
 
-use crate::model::{Model, Sizes};
+use crate::model::{Model, Sizes, local_columns};
 use hamel_runtime::Parameters;
 
 /// Which of the model's functions.
@@ -12,6 +13,9 @@ pub enum Which {
     Rhs,
     /// y = h(x, p[, t]), named `<model>_h`.
     Outputs,
+    /// The outputs' Lie derivatives (a model with `control(..)`, compiled code only): L_f^k h
+    /// for k = 0 … order, then L_{g_j} L_f^k h for k < order, named `<model>_lie`.
+    Lie,
 }
 
 impl Which {
@@ -20,6 +24,17 @@ impl Which {
         match self {
             Which::Rhs => "f",
             Which::Outputs => "h",
+            Which::Lie => "lie",
+        }
+    }
+
+    /// How many output components `which` has for the model.
+    pub fn outputs<M: Model>(self) -> usize {
+        let s = Sizes::of::<M>();
+        match self {
+            Which::Rhs => s.nx,
+            Which::Outputs => s.ny,
+            Which::Lie => M::LIE,
         }
     }
 }
@@ -75,8 +90,12 @@ impl Primal {
         let (output, columns, parameters) = match which {
             Which::Rhs => (("xdot", s.nx), M::RHS_COLUMNS, M::RHS_PARAMETERS),
             Which::Outputs => (("y", s.ny), M::OUTPUT_COLUMNS, M::OUTPUT_PARAMETERS),
+            Which::Lie => (("lie", M::LIE), &[][..], &[][..]),
         };
         let names = <M::System as Parameters>::NAMES;
+        // The Lie derivatives' dependencies are those the compiled code's graph gives.
+        let compiled = M::tables(which).filter(|_| which == Which::Lie);
+        let local = local_columns::<M>();
         let depends = (0..output.1)
             .map(|row| {
                 let mut d: Vec<usize> = columns.get(row).copied().unwrap_or(&[]).to_vec();
@@ -84,6 +103,10 @@ impl Primal {
                     if let Some(i) = names.iter().position(|n| n == name) {
                         d.push(s.p() + i);
                     }
+                }
+                if let Some(tables) = &compiled {
+                    let row = tables.depends.get(row).copied().unwrap_or(&[]);
+                    d.extend(row.iter().filter_map(|&c| local.get(c)));
                 }
                 if M::TIME_DEPENDENT {
                     d.push(s.t());

@@ -1,12 +1,15 @@
 //! Evaluating one function of a family from CasADi's arrays of pointers: `arg[i]` the
 //! nonzeros of input i (null: all zero), `res[i]` where to write those of output i (null: not
-//! wanted, not computed). Derivatives are computed by dual-number passes only for the
-//! directions a wanted output needs and the generated code's graph says can be nonzero.
+//! wanted, not computed). With compiled code (feature `compiled`) each result is one call of
+//! the code `#[hamel_system]` emitted for it, with the values that depend on the parameters
+//! alone prepared once per parameter set; what is not compiled (a stage too large, or all of
+//! it without the feature) is computed by dual-number passes, only for the directions a
+//! wanted output needs and the generated code's graph says can be nonzero.
 
 use super::{Content, Family, Function, Kind};
 use crate::abi::{Failure, Status, check_finite, slice, slice_mut};
 use crate::model::Model;
-use crate::passes;
+use crate::passes::{self, singular};
 use crate::primal::{Block, Primal};
 use hamel_runtime::{HamelSystem, Parameters};
 
@@ -45,44 +48,44 @@ pub unsafe fn eval<M: Model>(
             z.as_mut()[block.offset..block.offset + block.len].copy_from_slice(values);
         }
     }
-    let z = z.as_ref();
     let nb = primal.inputs.len();
     let mut outputs = Outputs { f, res };
+    // The seeds: the forward derivative's direction over z, or the adjoint's weights.
+    let mut seeds = M::array(0.0f64);
     match kind {
-        Kind::Value => {
-            if let Some(out) = outputs.get(0)? {
-                passes::value::<M>(primal.which, z, out)?;
-            }
-        }
-        Kind::Jacobian => jacobian::<M>(primal, z, &mut outputs)?,
         Kind::Forward => {
-            let mut direction = M::array(0.0f64);
             for (k, block) in primal.inputs.iter().enumerate() {
                 if let Some(values) = input(nb + 1 + k)? {
                     check_finite(f.inputs[nb + 1 + k].name(), values, &[])?;
-                    direction.as_mut()[block.offset..block.offset + block.len]
-                        .copy_from_slice(values);
+                    seeds.as_mut()[block.offset..block.offset + block.len].copy_from_slice(values);
                 }
-            }
-            if let Some(out) = outputs.get(0)? {
-                passes::forward::<M>(primal.which, z, direction.as_ref(), out)?;
             }
         }
         Kind::Adjoint | Kind::AdjointJacobian => {
-            let mut weights = M::array(0.0f64);
             if let Some(values) = input(nb + 1)? {
                 check_finite(f.inputs[nb + 1].name(), values, &[])?;
-                weights.as_mut()[..values.len()].copy_from_slice(values);
-            }
-            let weights = &weights.as_ref()[..primal.output.1];
-            if kind == Kind::Adjoint {
-                adjoint::<M>(primal, z, weights, &mut outputs)?;
-            } else {
-                adjoint_jacobian::<M>(primal, z, weights, &mut outputs)?;
+                seeds.as_mut()[..values.len()].copy_from_slice(values);
             }
         }
+        Kind::Value | Kind::Jacobian => {}
     }
-    Ok(())
+    let s = primal.sizes;
+    let parameters = &z.as_ref()[s.p()..s.t()];
+    M::with_prepared(parameters, |prepared| {
+        let run = Run::<M> {
+            family,
+            prepared,
+            z: &z,
+        };
+        let weights = &seeds.as_ref()[..primal.output.1];
+        match kind {
+            Kind::Value => run.value(&mut outputs),
+            Kind::Jacobian => run.jacobian(&mut outputs),
+            Kind::Forward => run.forward(seeds.as_ref(), &mut outputs),
+            Kind::Adjoint => run.adjoint(weights, &mut outputs),
+            Kind::AdjointJacobian => run.adjoint_jacobian(weights, &mut outputs),
+        }
+    })
 }
 
 /// The names of a block's components, for messages.
@@ -122,20 +125,193 @@ impl Outputs<'_> {
     }
 }
 
+/// One evaluation: the family, the prepared values and the point.
+struct Run<'a, M: Model> {
+    family: &'a Family,
+    prepared: &'a M::Prepared,
+    z: &'a M::Array<f64>,
+}
+
+impl<M: Model> Run<'_, M> {
+    fn primal(&self) -> &Primal {
+        &self.family.primal
+    }
+
+    fn singular(&self, e: hamel_runtime::Singularity) -> Failure {
+        singular::<M>(e, self.z.as_ref())
+    }
+
+    /// `f`: the values.
+    fn value(&self, outputs: &mut Outputs) -> Result<(), Failure> {
+        let which = self.primal().which;
+        let Some(out) = outputs.get(0)? else {
+            return Ok(());
+        };
+        match M::compiled_value(which, self.prepared, self.z, out) {
+            Some(result) => result.map_err(|e| self.singular(e)),
+            None => passes::value::<M>(which, self.z.as_ref(), out),
+        }
+    }
+
+    /// `jac_f`: the wanted blocks, from the compiled code where their stage is compiled.
+    fn jacobian(&self, outputs: &mut Outputs) -> Result<(), Failure> {
+        let nb = self.primal().inputs.len();
+        let mut done = [false; 4];
+        if let Some(plans) = &self.family.plans {
+            let wanted = |outputs: &Outputs, parameters: bool| {
+                (0..nb).any(|k| {
+                    let s = &plans.jacobian[k];
+                    outputs.wanted(k) && s.compiled && s.parameters == parameters
+                })
+            };
+            let (states, parameters) = (wanted(outputs, false), wanted(outputs, true));
+            if states || parameters {
+                let written = M::compiled_jacobian(
+                    self.primal().which,
+                    self.prepared,
+                    self.z,
+                    parameters,
+                    |values| -> Result<(), Failure> {
+                        for (k, scatter) in plans.jacobian.iter().enumerate().take(nb) {
+                            if scatter.compiled && (parameters || !scatter.parameters) {
+                                if let Some(out) = outputs.get(k)? {
+                                    scatter.write(out, &[], values);
+                                }
+                                done[k] = true;
+                            }
+                        }
+                        Ok(())
+                    },
+                );
+                if let Some(result) = written {
+                    result.map_err(|e| self.singular(e))??;
+                }
+            }
+        }
+        jacobian_by_passes::<M>(self.primal(), self.z.as_ref(), outputs, &done)
+    }
+
+    /// `fwd1_f`: one forward derivative along `direction` (over z).
+    fn forward(&self, direction: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
+        let which = self.primal().which;
+        let Some(out) = outputs.get(0)? else {
+            return Ok(());
+        };
+        if let Some(plans) = &self.family.plans {
+            let mut local = M::array(0.0f64);
+            for (slot, &z) in local.as_mut().iter_mut().zip(&plans.local) {
+                *slot = direction[z];
+            }
+            let local = &local.as_ref()[..plans.local.len()];
+            let parameters = local[plans.parameters.clone()].iter().any(|&d| d != 0.0);
+            if let Some(result) =
+                M::compiled_forward(which, self.prepared, self.z, local, parameters, out)
+            {
+                return result.map_err(|e| self.singular(e));
+            }
+        }
+        passes::forward::<M>(which, self.z.as_ref(), direction, out)
+    }
+
+    /// `adj1_f`: (∂out/∂block)ᵀ λ for each wanted block.
+    fn adjoint(&self, weights: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
+        let primal = self.primal();
+        if let Some(plans) = &self.family.plans {
+            let parameters = primal
+                .inputs
+                .iter()
+                .enumerate()
+                .any(|(k, b)| b.name == "p" && outputs.wanted(k));
+            let mut local = M::array(0.0f64);
+            let n = plans.local.len();
+            let written = M::compiled_adjoint(
+                primal.which,
+                self.prepared,
+                self.z,
+                weights,
+                parameters,
+                &mut local.as_mut()[..n],
+            );
+            if let Some(result) = written {
+                result.map_err(|e| self.singular(e))?;
+                for (k, columns) in plans.adjoint.iter().enumerate() {
+                    if let Some(out) = outputs.get(k)? {
+                        out.fill(0.0);
+                        for &(c, w) in columns {
+                            out[w] = local.as_ref()[c];
+                        }
+                    }
+                }
+                return Ok(());
+            }
+        }
+        adjoint_by_passes::<M>(primal, self.z.as_ref(), weights, outputs)
+    }
+
+    /// `jac_adj1_f`: the wanted second-derivative blocks and transposed Jacobian blocks.
+    fn adjoint_jacobian(&self, weights: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
+        let mut done = [false; MAX_OUTPUTS];
+        if let Some(plans) = &self.family.plans {
+            let wanted = |outputs: &Outputs, parameters: bool| {
+                plans
+                    .second
+                    .iter()
+                    .enumerate()
+                    .any(|(k, s)| outputs.wanted(k) && s.compiled && s.parameters == parameters)
+            };
+            let (states, parameters) = (wanted(outputs, false), wanted(outputs, true));
+            if states || parameters {
+                let written = M::compiled_second(
+                    self.primal().which,
+                    self.prepared,
+                    self.z,
+                    weights,
+                    parameters,
+                    |second, jacobian| -> Result<(), Failure> {
+                        for (k, scatter) in plans.second.iter().enumerate() {
+                            if scatter.compiled && (parameters || !scatter.parameters) {
+                                if let Some(out) = outputs.get(k)? {
+                                    scatter.write(out, second, jacobian);
+                                }
+                                done[k] = true;
+                            }
+                        }
+                        Ok(())
+                    },
+                );
+                if let Some(result) = written {
+                    result.map_err(|e| self.singular(e))??;
+                }
+            }
+        }
+        second_by_passes::<M>(self.primal(), self.z.as_ref(), weights, outputs, &done)
+    }
+}
+
+/// The most outputs a function has: `jac_adj1_f` of a time-dependent model, 4 × 6 (for each
+/// of x, u, p, t: the blocks by x, u, p, t, out and adj).
+const MAX_OUTPUTS: usize = 24;
+
 /// The columns ∂out/∂z_c of a block that can be nonzero.
 fn live_columns<'a>(primal: &'a Primal, block: &'a Block) -> impl Iterator<Item = usize> + 'a {
     (block.offset..block.offset + block.len)
         .filter(|&c| (0..primal.output.1).any(|r| primal.depends_on(r, c)))
 }
 
-/// `jac_f`: each wanted block column by column.
-fn jacobian<M: Model>(primal: &Primal, z: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
+/// `jac_f` by dual numbers: each wanted block not `done`, column by column.
+fn jacobian_by_passes<M: Model>(
+    primal: &Primal,
+    z: &[f64],
+    outputs: &mut Outputs,
+    done: &[bool],
+) -> Result<(), Failure> {
     let mut column = M::array(0.0f64);
     for (k, block) in primal.inputs.iter().enumerate() {
-        if !outputs.wanted(k) {
+        if done.get(k).copied().unwrap_or(false) || !outputs.wanted(k) {
             continue;
         }
         let pattern = &outputs.f.outputs[k].0.pattern;
+        outputs.get(k)?.unwrap_or_default().fill(0.0);
         for c in live_columns(primal, block) {
             passes::column::<M>(primal.which, z, c, column.as_mut())?;
             let values = outputs.get(k)?.unwrap_or_default();
@@ -147,8 +323,8 @@ fn jacobian<M: Model>(primal: &Primal, z: &[f64], outputs: &mut Outputs) -> Resu
     Ok(())
 }
 
-/// `adj1_f`: (∂out/∂block)ᵀ λ for each wanted block.
-fn adjoint<M: Model>(
+/// `adj1_f` by dual numbers: (∂out/∂block)ᵀ λ for each wanted block.
+fn adjoint_by_passes<M: Model>(
     primal: &Primal,
     z: &[f64],
     weights: &[f64],
@@ -172,28 +348,35 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// `jac_adj1_f`: the wanted second-derivative blocks, each unordered pair of directions
-/// computed once and written wherever it is wanted (H is symmetric), and the transposed
-/// Jacobian blocks.
-fn adjoint_jacobian<M: Model>(
+/// `jac_adj1_f` by dual and hyper-dual numbers: the wanted outputs not `done`, each
+/// unordered pair of directions computed once and written wherever it is wanted (H is
+/// symmetric), and the transposed Jacobian blocks.
+fn second_by_passes<M: Model>(
     primal: &Primal,
     z: &[f64],
     weights: &[f64],
     outputs: &mut Outputs,
+    done: &[bool],
 ) -> Result<(), Failure> {
     let f = outputs.f;
+    let open =
+        |outputs: &Outputs, k: usize| outputs.wanted(k) && !done.get(k).copied().unwrap_or(false);
     // At most four blocks: x, u, p, t.
     let mut wanted_second = [[false; 4]; 4];
     let mut column = M::array(0.0f64);
     for k in 0..f.outputs.len() {
+        if !open(outputs, k) {
+            continue;
+        }
         match f.outputs[k].1 {
-            Content::Second(i, j) if outputs.wanted(k) => {
+            Content::Second(i, j) => {
                 wanted_second[i][j] = true;
                 outputs.get(k)?.unwrap_or_default().fill(0.0);
             }
-            Content::Transposed(i) if outputs.wanted(k) => {
+            Content::Transposed(i) => {
                 let block = &primal.inputs[i];
                 let pattern = &f.outputs[k].0.pattern;
+                outputs.get(k)?.unwrap_or_default().fill(0.0);
                 for c in live_columns(primal, block) {
                     passes::column::<M>(primal.which, z, c, column.as_mut())?;
                     let values = outputs.get(k)?.unwrap_or_default();
@@ -206,6 +389,11 @@ fn adjoint_jacobian<M: Model>(
             }
             _ => {}
         }
+    }
+    // Nothing left to compute (the compiled code wrote every wanted block): not even the
+    // walk over the pairs of directions, which costs more than the compiled code.
+    if !wanted_second.iter().flatten().any(|&w| w) {
+        return Ok(());
     }
     let blocks = &primal.inputs;
     let live = || {
@@ -223,34 +411,25 @@ fn adjoint_jacobian<M: Model>(
             }
             passes::second::<M>(primal.which, z, (a, b), second.as_mut())?;
             let h = dot(weights, second.as_ref());
-            write_second(
-                f,
-                outputs,
-                (i, a - blocks[i].offset),
-                (j, b - blocks[j].offset),
-                h,
-            )?;
+            let at = |blk: usize, c: usize| (blk, c - blocks[blk].offset);
+            write_second(f, outputs, at(i, a), at(j, b), h, done)?;
             if a != b {
-                write_second(
-                    f,
-                    outputs,
-                    (j, b - blocks[j].offset),
-                    (i, a - blocks[i].offset),
-                    h,
-                )?;
+                write_second(f, outputs, at(j, b), at(i, a), h, done)?;
             }
         }
     }
     Ok(())
 }
 
-/// Write H(a, b) into the wanted block (i, j) holding it, at row a, column b.
+/// Write H(a, b) into the wanted block (i, j) holding it, at row a, column b, unless the
+/// compiled code wrote that block.
 fn write_second(
     f: &Function,
     outputs: &mut Outputs,
     (i, a): (usize, usize),
     (j, b): (usize, usize),
     value: f64,
+    done: &[bool],
 ) -> Result<(), Failure> {
     let Some(k) = f
         .outputs
@@ -259,6 +438,9 @@ fn write_second(
     else {
         return Ok(());
     };
+    if done.get(k).copied().unwrap_or(false) {
+        return Ok(());
+    }
     let pattern = &f.outputs[k].0.pattern;
     if let (Some(slot), Some(values)) = (pattern.position(a, b), outputs.get(k)?) {
         values[slot] = value;

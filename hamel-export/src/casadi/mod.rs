@@ -9,13 +9,17 @@
 //! `casadi.external` finds them and CasADi's checks of their shapes pass.
 //!
 //! [`Family`] describes the five; [`eval`] evaluates one. The symbols themselves are written
-//! by [`crate::casadi!`].
+//! by [`crate::casadi!`]. With compiled code (feature `compiled`), the sparsity of each
+//! derivative block is the compiled code's own (the entries that are not a constant zero on
+//! the model's graph), and [`plan`] says where each computed entry goes.
 
 mod eval;
+pub mod plan;
 pub mod sparsity;
 pub mod symbols;
 
 pub use eval::eval;
+use plan::{Plans, Structure};
 use sparsity::Pattern;
 
 use crate::model::Model;
@@ -111,13 +115,21 @@ pub struct Function {
 pub struct Family {
     pub primal: Primal,
     pub functions: [Function; 5],
+    /// Where the compiled code's entries go; `None` without compiled code.
+    pub plans: Option<Plans>,
 }
 
 impl Family {
     pub fn new<M: Model>(which: Which) -> Family {
         let primal = Primal::new::<M>(which);
-        let functions = Kind::ALL.map(|kind| function(&primal, kind));
-        Family { primal, functions }
+        let structure = Structure::new::<M>(&primal);
+        let functions = Kind::ALL.map(|kind| function(&primal, &structure, kind));
+        let plans = Plans::new(&primal, &structure, &functions);
+        Family {
+            primal,
+            functions,
+            plans,
+        }
     }
 
     pub fn function(&self, kind: Kind) -> &Function {
@@ -125,8 +137,9 @@ impl Family {
     }
 }
 
-/// The ports of `kind` for `primal`, named as CasADi names them.
-fn function(primal: &Primal, kind: Kind) -> Function {
+/// The ports of `kind` for `primal`, named as CasADi names them, with the sparsity of
+/// `structure`.
+fn function(primal: &Primal, structure: &Structure, kind: Kind) -> Function {
     let (out, no) = primal.output;
     let column = |name: &str, n: usize| Port::new(name, Pattern::dense(n, 1));
     let nominal = |name: &str, n: usize| Port::new(&format!("out_{name}"), Pattern::empty(n, 1));
@@ -137,10 +150,7 @@ fn function(primal: &Primal, kind: Kind) -> Function {
         .collect();
     let mut outputs = Vec::new();
     let blocks = &primal.inputs;
-    let jacobian = |i: usize| {
-        let b = &blocks[i];
-        Pattern::new(no, b.len, |r, c| primal.depends_on(r, b.offset + c))
-    };
+    let jacobian = |i: usize| structure.jacobian(primal, i);
     match kind {
         Kind::Value => outputs.push((column(out, no), Content::Value)),
         Kind::Jacobian => {
@@ -178,15 +188,12 @@ fn function(primal: &Primal, kind: Kind) -> Function {
             for (i, bi) in blocks.iter().enumerate() {
                 let name = |with: &str| format!("jac_adj_{}_{with}", bi.name);
                 for (j, bj) in blocks.iter().enumerate() {
-                    let pattern = Pattern::new(bi.len, bj.len, |a, b| {
-                        primal.pair(bi.offset + a, bj.offset + b)
-                    });
+                    let pattern = structure.second(primal, i, j);
                     outputs.push((Port::new(&name(bj.name), pattern), Content::Second(i, j)));
                 }
                 let zero = Port::new(&name(&format!("out_{out}")), Pattern::empty(bi.len, no));
                 outputs.push((zero, Content::Zero));
-                let transposed =
-                    Pattern::new(bi.len, no, |a, r| primal.depends_on(r, bi.offset + a));
+                let transposed = structure.jacobian(primal, i).transposed();
                 let port = Port::new(&name(&format!("adj_{out}")), transposed);
                 outputs.push((port, Content::Transposed(i)));
             }

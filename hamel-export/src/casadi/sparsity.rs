@@ -57,6 +57,11 @@ impl Pattern {
         self.compressed[3 + self.ncol + k] as usize
     }
 
+    /// The transposed pattern.
+    pub fn transposed(&self) -> Pattern {
+        Pattern::new(self.ncol, self.nrow, |r, c| self.position(c, r).is_some())
+    }
+
     /// Where entry (r, c) is stored, if it is.
     pub fn position(&self, r: usize, c: usize) -> Option<usize> {
         let range = self.column(c);

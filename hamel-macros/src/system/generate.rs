@@ -116,7 +116,7 @@ impl<'g> Context<'g> {
     }
 
     /// The roots and what their checks read.
-    fn checked_roots(&self, roots: &[NodeId], checks: Checks) -> Vec<NodeId> {
+    pub(super) fn checked_roots(&self, roots: &[NodeId], checks: Checks) -> Vec<NodeId> {
         let mut all = roots.to_vec();
         if let Some(t) = self.eq.transformation.as_ref() {
             if checks.transformation {
@@ -172,19 +172,46 @@ impl<'g> Context<'g> {
         checks: Checks,
         bindings: &[(NodeId, TokenStream)],
     ) -> syn::Result<(Code, TokenStream)> {
+        let (mut stages, tokens) =
+            self.emit_bound_stages(source, scalar, &[roots], checks, bindings)?;
+        let code = stages
+            .pop()
+            .ok_or_else(|| syn::Error::new(Span::call_site(), "hamel internal error: no stage"))?;
+        Ok((code, tokens))
+    }
+
+    /// [`Self::emit_bound`] in stages (`Emitter::emit_stages`): each later stage computes
+    /// only what the earlier ones did not, and may be skipped at run time. The checks read
+    /// the first stage's values.
+    pub(super) fn emit_bound_stages(
+        &self,
+        source: Source,
+        scalar: Scalar,
+        stages: &[&[NodeId]],
+        checks: Checks,
+        bindings: &[(NodeId, TokenStream)],
+    ) -> syn::Result<(Vec<Code>, TokenStream)> {
         let generic = matches!(scalar, Scalar::Generic(_));
         let mut emitter = self.emitter(source, scalar.clone());
         for (node, read) in bindings {
             emitter.bind(*node, read.clone());
         }
-        let all = self.checked_roots(roots, checks);
+        let first = self.checked_roots(stages.first().copied().unwrap_or_default(), checks);
+        let mut all: Vec<&[NodeId]> = vec![&first];
+        all.extend(stages.iter().skip(1).copied());
         let transformation = self
             .eq
             .transformation
             .as_ref()
             .filter(|_| checks.transformation);
         let diagonal = self.diagonal();
-        let code = emitter.emit(&all)?;
+        let codes = emitter.emit_stages(&all)?;
+        let Some(code) = codes.first() else {
+            return Err(syn::Error::new(
+                Span::call_site(),
+                "hamel internal error: no stage",
+            ));
+        };
         let re = |id: NodeId| {
             let v = code.value(id);
             if generic {
@@ -200,7 +227,7 @@ impl<'g> Context<'g> {
         if checks.mass {
             tokens.extend(self.mass_checks(&diagonal, &re));
         }
-        Ok((code, tokens))
+        Ok((codes, tokens))
     }
 
     /// The checks of the LU pivots of A(q), `re` giving a node's value as an `f64`.
@@ -303,6 +330,7 @@ pub struct Read<'r> {
 pub fn generate(
     spec: &Spec<'_>,
     (eq, control): (&Equations, Option<&super::control::ControlNodes>),
+    exported: Option<&super::export::ExportNodes>,
     graph: &Graph,
     read: &Read<'_>,
     imp: &syn::ItemImpl,
@@ -342,7 +370,7 @@ pub fn generate(
     let outputs = control
         .and_then(|nodes| Some((nodes.outputs.as_slice(), nodes.lie.first()?.as_slice())))
         .unwrap_or((&[], &[]));
-    let parametric = super::parametric::emit(&cx, dims, outputs)?;
+    let parametric = super::parametric::emit(&cx, dims, outputs, exported)?;
     let bodies = bodies(&cx, prepared)?;
     let consts = index_consts(spec);
     // A generic impl is of a generic parameter struct, an error of the struct's own: an array

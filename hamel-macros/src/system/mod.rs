@@ -9,6 +9,25 @@
 
 mod control;
 mod equations;
+// The exported functions' derivatives (`hamel-export`): compiled into the macro only with the
+// feature `export`, so that a program that exports nothing neither builds this code nor
+// runs it.
+#[cfg(feature = "export")]
+mod export;
+#[cfg(not(feature = "export"))]
+mod export {
+    /// Without the feature `export` there is nothing to export: no value of this type exists.
+    pub enum ExportNodes {}
+
+    pub mod emit {
+        use super::super::generate::Context;
+        use super::ExportNodes;
+
+        pub fn emit(_: &Context<'_>, nodes: &ExportNodes) -> syn::Result<proc_macro2::TokenStream> {
+            match *nodes {}
+        }
+    }
+}
 mod fallback;
 mod generate;
 mod generic;
@@ -157,6 +176,16 @@ fn expand_impl(
     if let Err(e) = rate_bodies::emit(&graph, &externals, &replaced, &mut stripped) {
         return fallback(imp, &HashSet::new(), &sketch, e);
     }
+    // The exported functions' derivatives, for `hamel-export` (feature `export`).
+    #[cfg(feature = "export")]
+    let exported = Some(export::build(
+        &mut graph,
+        &equations,
+        control.as_ref(),
+        &externals,
+    ));
+    #[cfg(not(feature = "export"))]
+    let exported: Option<export::ExportNodes> = None;
     let read = generate::Read {
         externals: &externals,
         arrays: &arrays,
@@ -164,6 +193,7 @@ fn expand_impl(
     generate::generate(
         &spec,
         (&equations, control.as_ref()),
+        exported.as_ref(),
         &graph,
         &read,
         &stripped,

@@ -20,7 +20,7 @@ use quote::quote;
 
 /// `self.m0` gives `m0`, `self.m[2]` gives `m2` (the names `Parameters` gives array entries);
 /// anything else (a constant, `Self::G`) is not a parameter.
-fn parameter_name(label: &str) -> Option<String> {
+pub(super) fn parameter_name(label: &str) -> Option<String> {
     let field = label.strip_prefix("self.")?;
     match field.split_once('[') {
         Some((base, index)) => Some(format!("{base}{}", index.strip_suffix(']')?)),
@@ -57,7 +57,7 @@ fn parameter_bindings(parameters: &[(NodeId, String)]) -> Vec<(NodeId, TokenStre
 }
 
 /// For each root, the indices of the inputs among `columns` it depends on.
-fn dependencies(graph: &Graph, roots: &[NodeId], columns: &[NodeId]) -> Vec<Vec<usize>> {
+pub(super) fn dependencies(graph: &Graph, roots: &[NodeId], columns: &[NodeId]) -> Vec<Vec<usize>> {
     let mut rows = vec![Vec::new(); roots.len()];
     for (j, &column) in columns.iter().enumerate() {
         let active = graph.depends_on(&[column]);
@@ -108,6 +108,7 @@ pub(super) fn emit(
     cx: &Context<'_>,
     dims: Dims,
     outputs: (&[String], &[NodeId]),
+    exported: Option<&super::export::ExportNodes>,
 ) -> syn::Result<TokenStream> {
     let eq: &Equations = cx.eq;
     let s = Ident::new("S", Span::call_site());
@@ -135,7 +136,13 @@ pub(super) fn emit(
     let parameter_names = parameters.iter().map(|(_, name)| name);
     let np = lit(parameters.len());
     let allow = quote!(#[allow(clippy::all, clippy::pedantic, unused_parens, unused_variables, non_snake_case)]);
+    let exported = match exported {
+        Some(nodes) => super::export::emit::emit(cx, nodes)?,
+        None => TokenStream::new(),
+    };
     Ok(quote! {
+        #exported
+
         /// The parameters the parametric methods read, in the order of their argument `p`
         /// (each a field of the struct, or an entry `m2` of an array field `m`). Generated
         /// by `#[hamel_system]`.
