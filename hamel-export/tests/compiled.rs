@@ -11,7 +11,7 @@
 //! by different operations); and the compiled sparsity exact: the passes find nothing
 //! outside it.
 //!
-//! `cargo test -p hamel-export --release --features compiled --test compiled` (a `.ci/run`
+//! `cargo test -p hamel-export --features compiled --test compiled` (a `.ci/run`
 //! stage: the feature compiles the catalogue's derivative code).
 #![cfg(feature = "compiled")]
 // The checks walk matrices by their (row, column) positions, as the derivatives are written.
