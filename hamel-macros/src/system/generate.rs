@@ -496,8 +496,15 @@ fn mechanism(spec: &Spec<'_>, imp: &syn::ItemImpl, notes: &[String]) -> Option<T
 /// parameter read as it is). `prepare` computes them once per parameter set; the right-hand
 /// side reads them.
 fn prepared_nodes(cx: &Context<'_>, roots: &[NodeId]) -> Vec<NodeId> {
-    let g = cx.graph;
-    let active = g.depends_on(&cx.eq.inputs.varying());
+    parameter_only_nodes(cx.graph, &cx.eq.inputs.varying(), roots)
+}
+
+/// The values of `roots`' code that depend on none of `varying` and are worth computing once
+/// per parameter set: those an operation that varies reads, and the roots that do not vary (a
+/// Jacobian entry 1/r), except constants, inputs and conditions. The right-hand side's
+/// preparation and the export's (`export::emit`) both take them.
+pub(crate) fn parameter_only_nodes(g: &Graph, varying: &[NodeId], roots: &[NodeId]) -> Vec<NodeId> {
+    let active = g.depends_on(varying);
     let live = g.live_set(roots);
     let mut wanted = vec![false; g.len()];
     for &r in roots {

@@ -11,8 +11,8 @@
 use super::sweeps::{Columns, Derivatives, Entry, Staged};
 use super::{ExportNodes, Family};
 use crate::engine::emit::Scalar;
-use crate::engine::graph::{Graph, Node, NodeId};
-use crate::system::generate::{Context, NONE, Source};
+use crate::engine::graph::NodeId;
+use crate::system::generate::{Context, NONE, Source, parameter_only_nodes};
 use crate::system::interface::lit;
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
@@ -33,7 +33,7 @@ pub fn emit(cx: &Context<'_>, nodes: &ExportNodes) -> syn::Result<TokenStream> {
         .iter()
         .flat_map(|f| cx.checked_roots(&emitted(&f.derivatives), f.checks))
         .collect();
-    let prepared = prepared_nodes(cx.graph, &nodes.varying, &roots);
+    let prepared = parameter_only_nodes(cx.graph, &nodes.varying, &roots);
     let sizes = Sizes {
         prepared: prepared.len(),
         parameters: nodes.parameters.len(),
@@ -97,34 +97,6 @@ fn emitted(d: &Derivatives) -> Vec<NodeId> {
     all.extend(&d.forward_states);
     all.extend(&d.adjoint);
     all
-}
-
-/// The values of `roots`' code that depend on the parameters alone: those an operation that
-/// varies reads, and the roots that do not vary (a Jacobian entry 1/r), except constants,
-/// inputs and conditions.
-fn prepared_nodes(g: &Graph, varying: &[NodeId], roots: &[NodeId]) -> Vec<NodeId> {
-    let active = g.depends_on(varying);
-    let live = g.live_set(roots);
-    let mut wanted = vec![false; g.len()];
-    for &r in roots {
-        wanted[r.index()] = true;
-    }
-    for &id in &live {
-        if active[id.index()] {
-            for &o in g.node(id).operands().as_slice() {
-                wanted[o.index()] = true;
-            }
-        }
-    }
-    live.into_iter()
-        .filter(|&id| {
-            let node = g.node(id);
-            wanted[id.index()]
-                && !active[id.index()]
-                && !node.is_bool()
-                && !matches!(node, Node::Const(_) | Node::Input(_))
-        })
-        .collect()
 }
 
 const ALLOW: &str =
