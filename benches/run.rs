@@ -44,6 +44,8 @@
 //! 2.8–2.9 falling, no other build running, ms a run of `ode_solvers` about 0.57):
 //! DormandPrince alone 0.856, 0.856, 0.853; Simulation with default monitors 1.030, 1.014,
 //! 1.073; no crossing watch 1.019, 1.005, 1.063; with a progress callback 1.043, 1.034, 1.091.
+//! Again at 13:42 (load average 0.6–1.0, ms a run of `ode_solvers` 0.57–0.70): DormandPrince
+//! alone 0.955, 0.921, 0.855; Simulation with default monitors 1.175, 1.155, 1.018.
 //! Instructions a run: ode_solvers 5.59 M, DormandPrince 5.33 M, Simulation 6.58 M, with a
 //! progress callback 6.78 M.
 //!
