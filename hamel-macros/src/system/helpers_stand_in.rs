@@ -24,6 +24,7 @@ use super::fallback::{self, Sketch};
 use super::{model, parameters};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
+use syn::spanned::Spanned;
 
 /// The stand-in items of the model `imp` with the attribute `attr`, naming the helper sets
 /// `sets`; nothing if its pieces do not parse (they are made of the user's tokens, which
@@ -38,10 +39,12 @@ fn build(attr: &TokenStream, imp: &syn::ItemImpl, sets: &[syn::Path]) -> Option<
     let roles = model::Roles::find(&imp.items, &mut ignored);
     let sketch = Sketch::new(&names, &roles);
 
-    let marker = format_ident!("{}", crate::helpers::STAND_IN_MARKER);
-    let calls = sets
-        .iter()
-        .map(|set| crate::helpers::invoke(set, quote!(#marker)));
+    // The marker at the name too: should the name hold a macro other than a set's, what it
+    // makes of the marker is reported there.
+    let calls = sets.iter().map(|set| {
+        let marker = format_ident!("{}", crate::helpers::STAND_IN_MARKER, span = set.span());
+        crate::helpers::invoke(set, quote!(#marker))
+    });
     let length = quote!(0 #(+ #calls)*);
 
     // The user's functions and constants, under the bound that no type meets; the functions'
