@@ -3,8 +3,8 @@
 //! and no discrete states of its own (hamel's events belong to a simulation, not to a
 //! model), so event mode only passes through.
 
-use super::api::{call, check_count, count_refusal, read, write, write_one};
-use super::instance::Refusal;
+use super::api::{call, check_count, count_refusal, read, run, write, write_one};
+use super::instance::{Instance, Refusal, State};
 use super::modes::{Function, Mode};
 use super::types::*;
 use crate::model::Model;
@@ -119,22 +119,53 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
 
 /// `fmi2GetDerivatives`: the generated right-hand side, allocation-free.
 ///
+/// An importer's integrator calls it at every stage, in continuous-time mode with the
+/// model's number of states: that call is checked by four comparisons (an instance, its
+/// mode, the length, the array) and goes straight to the right-hand side, from the state
+/// `fmi2SetContinuousStates` checked, into the importer's array. Only Model Exchange enters
+/// continuous-time mode, and the state machine allows this function there (`modes`' test),
+/// so these comparisons decide what [`call`]'s would; every other call takes [`call`]'s
+/// path, with its messages.
+///
 /// # Safety
 /// `c` as above; `dx` null or of `nx` entries.
+#[inline]
 pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
+    // SAFETY: null or an instance of `M` used by one thread at a time (the caller's
+    // contract).
+    if let Some(inst) = unsafe { (c as *mut Instance<M>).as_mut() } {
+        if inst.mode == Mode::Continuous && nx == State::<M>::LEN && !dx.is_null() {
+            // SAFETY: non-null, `nx` writable values (the caller's contract).
+            let values = unsafe { core::slice::from_raw_parts_mut(dx, nx) };
+            if let Some(out) = State::<M>::head_mut(values) {
+                return run::<M>(inst, GET_DERIVATIVES, |inst| {
+                    inst.derivatives_into(&inst.x, out)
+                });
+            }
+        }
+    }
+    // SAFETY: the caller's contract.
+    unsafe { get_derivatives_checked::<M>(c, dx, nx) }
+}
+
+const GET_DERIVATIVES: &str = "fmi2GetDerivatives";
+
+/// `fmi2GetDerivatives` through [`call`]: outside continuous-time mode (the derivatives at
+/// the start values, in initialization mode), or a call to refuse.
+///
+/// # Safety
+/// As [`get_derivatives`].
+#[cold]
+#[inline(never)]
+unsafe fn get_derivatives_checked<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
     // SAFETY: the caller's contract.
     unsafe {
-        call::<M>(c, Function::GetDerivatives, "fmi2GetDerivatives", |inst| {
+        call::<M>(c, Function::GetDerivatives, GET_DERIVATIVES, |inst| {
             let out = write(dx, nx, "derivatives")?;
-            let out = <M::System as HamelSystem>::State::head_mut(out)
+            let out = State::<M>::head_mut(out)
                 .filter(|_| nx == inst.table.sizes.nx)
                 .ok_or_else(|| count_refusal("derivatives", nx, inst.table.sizes.nx))?;
-            if inst.mode == Mode::Continuous {
-                // The hot path: the importer's state, straight into its array.
-                inst.derivatives_into(&inst.x, out)
-            } else {
-                inst.derivatives_into(&inst.current()?, out)
-            }
+            inst.derivatives_into(&inst.current()?, out)
         })
     }
 }
