@@ -4,7 +4,7 @@
 //! model), so event mode only passes through.
 
 use super::api::{call, check_count, count_refusal, read, run, write, write_one};
-use super::instance::{Instance, Refusal, State};
+use super::instance::{Instance, Refusal, State, all_finite};
 use super::modes::{Function, Mode};
 use super::types::*;
 use crate::model::Model;
@@ -74,11 +74,41 @@ pub unsafe fn completed_integrator_step<M: Model>(
     }
 }
 
+/// The instance `c` if it is in continuous-time mode: where an importer's integrator calls
+/// `fmi2SetTime`, `fmi2SetContinuousStates` and `fmi2GetDerivatives` at every stage. Only
+/// Model Exchange enters that mode, and the state machine allows the three there (`modes`'
+/// test), so this one comparison decides what [`call`]'s would.
+///
+/// # Safety
+/// `c` is null or an instance of `M` used by one thread at a time.
+#[inline]
+unsafe fn continuous<'a, M: Model>(c: Component) -> Option<&'a mut Instance<M>> {
+    // SAFETY: the caller's contract.
+    unsafe { (c as *mut Instance<M>).as_mut() }.filter(|inst| inst.mode == Mode::Continuous)
+}
+
 /// `fmi2SetTime`.
 ///
 /// # Safety
 /// `c` as above.
+#[inline]
 pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
+    // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) }.filter(|_| t.is_finite()) {
+        inst.t = t;
+        return Status::Ok;
+    }
+    // SAFETY: the caller's contract.
+    unsafe { set_time_checked::<M>(c, t) }
+}
+
+/// `fmi2SetTime` through [`call`]: in event mode, or a call to refuse.
+///
+/// # Safety
+/// As [`set_time`].
+#[cold]
+#[inline(never)]
+unsafe fn set_time_checked<M: Model>(c: Component, t: Real) -> Status {
     // SAFETY: the caller's contract.
     unsafe {
         call::<M>(c, Function::SetTime, "fmi2SetTime", |inst| {
@@ -97,7 +127,34 @@ pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
 ///
 /// # Safety
 /// `c` as above; `x` null or of `nx` entries.
+#[inline]
 pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
+    // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) } {
+        if nx == State::<M>::LEN && !x.is_null() {
+            // SAFETY: non-null, `nx` values (the caller's contract).
+            let values = unsafe { core::slice::from_raw_parts(x, nx) };
+            if let Some(state) = State::<M>::head(values).filter(|_| all_finite(values)) {
+                inst.x = *state;
+                return Status::Ok;
+            }
+        }
+    }
+    // SAFETY: the caller's contract.
+    unsafe { set_continuous_states_checked::<M>(c, x, nx) }
+}
+
+/// `fmi2SetContinuousStates` through [`call`]: a call to refuse, with the reason.
+///
+/// # Safety
+/// As [`set_continuous_states`].
+#[cold]
+#[inline(never)]
+unsafe fn set_continuous_states_checked<M: Model>(
+    c: Component,
+    x: *const Real,
+    nx: usize,
+) -> Status {
     let f = Function::SetContinuousStates;
     // SAFETY: the caller's contract.
     unsafe {
@@ -121,20 +178,17 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
 ///
 /// An importer's integrator calls it at every stage, in continuous-time mode with the
 /// model's number of states: that call is checked by four comparisons (an instance, its
-/// mode, the length, the array) and goes straight to the right-hand side, from the state
-/// `fmi2SetContinuousStates` checked, into the importer's array. Only Model Exchange enters
-/// continuous-time mode, and the state machine allows this function there (`modes`' test),
-/// so these comparisons decide what [`call`]'s would; every other call takes [`call`]'s
-/// path, with its messages.
+/// mode, the length, the array; see [`continuous`]) and goes straight to the right-hand
+/// side, from the state `fmi2SetContinuousStates` checked, into the importer's array; every
+/// other call takes [`call`]'s path, with its messages.
 ///
 /// # Safety
 /// `c` as above; `dx` null or of `nx` entries.
 #[inline]
 pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
-    // SAFETY: null or an instance of `M` used by one thread at a time (the caller's
-    // contract).
-    if let Some(inst) = unsafe { (c as *mut Instance<M>).as_mut() } {
-        if inst.mode == Mode::Continuous && nx == State::<M>::LEN && !dx.is_null() {
+    // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) } {
+        if nx == State::<M>::LEN && !dx.is_null() {
             // SAFETY: non-null, `nx` writable values (the caller's contract).
             let values = unsafe { core::slice::from_raw_parts_mut(dx, nx) };
             if let Some(out) = State::<M>::head_mut(values) {
