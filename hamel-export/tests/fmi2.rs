@@ -44,6 +44,7 @@ unsafe extern "C" {
     fn fmi2EnterEventMode(c: Component) -> Status;
     fn fmi2NewDiscreteStates(c: Component, info: *mut EventInfo) -> Status;
     fn fmi2EnterContinuousTimeMode(c: Component) -> Status;
+    fn fmi2SetTime(c: Component, t: f64) -> Status;
     fn fmi2SetContinuousStates(c: Component, x: *const f64, n: usize) -> Status;
     fn fmi2GetDerivatives(c: Component, dx: *mut f64, n: usize) -> Status;
     fn fmi2GetDirectionalDerivative(
@@ -361,10 +362,10 @@ fn bad_calls_are_refused_with_a_message() {
     assert!(other.is_null());
 }
 
-/// `fmi2GetDerivatives` in continuous-time mode has a path of its own (four comparisons
-/// before the right-hand side): what it must refuse there, it refuses.
+/// `fmi2SetTime`, `fmi2SetContinuousStates` and `fmi2GetDerivatives` in continuous-time mode
+/// have a path of their own (a few comparisons): what they must refuse there, they refuse.
 #[test]
-fn derivatives_in_continuous_time_mode_refuse_what_they_must() {
+fn continuous_time_mode_refuses_what_it_must() {
     let fmu = Fmu::new(ME);
     let running = || {
         unsafe { fmi2Reset(fmu.c) };
@@ -386,6 +387,25 @@ fn derivatives_in_continuous_time_mode_refuse_what_they_must() {
     assert_eq!(status, Status::Error);
     assert!(fmu.last().contains("null pointer"), "{}", fmu.last());
     running();
+    // A state or a time that is not finite, a null state.
+    let mut x = STATE;
+    x[2] = f64::NAN;
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, x.as_ptr(), 8) },
+        Status::Error
+    );
+    assert!(fmu.last().contains("x[2] (alpha) = NaN"), "{}", fmu.last());
+    running();
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, core::ptr::null(), 8) },
+        Status::Error
+    );
+    assert!(fmu.last().contains("null pointer"), "{}", fmu.last());
+    running();
+    assert_eq!(unsafe { fmi2SetTime(fmu.c, f64::INFINITY) }, Status::Error);
+    assert!(fmu.last().contains("time inf"), "{}", fmu.last());
+    running();
+    assert_eq!(unsafe { fmi2SetTime(fmu.c, 0.5) }, Status::Ok);
     // A finite state at which the right-hand side overflows: fmi2Discard, the derivative
     // named, and the importer may go on from another state.
     let mut x = STATE;
