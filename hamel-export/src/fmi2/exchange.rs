@@ -178,7 +178,7 @@ unsafe fn set_continuous_states_checked<M: Model>(
 ///
 /// An importer's integrator calls it at every stage, in continuous-time mode with the
 /// model's number of states: that call is checked by four comparisons (an instance, its
-/// mode, the length, the array; see [`continuous`]) and goes straight to the right-hand
+/// mode, the length, the array; see `continuous`) and goes straight to the right-hand
 /// side, from the state `fmi2SetContinuousStates` checked, into the importer's array; every
 /// other call takes [`call`]'s path, with its messages.
 ///
