@@ -252,6 +252,10 @@ fn write_if_changed(path: &Path, text: &str) -> Result<(), String> {
 ///   `hamel-export/src/fmi2/archive.rs` alone (the zip crate turns on memchr's `std`, which
 ///   would give the first build other features than the robot example's). It is built once
 ///   for every model.
+///
+/// The two examples' outputs are the same files for every model: export one model at a time
+/// into a target directory (a second export started meanwhile could replace the library
+/// between its build and its archive).
 mod fmu {
     use super::{repository, target_dir, write_if_changed};
     use std::path::{Path, PathBuf};
