@@ -41,8 +41,10 @@ unsafe extern "C" {
     fn fmi2Reset(c: Component) -> Status;
     fn fmi2SetReal(c: Component, vr: *const c_uint, n: usize, v: *const f64) -> Status;
     fn fmi2GetReal(c: Component, vr: *const c_uint, n: usize, v: *mut f64) -> Status;
+    fn fmi2EnterEventMode(c: Component) -> Status;
     fn fmi2NewDiscreteStates(c: Component, info: *mut EventInfo) -> Status;
     fn fmi2EnterContinuousTimeMode(c: Component) -> Status;
+    fn fmi2SetTime(c: Component, t: f64) -> Status;
     fn fmi2SetContinuousStates(c: Component, x: *const f64, n: usize) -> Status;
     fn fmi2GetDerivatives(c: Component, dx: *mut f64, n: usize) -> Status;
     fn fmi2GetDirectionalDerivative(
@@ -358,6 +360,74 @@ fn bad_calls_are_refused_with_a_message() {
         )
     };
     assert!(other.is_null());
+}
+
+/// `fmi2SetTime`, `fmi2SetContinuousStates` and `fmi2GetDerivatives` in continuous-time mode
+/// have a path of their own (a few comparisons): what they must refuse there, they refuse.
+#[test]
+fn continuous_time_mode_refuses_what_it_must() {
+    let fmu = Fmu::new(ME);
+    let running = || {
+        unsafe { fmi2Reset(fmu.c) };
+        fmu.start(&STATE);
+        continuous(&fmu);
+    };
+    running();
+    assert_eq!(fmu.derivatives().0, Status::Ok);
+    // A wrong length, either way, and a null array.
+    for n in [7, 9] {
+        let mut dx = [0.0; 9];
+        let status = unsafe { fmi2GetDerivatives(fmu.c, dx.as_mut_ptr(), n) };
+        assert_eq!(status, Status::Error);
+        let expected = format!("`derivatives` has {n} entries; the model has 8");
+        assert!(fmu.last().contains(&expected), "{}", fmu.last());
+        running();
+    }
+    let status = unsafe { fmi2GetDerivatives(fmu.c, core::ptr::null_mut(), 8) };
+    assert_eq!(status, Status::Error);
+    assert!(fmu.last().contains("null pointer"), "{}", fmu.last());
+    running();
+    // A state or a time that is not finite, a null state.
+    let mut x = STATE;
+    x[2] = f64::NAN;
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, x.as_ptr(), 8) },
+        Status::Error
+    );
+    assert!(fmu.last().contains("x[2] (alpha) = NaN"), "{}", fmu.last());
+    running();
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, core::ptr::null(), 8) },
+        Status::Error
+    );
+    assert!(fmu.last().contains("null pointer"), "{}", fmu.last());
+    running();
+    assert_eq!(unsafe { fmi2SetTime(fmu.c, f64::INFINITY) }, Status::Error);
+    assert!(fmu.last().contains("time inf"), "{}", fmu.last());
+    running();
+    assert_eq!(unsafe { fmi2SetTime(fmu.c, 0.5) }, Status::Ok);
+    // A finite state at which the right-hand side overflows: fmi2Discard, the derivative
+    // named, and the importer may go on from another state.
+    let mut x = STATE;
+    x[5..].fill(1e200);
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, x.as_ptr(), 8) },
+        Status::Ok
+    );
+    assert_eq!(fmu.derivatives().0, Status::Discard);
+    assert!(fmu.last().contains("is not finite"), "{}", fmu.last());
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(fmu.c, STATE.as_ptr(), 8) },
+        Status::Ok
+    );
+    assert_eq!(fmu.derivatives().0, Status::Ok, "{}", fmu.last());
+    // In event mode the derivatives are there too; a Co-Simulation instance has none.
+    assert_eq!(unsafe { fmi2EnterEventMode(fmu.c) }, Status::Ok);
+    assert_eq!(fmu.derivatives().0, Status::Ok, "{}", fmu.last());
+    let cs = Fmu::new(CS);
+    cs.start(&STATE);
+    assert_eq!(cs.derivatives().0, Status::Error);
+    assert!(cs.last().contains("instantiated for"), "{}", cs.last());
 }
 
 #[test]

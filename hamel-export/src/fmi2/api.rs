@@ -25,7 +25,8 @@ fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
 
 /// Run `body` on the instance `c` as the function `name`: the mode checked, a refusal or a
 /// panic logged and returned as its status. Inlined, with the refusals out of line, so that
-/// a call that succeeds costs its checks and nothing else (`fmi2GetDerivatives`).
+/// a call that succeeds costs its checks and nothing else (`fmi2GetDerivatives` in
+/// continuous-time mode checks less, and goes to [`run`] directly).
 ///
 /// # Safety
 /// `c` is null or an instance of `M` from [`instantiate`] not yet freed.
@@ -45,18 +46,37 @@ pub unsafe fn call<M: Model>(
     if !function.permits(instance.interface, instance.mode) {
         return out_of_order(instance, function, name);
     }
+    run(instance, name, body)
+}
+
+/// Run `body` on an instance whose mode allows it (checked by the caller): a refusal or a
+/// panic logged and returned as its status.
+#[inline]
+pub fn run<M: Model>(
+    instance: &mut Instance<M>,
+    name: &str,
+    body: impl FnOnce(&mut Instance<M>) -> Outcome,
+) -> Status {
     match catch_unwind(AssertUnwindSafe(|| body(&mut *instance))) {
         Ok(Ok(())) => Status::Ok,
         Ok(Err(refusal)) => report(instance, name, refusal),
-        Err(panic) => report(
-            instance,
-            name,
-            Refusal::error(format!(
-                "internal error (a bug, please report it): {}",
-                panic_message(&*panic)
-            )),
-        ),
+        Err(panic) => report_panic(instance, name, panic),
     }
+}
+
+/// A panic caught: `fmi2Error`, logged as the bug it is.
+#[cold]
+#[inline(never)]
+fn report_panic<M: Model>(
+    instance: &mut Instance<M>,
+    name: &str,
+    panic: Box<dyn std::any::Any + Send>,
+) -> Status {
+    let message = format!(
+        "internal error (a bug, please report it): {}",
+        panic_message(&*panic)
+    );
+    report(instance, name, Refusal::error(message))
 }
 
 /// A call the instance's mode or interface does not allow: `fmi2Error`, logged.

@@ -1,9 +1,12 @@
 //! The `.fmu` file: a zip archive of `modelDescription.xml` and the library under
 //! `binaries/<platform>/<modelIdentifier>.<so|dll|dylib>`, one for each platform it was
 //! built for (feature `fmu`).
+//!
+//! Nothing here knows the model (the description comes as text): the export example
+//! compiles this file alone, with zip, into the small program that writes a catalogue
+//! model's archive, so that the zip crate (which turns on memchr's `std`) stays out of the
+//! build that shares the catalogue with the robot example.
 
-use super::description::model_description;
-use crate::model::Model;
 use std::io::Write;
 use std::path::Path;
 use zip::CompressionMethod;
@@ -33,12 +36,13 @@ fn extension(platform: &str) -> Option<&'static str> {
     }
 }
 
-/// Writes the FMU of `M` as `identifier` to `out`: its description, and `library` (this
-/// crate's `cdylib` with [`crate::fmi2!`], built for this platform) as
+/// Writes the FMU `identifier` to `out`: `description` as `modelDescription.xml`, and
+/// `library` (a `cdylib` with `hamel_export::fmi2!`, built for this platform) as
 /// `binaries/<platform>/<identifier>.<ext>`. `others` adds libraries built for other
 /// platforms (`("win64", path to the .dll)`, …).
-pub fn write_fmu<M: Model>(
+pub fn write_archive(
     identifier: &str,
+    description: &str,
     library: &Path,
     others: &[(String, &Path)],
     out: &Path,
@@ -55,7 +59,7 @@ pub fn write_fmu<M: Model>(
     let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", out.display());
     zip.start_file("modelDescription.xml", options)
         .map_err(|e| fail(&e))?;
-    zip.write_all(model_description::<M>(identifier).as_bytes())
+    zip.write_all(description.as_bytes())
         .map_err(|e| fail(&e))?;
     for (platform, path) in libraries {
         let ext = extension(&platform).ok_or_else(|| {

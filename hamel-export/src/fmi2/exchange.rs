@@ -3,8 +3,8 @@
 //! and no discrete states of its own (hamel's events belong to a simulation, not to a
 //! model), so event mode only passes through.
 
-use super::api::{call, check_count, count_refusal, read, write, write_one};
-use super::instance::Refusal;
+use super::api::{call, check_count, count_refusal, read, run, write, write_one};
+use super::instance::{Instance, Refusal, State, all_finite};
 use super::modes::{Function, Mode};
 use super::types::*;
 use crate::model::Model;
@@ -74,11 +74,41 @@ pub unsafe fn completed_integrator_step<M: Model>(
     }
 }
 
+/// The instance `c` if it is in continuous-time mode: where an importer's integrator calls
+/// `fmi2SetTime`, `fmi2SetContinuousStates` and `fmi2GetDerivatives` at every stage. Only
+/// Model Exchange enters that mode, and the state machine allows the three there (`modes`'
+/// test), so this one comparison decides what [`call`]'s would.
+///
+/// # Safety
+/// `c` is null or an instance of `M` used by one thread at a time.
+#[inline]
+unsafe fn continuous<'a, M: Model>(c: Component) -> Option<&'a mut Instance<M>> {
+    // SAFETY: the caller's contract.
+    unsafe { (c as *mut Instance<M>).as_mut() }.filter(|inst| inst.mode == Mode::Continuous)
+}
+
 /// `fmi2SetTime`.
 ///
 /// # Safety
 /// `c` as above.
+#[inline]
 pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
+    // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) }.filter(|_| t.is_finite()) {
+        inst.t = t;
+        return Status::Ok;
+    }
+    // SAFETY: the caller's contract.
+    unsafe { set_time_checked::<M>(c, t) }
+}
+
+/// `fmi2SetTime` through [`call`]: in event mode, or a call to refuse.
+///
+/// # Safety
+/// As [`set_time`].
+#[cold]
+#[inline(never)]
+unsafe fn set_time_checked<M: Model>(c: Component, t: Real) -> Status {
     // SAFETY: the caller's contract.
     unsafe {
         call::<M>(c, Function::SetTime, "fmi2SetTime", |inst| {
@@ -97,7 +127,34 @@ pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
 ///
 /// # Safety
 /// `c` as above; `x` null or of `nx` entries.
+#[inline]
 pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
+    // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) } {
+        if nx == State::<M>::LEN && !x.is_null() {
+            // SAFETY: non-null, `nx` values (the caller's contract).
+            let values = unsafe { core::slice::from_raw_parts(x, nx) };
+            if let Some(state) = State::<M>::head(values).filter(|_| all_finite(values)) {
+                inst.x = *state;
+                return Status::Ok;
+            }
+        }
+    }
+    // SAFETY: the caller's contract.
+    unsafe { set_continuous_states_checked::<M>(c, x, nx) }
+}
+
+/// `fmi2SetContinuousStates` through [`call`]: a call to refuse, with the reason.
+///
+/// # Safety
+/// As [`set_continuous_states`].
+#[cold]
+#[inline(never)]
+unsafe fn set_continuous_states_checked<M: Model>(
+    c: Component,
+    x: *const Real,
+    nx: usize,
+) -> Status {
     let f = Function::SetContinuousStates;
     // SAFETY: the caller's contract.
     unsafe {
@@ -119,22 +176,50 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
 
 /// `fmi2GetDerivatives`: the generated right-hand side, allocation-free.
 ///
+/// An importer's integrator calls it at every stage, in continuous-time mode with the
+/// model's number of states: that call is checked by four comparisons (an instance, its
+/// mode, the length, the array; see `continuous`) and goes straight to the right-hand
+/// side, from the state `fmi2SetContinuousStates` checked, into the importer's array; every
+/// other call takes [`call`]'s path, with its messages.
+///
 /// # Safety
 /// `c` as above; `dx` null or of `nx` entries.
+#[inline]
 pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
     // SAFETY: the caller's contract.
+    if let Some(inst) = unsafe { continuous::<M>(c) } {
+        if nx == State::<M>::LEN && !dx.is_null() {
+            // SAFETY: non-null, `nx` writable values (the caller's contract).
+            let values = unsafe { core::slice::from_raw_parts_mut(dx, nx) };
+            if let Some(out) = State::<M>::head_mut(values) {
+                return run::<M>(inst, GET_DERIVATIVES, |inst| {
+                    inst.derivatives_into(&inst.x, out)
+                });
+            }
+        }
+    }
+    // SAFETY: the caller's contract.
+    unsafe { get_derivatives_checked::<M>(c, dx, nx) }
+}
+
+const GET_DERIVATIVES: &str = "fmi2GetDerivatives";
+
+/// `fmi2GetDerivatives` through [`call`]: outside continuous-time mode (the derivatives at
+/// the start values, in initialization mode), or a call to refuse.
+///
+/// # Safety
+/// As [`get_derivatives`].
+#[cold]
+#[inline(never)]
+unsafe fn get_derivatives_checked<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
+    // SAFETY: the caller's contract.
     unsafe {
-        call::<M>(c, Function::GetDerivatives, "fmi2GetDerivatives", |inst| {
+        call::<M>(c, Function::GetDerivatives, GET_DERIVATIVES, |inst| {
             let out = write(dx, nx, "derivatives")?;
-            let out = <M::System as HamelSystem>::State::head_mut(out)
+            let out = State::<M>::head_mut(out)
                 .filter(|_| nx == inst.table.sizes.nx)
                 .ok_or_else(|| count_refusal("derivatives", nx, inst.table.sizes.nx))?;
-            if inst.mode == Mode::Continuous {
-                // The hot path: the importer's state, straight into its array.
-                inst.derivatives_into(&inst.x, out)
-            } else {
-                inst.derivatives_into(&inst.current()?, out)
-            }
+            inst.derivatives_into(&inst.current()?, out)
         })
     }
 }

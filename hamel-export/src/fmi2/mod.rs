@@ -35,12 +35,24 @@ pub mod instance;
 pub mod logger;
 pub mod modes;
 pub mod snapshot;
-#[cfg(feature = "fmu")]
 pub mod tool;
 pub mod types;
 pub mod units;
 pub mod variables;
 
-#[cfg(feature = "fmu")]
-pub use archive::write_fmu;
 pub use description::{guid, model_description};
+
+/// Writes the FMU of `M` as `identifier` to `out`: its description, and `library` (this
+/// crate's `cdylib` with [`crate::fmi2!`], built for this platform) as
+/// `binaries/<platform>/<identifier>.<ext>`. `others` adds libraries built for other
+/// platforms (`("win64", path to the .dll)`, …). Feature `fmu`.
+#[cfg(feature = "fmu")]
+pub fn write_fmu<M: crate::Model>(
+    identifier: &str,
+    library: &std::path::Path,
+    others: &[(String, &std::path::Path)],
+    out: &std::path::Path,
+) -> Result<(), String> {
+    let description = model_description::<M>(identifier);
+    archive::write_archive(identifier, &description, library, others, out)
+}

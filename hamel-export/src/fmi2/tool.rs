@@ -1,4 +1,4 @@
-//! The command line of an FMU's crate (its small binary is `main` below, feature `fmu`):
+//! The command line of an FMU's crate (its small binary is `main` below):
 //!
 //! ```text
 //! <model>-fmu fmu OUT.fmu LIBRARY [PLATFORM=LIBRARY]...   the FMU, with other platforms' builds
@@ -6,16 +6,17 @@
 //! <model>-fmu simulate OUT.csv [OPTION VALUE]... [NAME=VALUE]...
 //! ```
 //!
+//! `fmu` needs the feature `fmu` (the zip archive); without it the export example writes
+//! the archive from the description (`hamel-export/src/fmi2/archive.rs`).
+//!
 //! `simulate` is hamel's own run of the model (`Simulation` with Dormand–Prince), what an
 //! FMU's run is compared with: options `--t-end` (3), `--dt` (0.01), `--rtol` (1e-9),
 //! `--atol` (1e-12); `NAME=VALUE` sets a parameter, a start value (the dependent coordinates
 //! are solved from the others, as the FMU does) or a constant input by its name.
 
-use super::archive::write_fmu;
 use super::description::model_description;
 use crate::model::Model;
 use hamel_runtime::{DormandPrince, HamelSystem, Parameters, Simulation, Vector};
-use std::path::Path;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: MODEL-fmu fmu OUT.fmu LIBRARY [PLATFORM=LIBRARY]...
@@ -37,17 +38,25 @@ pub fn main<M: Model>(identifier: &str) -> ExitCode {
 /// [`main`] on given arguments.
 pub fn run<M: Model>(identifier: &str, args: &[String]) -> Result<(), String> {
     match args {
+        #[cfg(feature = "fmu")]
         [command, out, library, others @ ..] if command == "fmu" => {
             let others = others
                 .iter()
                 .map(|o| {
                     o.split_once('=')
-                        .map(|(p, l)| (p.to_string(), Path::new(l)))
+                        .map(|(p, l)| (p.to_string(), std::path::Path::new(l)))
                         .ok_or_else(|| format!("`{o}` is not PLATFORM=LIBRARY\n{USAGE}"))
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            write_fmu::<M>(identifier, Path::new(library), &others, Path::new(out))
+            let (library, out) = (std::path::Path::new(library), std::path::Path::new(out));
+            super::write_fmu::<M>(identifier, library, &others, out)
         }
+        #[cfg(not(feature = "fmu"))]
+        [command, ..] if command == "fmu" => Err(
+            "this program was built without hamel-export's feature `fmu` (the zip archive): \
+             build it with that feature, or write the archive from `description`'s output"
+                .to_string(),
+        ),
         [command, out] if command == "description" => {
             std::fs::write(out, model_description::<M>(identifier))
                 .map_err(|e| format!("cannot write {out}: {e}"))
