@@ -9,7 +9,9 @@ L_{g_j} phi = (d phi / dx) g_j:
 
 - for the robot, from the SX model of the paper's equations (robot_sx.py, with its outputs
   written out): CasADi's symbolic derivatives, nothing of hamel's;
-- for the Whipple bicycle, through the external functions `whipple_bicycle_f` and
+- for the Whipple bicycle, from the SX model whose mechanics CasADi derives (whipple_sx.py,
+  its outputs the lean and the steer angle), likewise nothing of hamel's; and through the
+  external functions `whipple_bicycle_f` and
   `whipple_bicycle_h` themselves: the Jacobians and Hessians CasADi takes of the external
   calls (hamel's exported first and second derivative functions, a code path of their own:
   the Lie derivatives are emitted by the macro from their own derivation). CasADi cannot
@@ -20,9 +22,9 @@ L_{g_j} phi = (d phi / dx) g_j:
 
 import casadi as ca
 import numpy as np
-import pytest
 
 import robot_sx
+import whipple_sx
 
 RNG = np.random.default_rng(35)
 
@@ -104,37 +106,15 @@ def test_the_robots_lie_derivatives_are_casadis_of_the_sx_model(robot_library):
     print(f"robot: largest Lie derivative difference, relative: {worst:.2e}")
 
 
-@pytest.fixture(scope="session")
-def bicycle_library(outdir):
-    path = outdir / "libwhipple_bicycle.so"
-    if not path.exists():
-        raise RuntimeError(
-            f"{path} is missing: `cargo run --release --example export -- casadi "
-            f"whipple_bicycle {outdir}` writes it"
-        )
-    return str(path)
-
-
-def bicycle_parameters(library):
-    import ctypes
-
-    c = ctypes.CDLL(library)
-    d = ctypes.POINTER(ctypes.c_double)
-    c.whipple_bicycle_default_parameters.argtypes = [d, ctypes.c_size_t]
-    p = np.zeros(26)
-    assert c.whipple_bicycle_default_parameters(p.ctypes.data_as(d), 26) == 0
-    return p
-
-
 def test_the_bicycles_lie_derivatives_are_casadis_through_the_external_functions(
-        bicycle_library):
+        bicycle_library, bicycle_parameters):
     f = ca.external("whipple_bicycle_f", bicycle_library)
     h = ca.external("whipple_bicycle_h", bicycle_library)
     lie = ca.external("whipple_bicycle_lie", bicycle_library)
     x, u, p = ca.MX.sym("x", 11), ca.MX.sym("u", 2), ca.MX.sym("p", 26)
     reference = ca.Function("lie_mx", [x, p], [lie_of_order_two(f, h, x, u, p)])
     assert lie.size1_out(0) == reference.size1_out(0) == 14
-    defaults = bicycle_parameters(bicycle_library)
+    defaults = bicycle_parameters
     worst = 0.0
     for _ in range(50):
         # Lean and steer within +-0.5 rad, the frame's pitch small, any speed up to 10 m/s.
@@ -147,3 +127,26 @@ def test_the_bicycles_lie_derivatives_are_casadis_through_the_external_functions
         worst = max(worst, err)
         assert ok, err
     print(f"bicycle: largest Lie derivative difference, relative: {worst:.2e}")
+
+
+def test_the_bicycles_lie_derivatives_are_casadis_of_the_sx_model(bicycle_library,
+                                                                  bicycle_parameters):
+    lie = ca.external("whipple_bicycle_lie", bicycle_library)
+    x, u, p = ca.SX.sym("x", 11), ca.SX.sym("u", 2), ca.SX.sym("p", 26)
+
+    def lean_and_steer(x, _p):
+        return ca.vertcat(x[3], x[5])
+
+    reference = ca.Function("lie_sx", [x, p],
+                            [lie_by_definition(whipple_sx.rhs, lean_and_steer, x, u, p, 2)])
+    worst = 0.0
+    for _ in range(30):
+        # States on the contact: the pitch solved for the lean and steer.
+        xv = RNG.uniform(-0.5, 0.5, 11)
+        xv[8:10] = RNG.uniform(-2.0, 2.0, 2)
+        xv[10] = RNG.uniform(-30.0, 30.0)
+        xv[4] = whipple_sx.pitch(xv[3], xv[5], ca.DM(bicycle_parameters))
+        ok, err = close(lie(xv, bicycle_parameters), reference(xv, bicycle_parameters), 1e-12)
+        worst = max(worst, err)
+        assert ok, err
+    print(f"bicycle (SX model): largest Lie derivative difference, relative: {worst:.2e}")
