@@ -4,9 +4,9 @@ The Whipple bicycle of Meijaard, Papadopoulos, Ruina and Schwab (Proc. R. Soc. A
 1955-1982, 2007; hamel's `whipple_bicycle`, the full nonlinear model: 11 states, the
 benchmark's parameters) runs at SPEED = 2 m/s, below its weave speed (4.29 m/s): there the
 uncontrolled bicycle is unstable (the paper's Table 2 at 2 m/s: the weave pair
-2.682 +- 1.681i) and falls. It starts leaning LEAN rad; a nonlinear model predictive controller holds it upright
-with the steer torque alone, bounded by TAU_MAX (the roll torque, between the ground and the
-rear frame, is no actuator a rider has: it stays zero).
+2.682 +- 1.681i) and falls. It starts leaning LEAN rad; a nonlinear model predictive
+controller holds it upright with the steer torque alone, bounded by TAU_MAX (the roll
+torque, between the ground and the rear frame, is no actuator a rider has: it stays zero).
 
 Each sampling period DT the controller solves, from the measured state, an optimal control
 problem over a horizon of N periods: multiple shooting (one RK4 step per period) in CasADi's
@@ -17,7 +17,13 @@ that `#[hamel_system]` emits), warm-started from the previous solution; it appli
 first torque for DT. The plant is not the controller's discretization: CasADi's CVODES
 (BDF, tolerances 1e-10) integrates the same external right-hand side over each period.
 
-    python bicycle_upright.py OUTDIR [--figure bicycle_upright.svg] [--json result.json]
+Then the first period's problem (from the initial lean, cold start) is solved again, on
+hamel's functions and on CasADi's own model of the bicycle (tests/python/whipple_sx.py: the
+same bodies, the mechanics derived by CasADi in SX), interleaved: the same optimum, and the
+time per solve and per IPOPT iteration. (The closed loop runs on hamel's functions alone:
+on the SX model its 60 solves would take minutes.)
+
+    python bicycle_upright.py OUTDIR [--repeat 1] [--figure bicycle.svg] [--json out.json]
 
 checks, and exits nonzero when one fails:
 
@@ -27,11 +33,12 @@ checks, and exits nonzero when one fails:
 2. without control (torques zero, the same integrator) the lean grows past FALLEN rad;
 3. with the controller every solve converges, the torque stays within its bound, and the lean
    is below SETTLED rad for the last second and never above BOUNDED (1.5 times the initial
-   lean).
+   lean);
+4. the first period's optimum on the SX model is hamel's (states within 1e-6).
 
-It prints the eigenvalues, the open and closed loops' lean, and the time per solve (median
-and p10-p90 over the run's solves, and IPOPT iterations); writes the figure of lean, steer
-and steer torque over time.
+It prints the eigenvalues, the open and closed loops' lean, the closed loop's time per solve
+(median and p10-p90 over its solves, and IPOPT iterations) and the comparison; writes the
+figure of lean, steer and steer torque over time.
 """
 
 import argparse
@@ -44,6 +51,9 @@ import time
 
 import casadi as ca
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "tests" / "python"))
+import whipple_sx  # noqa: E402
 
 SPEED = 2.0  # m/s, below the weave speed 4.29 m/s
 LEAN = 0.1  # rad, the initial lean (to the right)
@@ -144,15 +154,16 @@ def open_loop(bike, period):
     return np.array(states)
 
 
-def controller(bike):
-    """The optimal control problem as a function: (x0, warm start) -> (torques, states,
-    status). Minimizes lean, steer and their rates, and the steer torque, over the horizon."""
+def controller(f, p):
+    """The optimal control problem on the right-hand side `f(x, u, p)` as a function:
+    (x0, warm start) -> (torques, states). Minimizes lean, steer and their rates, and the
+    steer torque, over the horizon."""
     h = DT
     x, u = ca.MX.sym("x", NX), ca.MX.sym("u", NU)
-    k1 = bike.f(x, u, bike.p)
-    k2 = bike.f(x + h / 2 * k1, u, bike.p)
-    k3 = bike.f(x + h / 2 * k2, u, bike.p)
-    k4 = bike.f(x + h * k3, u, bike.p)
+    k1 = f(x, u, p)
+    k2 = f(x + h / 2 * k1, u, p)
+    k3 = f(x + h / 2 * k2, u, p)
+    k4 = f(x + h * k3, u, p)
     step = ca.Function("rk4", [x, u], [x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
 
     opti = ca.Opti()
@@ -183,29 +194,60 @@ def stage(x, tau):
             + 0.1 * x[STEER_RATE] ** 2 + 0.1 * tau ** 2) * DT
 
 
-def closed_loop(bike, period, nmpc):
-    x = bike.upright(SPEED, LEAN)
-    X_guess = np.tile(x[:, None], (1, N + 1))
-    tau_guess = np.zeros((1, N))
-    states, torques, seconds, iterations = [x], [], [], []
-    for _ in range(round(T_END / DT)):
+class Loop:
+    """One closed loop: a controller, the plant's state, and what the run recorded."""
+
+    def __init__(self, bike, nmpc):
+        self.nmpc = nmpc
+        x = bike.upright(SPEED, LEAN)
+        self.X_guess = np.tile(x[:, None], (1, N + 1))
+        self.tau_guess = np.zeros((1, N))
+        self.states, self.torques, self.seconds, self.iterations = [x], [], [], []
+
+    def step(self, period):
+        """Solve from the current state, apply the first torque for one period."""
+        x = self.states[-1]
         start = time.perf_counter()
-        tau_opt, X_opt = nmpc(x, X_guess, tau_guess)
-        seconds.append(time.perf_counter() - start)
-        stats = nmpc.stats()
+        tau_opt, X_opt = self.nmpc(x, self.X_guess, self.tau_guess)
+        self.seconds.append(time.perf_counter() - start)
+        stats = self.nmpc.stats()
         if not stats["success"]:
-            sys.exit(f"the NMPC solve at t = {DT * len(torques):.2f} s failed: "
+            sys.exit(f"the NMPC solve at t = {DT * len(self.torques):.2f} s failed: "
                      f"{stats['return_status']}")
-        iterations.append(stats["iter_count"])
+        self.iterations.append(stats["iter_count"])
         tau_opt, X_opt = np.array(tau_opt), np.array(X_opt)
-        torques.append(float(tau_opt[0, 0]))
-        x = np.array(period(x0=x, p=[0.0, torques[-1]])["xf"]).ravel()
-        states.append(x)
+        self.torques.append(float(tau_opt[0, 0]))
+        x = np.array(period(x0=x, p=[0.0, self.torques[-1]])["xf"]).ravel()
+        self.states.append(x)
         # Warm start: the solution shifted by one period, its last column repeated.
-        X_guess = np.hstack([X_opt[:, 1:], X_opt[:, -1:]])
-        X_guess[:, 0] = x
-        tau_guess = np.hstack([tau_opt[:, 1:], tau_opt[:, -1:]])
-    return np.array(states), np.array(torques), seconds, iterations
+        self.X_guess = np.hstack([X_opt[:, 1:], X_opt[:, -1:]])
+        self.X_guess[:, 0] = x
+        self.tau_guess = np.hstack([tau_opt[:, 1:], tau_opt[:, -1:]])
+
+
+def closed_loop(bike, period, nmpc):
+    loop = Loop(bike, nmpc)
+    for _ in range(round(T_END / DT)):
+        loop.step(period)
+    return loop
+
+
+def first_solves(bike, controllers, repeat):
+    """The first period's problem (from the initial lean, the same cold start) solved on
+    each model `repeat` times, interleaved: {name: (optimal states, iterations, seconds)}."""
+    x = bike.upright(SPEED, LEAN)
+    X_guess, tau_guess = np.tile(x[:, None], (1, N + 1)), np.zeros((1, N))
+    results = {name: [] for name in controllers}
+    for _ in range(repeat):
+        for name, nmpc in controllers.items():
+            start = time.perf_counter()
+            _, X_opt = nmpc(x, X_guess, tau_guess)
+            seconds = time.perf_counter() - start
+            stats = nmpc.stats()
+            if not stats["success"]:
+                sys.exit(f"the first solve on {name} failed: {stats['return_status']}")
+            results[name].append((np.array(X_opt), stats["iter_count"], seconds))
+    return results
 
 
 def figure(path, open_states, states, torques):
@@ -240,64 +282,99 @@ def percentile(values, q):
     return float(np.percentile(values, q))
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("outdir", help="where libwhipple_bicycle.so is")
-    parser.add_argument("--figure")
-    parser.add_argument("--json")
-    args = parser.parse_args()
-    bike = Bicycle(args.outdir)
-    failures = []
-
+def linearization_report(bike, failures):
     print("lateral eigenvalues of the external function's linearization (1/s):")
     worst, unstable = check_eigenvalues(bike)
     if worst > 1e-12:
         failures.append(f"eigenvalues differ from Table 2 by {worst:.1e} > 1e-12")
     if unstable <= 0:
         failures.append(f"at {SPEED} m/s the largest real part is {unstable}, not positive")
+    return {"eigenvalue_difference": worst}
 
-    period = plant(bike)
-    falling = open_loop(bike, period)
+
+def open_loop_report(falling, failures):
     fallen_at = DT * (len(falling) - 1)
-    print(f"no control: the lean passes {FALLEN} rad at t = {fallen_at:.2f} s"
-          if abs(falling[-1, PHI]) > FALLEN else
-          f"no control: the lean is {falling[-1, PHI]:.3f} rad at {T_END} s")
-    if abs(falling[-1, PHI]) <= FALLEN:
+    if abs(falling[-1, PHI]) > FALLEN:
+        print(f"no control: the lean passes {FALLEN} rad at t = {fallen_at:.2f} s")
+    else:
+        print(f"no control: the lean is {falling[-1, PHI]:.3f} rad at {T_END} s")
         failures.append(f"the uncontrolled bicycle did not fall ({falling[-1, PHI]:.3f} rad)")
+    return {"fallen_at_s": fallen_at}
 
-    nmpc = controller(bike)
-    states, torques, seconds, iterations = closed_loop(bike, period, nmpc)
+
+def closed_loop_report(loop, failures):
+    states, torques = np.array(loop.states), np.array(loop.torques)
     t = DT * np.arange(len(states))
-    last_second = np.max(np.abs(states[t >= T_END - 1.0, PHI]))
+    last_second = float(np.max(np.abs(states[t >= T_END - 1.0, PHI])))
     largest = float(np.max(np.abs(states[:, PHI])))
     largest_torque = float(np.max(np.abs(torques)))
+    ms = [1e3 * s for s in loop.seconds]
     print(f"NMPC ({len(torques)} solves, horizon {N * DT:.2f} s, |steer torque| <= {TAU_MAX} "
           f"N m): largest lean {largest:.4f} rad, |lean| <= {last_second:.1e} rad in the "
           f"last second, largest steer torque {largest_torque:.3f} N m")
-    ms = [1e3 * s for s in seconds]
     print(f"time per solve: median {statistics.median(ms):.1f} ms (p10-p90 "
           f"{percentile(ms, 10):.1f}-{percentile(ms, 90):.1f} ms), IPOPT iterations median "
-          f"{statistics.median(iterations)} (range {min(iterations)}-{max(iterations)}); "
-          f"the first solve (cold start) {ms[0]:.1f} ms")
+          f"{statistics.median(loop.iterations)} (range {min(loop.iterations)}-"
+          f"{max(loop.iterations)}); the first solve (cold start) {ms[0]:.1f} ms")
     if last_second > SETTLED:
         failures.append(f"the lean is {last_second:.1e} rad in the last second (> {SETTLED})")
     if largest > BOUNDED:
         failures.append(f"the lean grew to {largest:.4f} rad (> {BOUNDED} rad)")
     if largest_torque > TAU_MAX * (1 + 1e-6):
         failures.append(f"the steer torque reached {largest_torque} N m")
+    return {"largest_lean": largest, "last_second_lean": last_second,
+            "largest_torque": largest_torque, "solve_ms": ms, "iterations": loop.iterations}
 
+
+def comparison_report(bike, repeat, failures):
+    """The first period's problem on hamel's functions and on CasADi's SX model."""
+    start = time.perf_counter()
+    sx = controller(whipple_sx.function(), bike.p)
+    built = time.perf_counter() - start
+    results = first_solves(bike, {"hamel": controller(bike.f, bike.p), "sx": sx}, repeat)
+    print(f"the first period's problem (cold start), {repeat} solves each, interleaved "
+          f"(the SX problem built in {built:.1f} s):")
+    print(f"{'model':6} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
+          f"{'max |X - X_hamel|':>18}")
+    reference = results["hamel"][-1][0]
+    report = {}
+    for name, runs in results.items():
+        states, iterations, _ = runs[-1]
+        seconds = statistics.median(r[2] for r in runs)
+        difference = float(np.max(np.abs(states - reference)))
+        print(f"{name:6} {iterations:>10} {1e3 * seconds:>11.1f} "
+              f"{1e3 * seconds / iterations:>19.2f} {difference:>18.1e}")
+        report[name] = {"iterations": iterations, "solves_ms": [1e3 * r[2] for r in runs],
+                        "max_state_difference": difference}
+        if difference > 1e-6:
+            failures.append(f"the optimum on {name} differs from hamel's by {difference:.1e}")
+    ratios = [b[2] / a[2] for a, b in zip(results["hamel"], results["sx"])]
+    print(f"solve time sx / hamel: median {statistics.median(ratios):.1f} "
+          f"(range {min(ratios):.1f}-{max(ratios):.1f} over {len(ratios)} rounds)")
+    return report
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("outdir", help="where libwhipple_bicycle.so is")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="solves of the first period's problem on each model")
+    parser.add_argument("--figure")
+    parser.add_argument("--json")
+    args = parser.parse_args()
+    bike = Bicycle(args.outdir)
+    failures = []
+    report = linearization_report(bike, failures)
+    period = plant(bike)
+    falling = open_loop(bike, period)
+    report.update(open_loop_report(falling, failures))
+    loop = closed_loop(bike, period, controller(bike.f, bike.p))
+    report["closed_loop"] = closed_loop_report(loop, failures)
+    report["first_solve"] = comparison_report(bike, args.repeat, failures)
     if args.figure:
-        figure(args.figure, falling, states, torques)
+        figure(args.figure, falling, np.array(loop.states), np.array(loop.torques))
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps({
-            "eigenvalue_difference": worst,
-            "fallen_at_s": fallen_at,
-            "largest_lean": largest,
-            "last_second_lean": float(last_second),
-            "largest_torque": largest_torque,
-            "solve_ms": ms,
-            "iterations": iterations,
-        }, indent=1))
+        pathlib.Path(args.json).write_text(json.dumps(report, indent=1))
     if failures:
         sys.exit("; ".join(failures))
 
