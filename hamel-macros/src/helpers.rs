@@ -9,6 +9,8 @@
 //! `hamel::__hamel_with_helpers!` with the model and the helpers' tokens appended; with
 //! several helper sets, each calls the next. The last call expands the model with every
 //! helper known by name, and differentiates through them like the model's own functions.
+//! Beside the first call, the model stands in for itself should a set's macro be missing
+//! (`system::helpers_stand_in`), so that rustc's "cannot find macro" is the only error.
 //! (The technique of `macro_rules_attribute` and `ambassador`.)
 
 use proc_macro2::{Delimiter, Group, TokenStream, TokenTree};
@@ -144,10 +146,27 @@ fn pass_on(
 ) -> TokenStream {
     let marker = format_ident!("{}", MARKER);
     let helpers = helpers.iter().map(|h| quote!({ #h }));
-    let bang = quote::quote_spanned!(first.span()=> !);
-    quote! {
-        #first #bang { #marker [#(#rest),*] { #attr } { #item } #(#helpers)* }
-    }
+    invoke(
+        first,
+        quote!(#marker [#(#rest),*] { #attr } { #item } #(#helpers)*),
+    )
+}
+
+/// `set! { tokens }`, spanned at the name the user wrote. Every call of a set's macro is
+/// spelled so, so that when the name holds no helpers, rustc's "cannot find macro" is the
+/// same diagnostic at each call, which rustc reports once.
+pub fn invoke(set: &syn::Path, tokens: TokenStream) -> TokenStream {
+    let bang = quote::quote_spanned!(set.span()=> !);
+    quote!(#set #bang { #tokens })
+}
+
+/// The marker of the call that a model's stand-in makes of each helper set's macro
+/// (`helpers_stand_in`): the call gives `0` once the set's macro exists.
+pub const STAND_IN_MARKER: &str = "__hamel_stand_in";
+
+/// Whether `input`, passed back by a helper set's macro, is the stand-in's call.
+pub fn is_stand_in_call(input: &TokenStream) -> bool {
+    matches!(input.clone().into_iter().next(), Some(TokenTree::Ident(i)) if i == STAND_IN_MARKER)
 }
 
 /// Read the tokens a helper macro passed back.

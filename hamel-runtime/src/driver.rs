@@ -45,6 +45,7 @@ impl Clock {
     }
 
     /// One more step or sample: whether to read the clock now.
+    #[inline]
     fn tick(&mut self) -> bool {
         self.since_read += 1;
         self.since_read >= self.between
@@ -114,17 +115,27 @@ where
 
     /// Whether the progress callback is due after one more step or sample: never called
     /// yet, or not for a while (the clock is read only every so many steps and samples).
+    /// Called at every step and sample of a watched run, so its common answer — not due, the
+    /// clock not to be read — is inlined; the rest is out of line.
+    #[inline]
     fn progress_due(&mut self) -> bool {
         if self.progress.is_none() {
             return false;
         }
-        let Some(last) = self.reported else {
-            return true;
-        };
-        self.clock.tick() && self.clock.read().duration_since(last) >= PROGRESS_INTERVAL
+        match self.reported {
+            None => true,
+            Some(last) => self.clock.tick() && self.interval_passed(last),
+        }
+    }
+
+    /// Whether the progress interval has passed since `last`, by the clock read now.
+    #[inline(never)]
+    fn interval_passed(&mut self, last: Instant) -> bool {
+        self.clock.read().duration_since(last) >= PROGRESS_INTERVAL
     }
 
     /// Calls the progress callback at time t; whether it asked to stop.
+    #[inline(never)]
     fn report_progress(&mut self, t: f64) -> bool {
         let Some(progress) = self.progress else {
             return false;
@@ -142,6 +153,7 @@ where
 
     /// Whether the run is to be cancelled at t: the progress callback, if due, asked to stop
     /// (the run is then recorded as cancelled at t).
+    #[inline]
     fn cancelled_at(&mut self, t: f64) -> bool {
         let cancel = self.progress_due() && self.report_progress(t);
         if cancel {
@@ -199,9 +211,40 @@ where
             || self.driver.crossings.is_some()
     }
 
+    fn reads_inside_steps(&self) -> bool {
+        self.driver.watching_events || self.driver.crossings.is_some()
+    }
+
     fn step(&mut self, view: &StepView<'_, V>) -> Result<Control, Error> {
+        self.driver.steps += 1;
+        // A run watched by its progress callback alone (as every run from Python is) comes
+        // here at each step: the events and crossings are out of line, so that this stays a
+        // few instructions.
+        if self.driver.watching_events || self.driver.crossings.is_some() {
+            if let Control::Stop(t) = self.watch_step(view)? {
+                return Ok(Control::Stop(t));
+            }
+        }
+        if self.driver.cancelled_at(view.t1) {
+            return Ok(Control::Stop(view.t1));
+        }
+        Ok(Control::Continue)
+    }
+}
+
+impl<'a, 's, 'e, S, F, G> States<'_, Driver<'a, 's, 'e, S, F>, G>
+where
+    S: HamelSystem,
+    F: FnMut(f64, &S::State) -> S::Inputs,
+{
+    /// The crossings and events within an accepted step; a terminal event stops the run.
+    #[inline(never)]
+    fn watch_step<V>(&mut self, view: &StepView<'_, V>) -> Result<Control, Error>
+    where
+        V: crate::vector::Vector,
+        G: Fn(&V) -> (S::State, f64),
+    {
         let driver = &mut *self.driver;
-        driver.steps += 1;
         if let Some(crossings) = &mut driver.crossings {
             let split = &self.split;
             crossings.step(driver.system, view, |v| split(v).0);
@@ -214,9 +257,6 @@ where
                     return Ok(Control::Stop(event.t));
                 }
             }
-        }
-        if driver.cancelled_at(view.t1) {
-            return Ok(Control::Stop(view.t1));
         }
         Ok(Control::Continue)
     }

@@ -188,14 +188,31 @@ pub fn fallback(
     sketch: &Sketch,
     error: syn::Error,
 ) -> TokenStream {
-    let mut stripped = super::model::strip_role_attributes(imp);
+    let left_out = |f: &syn::ImplItemFn| {
+        faulty.contains(&f.sig.ident.to_string()) || crate::engine::lower::uses_rate(f)
+    };
+    let model = stand_in(imp, Some(imp), &left_out, sketch);
+    let error = error.into_compile_error();
+    quote!(#model #error)
+}
+
+/// The stand-in of a model: the items of `inherent` (its functions' bodies an `unreachable!()`
+/// where `left_out` says so) with the index constants and `rhs_generic` missing from them,
+/// under `inherent`'s header; and, for a whole model whose dimensions are written, the trait
+/// impls with `traits`' header (`impl HamelSystem for ..`), when given.
+pub fn stand_in(
+    inherent: &syn::ItemImpl,
+    traits: Option<&syn::ItemImpl>,
+    left_out: &dyn Fn(&syn::ImplItemFn) -> bool,
+    sketch: &Sketch,
+) -> TokenStream {
+    let mut stripped = super::model::strip_role_attributes(inherent);
     let mut taken: HashSet<String> = HashSet::new();
     for item in &mut stripped.items {
         match item {
             syn::ImplItem::Fn(f) => {
                 taken.insert(f.sig.ident.to_string());
-                let rates = crate::engine::lower::uses_rate(f);
-                if faulty.contains(&f.sig.ident.to_string()) || rates {
+                if left_out(f) {
                     f.block = syn::parse_quote!({
                         ::core::unreachable!(
                             "hamel: this function has errors, reported at build time"
@@ -210,11 +227,13 @@ pub fn fallback(
             _ => {}
         }
     }
-    let error = error.into_compile_error();
     if sketch.fragment {
-        return quote!(#stripped #error);
+        return quote!(#stripped);
     }
-    let inherent = inherent_items(imp, sketch, &mut taken);
+    let inherent = inherent_items(inherent, sketch, &mut taken);
+    let Some(imp) = traits else {
+        return quote!(#stripped #inherent);
+    };
     let system = sketch.dims.map(|dims| trait_impl(imp, sketch, dims));
     let mechanism = sketch
         .dims
@@ -224,7 +243,7 @@ pub fn fallback(
         .dims
         .zip(sketch.control.as_ref())
         .map(|((n, p, m), request)| super::control::emit::stand_in(imp, 2 * n - p, m, request));
-    quote!(#stripped #inherent #system #control #mechanism #error)
+    quote!(#stripped #inherent #system #control #mechanism)
 }
 
 fn lit(i: usize) -> Literal {
@@ -268,7 +287,10 @@ fn inherent_items(
     }
     let ty = &imp.self_ty;
     let (impl_generics, _, where_clause) = imp.generics.split_for_impl();
+    // Hidden: in the stand-in of a model with helpers (`helpers_stand_in`) the block is also
+    // emitted when the model builds, and documents nothing.
     quote! {
+        #[doc(hidden)]
         #[allow(dead_code, clippy::all)]
         impl #impl_generics #ty #where_clause {
             #(#consts)*

@@ -31,6 +31,7 @@ mod export {
 mod fallback;
 mod generate;
 mod generic;
+mod helpers_stand_in;
 mod interface;
 mod ldlt;
 mod linearity;
@@ -57,9 +58,13 @@ use syn::spanned::Spanned;
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
     match syn::parse2::<syn::Item>(item.clone()) {
         Ok(syn::Item::Struct(s)) => parameters::expand(attr, &s),
-        // A model that calls shared helpers first gathers their source (`helpers`).
-        Ok(syn::Item::Impl(_)) if !helper_sets(&attr).is_empty() => {
-            crate::helpers::start(&helper_sets(&attr), &attr, &item)
+        // A model that calls shared helpers first gathers their source (`helpers`), and
+        // stands in for itself if a set's macro is missing (`helpers_stand_in`).
+        Ok(syn::Item::Impl(imp)) if !helper_sets(&attr).is_empty() => {
+            let sets = helper_sets(&attr);
+            let gather = crate::helpers::start(&sets, &attr, &item);
+            let stand_in = helpers_stand_in::stand_in(&attr, &imp, &sets);
+            quote!(#gather #stand_in)
         }
         Ok(syn::Item::Impl(imp)) => expand_impl(attr, &imp, &[]),
         Ok(other) => {
@@ -79,6 +84,10 @@ pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
 /// The last step of gathering a model's shared helpers (`hamel::__hamel_with_helpers!`):
 /// the next helper set's macro, or the model expanded with every helper known.
 pub fn expand_with_helpers(input: TokenStream) -> TokenStream {
+    // A stand-in's call (`helpers_stand_in`): the set's macro exists.
+    if crate::helpers::is_stand_in_call(&input) {
+        return quote!(0);
+    }
     let gathered = match crate::helpers::parse(input) {
         Ok(g) => g,
         Err(e) => return e.into_compile_error(),

@@ -105,7 +105,7 @@ pub fn not_a_struct(item: &syn::Item, error: syn::Error) -> TokenStream {
 
 /// `impl Parameters` for a parameter struct with mistakes that leave its fields unknown: its
 /// methods are never reached, since the errors keep the crate from building.
-fn stand_in(ident: &syn::Ident, generics: &syn::Generics) -> TokenStream {
+pub fn stand_in(ident: &syn::Ident, generics: &syn::Generics) -> TokenStream {
     let (impl_generics, ty_generics, where_clause) = generics.split_for_impl();
     let never = quote!(::core::unreachable!(
         "hamel: the parameter struct has errors, reported at build time"

@@ -4,7 +4,7 @@
 //! extension, so its step counts can be checked against the Fortran code's.
 
 use super::initial_step::{Target, initial_step};
-use super::observer::{Control, Interpolant, Observer, SampleTimes, StepView};
+use super::observer::{Control, Interpolant, LazyInterpolant, Observer, SampleTimes, StepView};
 use super::sampling::Samples;
 use super::settings::{self, Adaptive, RtolFloor};
 use super::{
@@ -377,12 +377,14 @@ impl Integrator for DormandPrince {
         ode.rhs(t0, x0, &mut k[0])?;
         stats.evaluations += 1;
         let watching = samples.observer.watches_steps();
+        let reads_inside = watching && samples.observer.reads_inside_steps();
         let mut run = Run {
             ode,
             samples,
             stats,
             k,
             watching,
+            reads_inside,
         };
         match self.fixed_step {
             Some(h) => self.fixed(&mut run, (t0, *x0), (h, t_end))?,
@@ -401,6 +403,8 @@ struct Run<'a, O: Ode, T: ?Sized> {
     k: Stages<O::State>,
     /// Whether the observer watches steps: asked once, before the first step (as RK4 does).
     watching: bool,
+    /// Whether it reads the solution inside them.
+    reads_inside: bool,
 }
 
 impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
@@ -424,29 +428,38 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         let k = &self.k;
         // The continuous extension interpolates the step's own result, before projection.
         let extension = || Dense::new(t, h, (y, &y1), k);
-        let watched = self.watching.then(&extension);
-        let stop = match &watched {
-            Some(dense) => {
-                let view = StepView {
-                    t,
-                    x: y,
-                    t1,
-                    x1: &y1_projected,
-                    dense,
-                };
-                match self.samples.observer.step(&view)? {
-                    Control::Continue => None,
-                    Control::Stop(ts) => Some(ts.clamp(t, t1)),
+        // Formed at once for an observer that reads inside the step (events), and read in
+        // place for the samples too (moving it, 5n values, cost a copy a step).
+        let watched = self.reads_inside.then(extension);
+        let stop = if self.watching {
+            // For an observer that does not read inside the step, formed only if read.
+            let lazy;
+            let dense: &dyn Interpolant<O::State> = match &watched {
+                Some(dense) => dense,
+                None => {
+                    lazy = LazyInterpolant::new(extension);
+                    &lazy
                 }
+            };
+            let view = StepView {
+                t,
+                x: y,
+                t1,
+                x1: &y1_projected,
+                dense,
+            };
+            match self.samples.observer.step(&view)? {
+                Control::Continue => None,
+                Control::Stop(ts) => Some(ts.clamp(t, t1)),
             }
-            None => None,
+        } else {
+            None
         };
-        // The extension is formed once, and only if a sample falls inside the step; the one
-        // formed for the observer is read in place (moving it, 5n values, cost a copy a step).
+        // Otherwise formed once, and only if a sample falls inside the step.
         let mut made = None;
         let at = |s| match &watched {
             Some(dense) => dense.at(s),
-            None => made.get_or_insert_with(&extension).at(s),
+            None => made.get_or_insert_with(extension).at(s),
         };
         let stopped = self
             .samples

@@ -108,6 +108,28 @@ pub trait Interpolant<V> {
     fn at(&self, t: f64) -> V;
 }
 
+/// A continuous extension formed when first evaluated: a step with no sample inside it,
+/// watched by an observer that does not look inside it (a progress callback), forms none.
+pub(super) struct LazyInterpolant<D, F> {
+    made: std::cell::OnceCell<D>,
+    make: F,
+}
+
+impl<D, F: Fn() -> D> LazyInterpolant<D, F> {
+    pub fn new(make: F) -> Self {
+        LazyInterpolant {
+            made: std::cell::OnceCell::new(),
+            make,
+        }
+    }
+}
+
+impl<V, D: Interpolant<V>, F: Fn() -> D> Interpolant<V> for LazyInterpolant<D, F> {
+    fn at(&self, t: f64) -> V {
+        self.made.get_or_init(&self.make).at(t)
+    }
+}
+
 /// An accepted step from (t, x) to (t1, x1) — x1 as the integrator continues from it,
 /// projected — with the solution in between.
 pub struct StepView<'a, V> {
@@ -145,6 +167,14 @@ pub trait Observer<V> {
     /// forms one with an extra evaluation per step.
     fn watches_steps(&self) -> bool {
         false
+    }
+
+    /// Whether [`Observer::step`] reads the solution inside the step ([`StepView::dense`]);
+    /// asked with [`Observer::watches_steps`]. An observer that only looks at the step's ends
+    /// (a progress callback) says no, and a method then forms its continuous extension only
+    /// where a sample needs it (it still forms it if read).
+    fn reads_inside_steps(&self) -> bool {
+        true
     }
 
     /// An accepted step, before the samples within it are reported.

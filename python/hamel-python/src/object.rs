@@ -271,11 +271,11 @@ pub fn run<S: Model>(
     }
     // Constant inputs take the runtime's own path for them (checked once; with zero inputs
     // no work integrated), as a Rust program's `run_constant` does: Ctrl-C is then looked for
-    // by the progress callback, every 50 ms (it costs the robot's run about a tenth; a
-    // function's inputs look for it themselves, see `Inputs::at`).
+    // by the progress callback, every 50 ms (`Failure::progress`; a function's inputs look
+    // for it themselves, see `Inputs::at`).
     if let InputSpec::Constant(values) = &setup.inputs {
         let u = S::Inputs::from_slice(values).unwrap_or_else(S::Inputs::zeros);
-        let sim = sim.on_progress(move |_| failure.progress(watch));
+        let sim = sim.on_progress(move |p| failure.progress(watch, p.elapsed));
         return match &setup.method {
             Method::Dopri5(a) => sim.run_constant(&a.dopri5(), u),
             Method::Radau5(a) => sim.run_constant(&a.radau5(), u),

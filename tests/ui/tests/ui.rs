@@ -7,7 +7,9 @@
 //! exception: when the impl block or the struct lacks `#[hamel_system]`, no expansion sees both
 //! the model's type and its roles, nothing stands in for `impl HamelSystem` or `Parameters`,
 //! and rustc reports each use of the model too (`uses_model_missing_hamel_system_on_impl`,
-//! `uses_model_struct_without_hamel_system`); the first error still names the mistake.
+//! `uses_model_struct_without_hamel_system`); the first error still names the mistake. (A
+//! model whose `helpers(..)` names a set without `#[hamel::helpers]` does see both: rustc's
+//! "cannot find macro" at the name is its one error, `uses_model_helpers_not_marked`.)
 //!
 //! Each case is checked by rustc against the hamel cargo built for this test (`harness/`).
 //! After changing a message: `HAMEL_UI=overwrite cargo test -p hamel-ui`, then read the diff.
