@@ -73,8 +73,8 @@ PHI, DELTA, ROLL_RATE, STEER_RATE, WHEEL_RATE = (STATE.index(s) for s in (
     "phi", "delta", "roll_rate", "steer_rate", "rear_wheel_rate"))
 NX, NU, NP = 11, 2, 26
 
-# Table 2 of the paper: [capsize, weave re, weave im, castering] at 2 and 5 m/s; at rest,
-# four real values.
+# Table 2 of the paper (as printed): at 2 and 5 m/s the capsize mode, the weave pair and the
+# castering mode; at rest, four real values.
 TABLE_2 = {
     0.0: [-5.53094371765393, -3.13164324790656, 3.13164324790656, 5.53094371765393],
     2.0: [-3.07158645641514, 2.68234517512745 + 1.68066296590675j,
