@@ -46,7 +46,9 @@ impl Failure {
 }
 
 thread_local! {
-    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+    /// `None` after a success. Initialized by a constant: a call's access to it is a load
+    /// (no first-use check), which every successful call of every function makes.
+    static LAST_ERROR: RefCell<Option<CString>> = const { RefCell::new(None) };
 }
 
 /// Keep `message` as this thread's last error (interior NULs, which C cannot show, become
@@ -57,13 +59,16 @@ pub fn set_last_error(message: &str) {
         .map(|b| if b == 0 { b' ' } else { b })
         .collect();
     let text = CString::new(clean).unwrap_or_default();
-    LAST_ERROR.with(|e| *e.borrow_mut() = text);
+    LAST_ERROR.with(|e| *e.borrow_mut() = Some(text));
 }
 
 /// This thread's last error message: empty after a success; valid until the next call from
 /// this thread that fails.
 pub fn last_error() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    LAST_ERROR.with(|e| match &*e.borrow() {
+        Some(message) => message.as_ptr(),
+        None => c"".as_ptr(),
+    })
 }
 
 /// Run `body`: its status as a C int, its message kept, a panic caught and reported as
@@ -74,8 +79,8 @@ pub fn guard(function: &str, body: impl FnOnce() -> Result<(), Failure>) -> c_in
         Ok(Ok(())) => {
             LAST_ERROR.with(|e| {
                 if let Ok(mut e) = e.try_borrow_mut() {
-                    if !e.as_bytes().is_empty() {
-                        *e = CString::default();
+                    if e.is_some() {
+                        *e = None;
                     }
                 }
             });
@@ -163,8 +168,23 @@ pub fn check_len(name: &str, given: usize, expected: usize) -> Result<(), Failur
     }
 }
 
+/// Whether every value is finite: NaN and the infinities are the values whose exponent bits
+/// are all set. Without a branch per value (the check runs on every call of every exported
+/// function, where `position(|v| !v.is_finite())` cost more than a small model's arithmetic).
+#[inline]
+pub fn all_finite(values: &[f64]) -> bool {
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    !values
+        .iter()
+        .fold(false, |any, v| any | (v.to_bits() & EXPONENT == EXPONENT))
+}
+
 /// Every value must be finite; the first that is not is named (`x[2] (alpha) = NaN`).
+#[inline]
 pub fn check_finite(name: &str, values: &[f64], labels: &[&str]) -> Result<(), Failure> {
+    if all_finite(values) {
+        return Ok(());
+    }
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(i) => {
@@ -206,6 +226,15 @@ mod tests {
         });
         assert_eq!(status, Status::NonFinite as c_int);
         assert_eq!(last(), "f: x[1] (b) = NaN is not a finite number");
+        for bad in [f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let values = [0.0, -0.0, f64::MAX, f64::MIN_POSITIVE, 5e-324, bad, 1.0];
+            assert!(!all_finite(&values), "{bad}");
+            assert_eq!(
+                check_finite("u", &values, &[]).unwrap_err().message,
+                format!("u[5] = {bad} is not a finite number")
+            );
+            assert!(all_finite(&values[..5]));
+        }
         // SAFETY: a null pointer is refused before it is read.
         let null = unsafe { slice(core::ptr::null(), 3, "u") };
         assert_eq!(null.unwrap_err().status, Status::NullPointer);

@@ -51,16 +51,19 @@ pub mod __private {
     pub use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
 
     /// For each of `wanted`, its position in `names`: the parameters the generated code reads,
-    /// in the order of the struct's fields. A name that is not there (a model whose generated
-    /// code reads a parameter its struct does not list: a bug) stops the build.
-    pub const fn positions<const K: usize>(names: &[&str], wanted: &[&str]) -> [usize; K] {
+    /// in the order of the struct's fields. `Err` with the first name that `names` lacks, which
+    /// [`model!`](crate::model) turns into a compile error with [`unlisted_parameter`].
+    pub const fn positions<const K: usize>(
+        names: &[&str],
+        wanted: &[&'static str],
+    ) -> Result<[usize; K], &'static str> {
         let mut out = [0; K];
         let mut k = 0;
         while k < K {
             let mut i = 0;
             loop {
                 if i == names.len() {
-                    panic!("hamel-export: a parameter the model reads is not in Parameters::NAMES");
+                    return Err(wanted[k]);
                 }
                 if equal(names[i].as_bytes(), wanted[k].as_bytes()) {
                     break;
@@ -70,7 +73,67 @@ pub mod __private {
             out[k] = i;
             k += 1;
         }
-        out
+        Ok(out)
+    }
+
+    /// The compile error of a model whose generated code reads a parameter (`self.name`)
+    /// that its `Parameters::NAMES` does not list: the export passes parameters by those
+    /// names, so it cannot give that one a place in `p`. Built in a const evaluation (which
+    /// cannot format), as bytes.
+    pub const fn unlisted_parameter(name: &str) -> Message {
+        Message::new(&[
+            "hamel-export: the model's functions read the parameter `",
+            name,
+            "` (`self.",
+            name,
+            "`), which `Parameters::NAMES` of its parameter struct does not list. The \
+             exported functions take the parameters by those names: make `",
+            name,
+            "` an `f64` field of the struct under `#[hamel_system]`, or list it in the \
+             `NAMES` of an `impl Parameters` written by hand.",
+        ])
+    }
+
+    /// A message composed in a const evaluation: at most `MESSAGE_CAPACITY` bytes, cut at a
+    /// character boundary.
+    pub struct Message {
+        bytes: [u8; MESSAGE_CAPACITY],
+        len: usize,
+    }
+
+    /// Room for the message and a parameter's name several hundred bytes long.
+    const MESSAGE_CAPACITY: usize = 1024;
+
+    impl Message {
+        const fn new(parts: &[&str]) -> Message {
+            let mut message = Message {
+                bytes: [0; MESSAGE_CAPACITY],
+                len: 0,
+            };
+            let mut p = 0;
+            while p < parts.len() {
+                let part = parts[p].as_bytes();
+                let mut i = 0;
+                while i < part.len() && message.len < MESSAGE_CAPACITY {
+                    message.bytes[message.len] = part[i];
+                    message.len += 1;
+                    i += 1;
+                }
+                p += 1;
+            }
+            message
+        }
+
+        pub const fn as_str(&self) -> &str {
+            let (mut text, _) = self.bytes.split_at(self.len);
+            // A name longer than the capacity may have been cut inside a character.
+            loop {
+                match core::str::from_utf8(text) {
+                    Ok(s) => return s,
+                    Err(e) => text = text.split_at(e.valid_up_to()).0,
+                }
+            }
+        }
     }
 
     pub const fn max(a: usize, b: usize) -> usize {
@@ -101,5 +164,42 @@ pub mod __private {
             i += 1;
         }
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::__private::{positions, unlisted_parameter};
+
+    #[test]
+    fn positions_are_the_names_places_or_the_first_missing_name() {
+        let names = ["m0", "mw", "r", "b"];
+        assert_eq!(positions::<3>(&names, &["r", "m0", "b"]), Ok([2, 0, 3]));
+        assert_eq!(positions::<0>(&names, &[]), Ok([]));
+        assert_eq!(positions::<3>(&names, &["r", "l", "g"]), Err("l"));
+    }
+
+    #[test]
+    fn the_compile_error_names_the_parameter_and_what_to_do() {
+        let message = unlisted_parameter("wheel_radius");
+        let text = message.as_str();
+        assert!(
+            text.starts_with(
+                "hamel-export: the model's functions read the parameter `wheel_radius` \
+                 (`self.wheel_radius`), which `Parameters::NAMES`"
+            ),
+            "{text}"
+        );
+        assert!(text.ends_with("written by hand."), "{text}");
+    }
+
+    #[test]
+    fn a_message_past_its_capacity_is_cut_at_a_character_boundary() {
+        // 'é' is two bytes: 600 of them overflow the capacity inside a character.
+        let name = "é".repeat(600);
+        let message = unlisted_parameter(&name);
+        let text = message.as_str();
+        assert!(text.len() <= 1024 && text.len() >= 1022, "{}", text.len());
+        assert!(text.ends_with('é'), "{text}");
     }
 }

@@ -27,11 +27,19 @@ macro_rules! model {
             /// How many parameters the generated code reads.
             const NPL: usize = <$system>::__HAMEL_PARAMETRIC_NAMES.len();
             /// The parameters the generated code reads, as positions in `Parameters::NAMES`.
+            /// A name that `Parameters::NAMES` lacks is a compile error here, at `model!`,
+            /// that names it.
             const READ: [usize; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
-                $crate::__private::positions(
+                match $crate::__private::positions(
                     <$system as $crate::__private::Parameters>::NAMES,
                     <$system>::__HAMEL_PARAMETRIC_NAMES,
-                );
+                ) {
+                    ::core::result::Result::Ok(read) => read,
+                    ::core::result::Result::Err(name) => ::core::panic!(
+                        "{}",
+                        $crate::__private::unlisted_parameter(name).as_str()
+                    ),
+                };
             /// The length of the arrays: z, and every function's output.
             const LEN: usize = $crate::__private::max(
                 <$marker>::Z,

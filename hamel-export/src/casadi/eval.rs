@@ -7,7 +7,7 @@
 //! wanted output needs and the generated code's graph says can be nonzero.
 
 use super::{Content, Family, Function, Kind};
-use crate::abi::{Failure, Status, check_finite, slice, slice_mut};
+use crate::abi::{Failure, Status, all_finite, check_finite, slice, slice_mut};
 use crate::model::Model;
 use crate::passes::{self, singular};
 use crate::primal::{Block, Primal};
@@ -44,8 +44,15 @@ pub unsafe fn eval<M: Model>(
     let mut z = M::array(0.0f64);
     for (k, block) in primal.inputs.iter().enumerate() {
         if let Some(values) = input(k)? {
-            check_finite(block.name, values, labels::<M>(block))?;
             z.as_mut()[block.offset..block.offset + block.len].copy_from_slice(values);
+        }
+    }
+    // One pass over z (the blocks CasADi did not give are zeros); only when it finds a value
+    // that is not finite, the block and the component's label for the message.
+    if !all_finite(z.as_ref()) {
+        for block in &primal.inputs {
+            let values = &z.as_ref()[block.offset..block.offset + block.len];
+            check_finite(block.name, values, labels::<M>(block))?;
         }
     }
     let nb = primal.inputs.len();

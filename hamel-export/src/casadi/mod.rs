@@ -65,7 +65,10 @@ impl Kind {
 /// A named input or output with its sparsity.
 #[derive(Clone, Debug)]
 pub struct Port {
+    /// The name for C (`_name_in`, `_name_out`).
     pub name: CString,
+    /// The same name for messages, kept as text so that a call does not convert it.
+    text: String,
     pub pattern: Pattern,
 }
 
@@ -73,12 +76,13 @@ impl Port {
     fn new(name: &str, pattern: Pattern) -> Port {
         Port {
             name: CString::new(name).unwrap_or_default(),
+            text: name.to_string(),
             pattern,
         }
     }
 
     pub fn name(&self) -> &str {
-        self.name.to_str().unwrap_or("")
+        &self.text
     }
 }
 

@@ -35,3 +35,29 @@ def robot_c(robot_library):
     lib.mobile_robot_last_error.restype = ctypes.c_char_p
     lib.mobile_robot_default_parameters.argtypes = [d, ctypes.c_size_t]
     return lib
+
+
+@pytest.fixture(scope="session")
+def bicycle_library(outdir):
+    """`cargo run --release --example export -- casadi whipple_bicycle OUTDIR` (the `.ci/run`
+    stage exports it beside the robot)."""
+    path = outdir / "libwhipple_bicycle.so"
+    if not path.exists():
+        raise RuntimeError(
+            f"{path} is missing: `cargo run --release --example export -- casadi "
+            f"whipple_bicycle {outdir}` writes it"
+        )
+    return str(path)
+
+
+@pytest.fixture(scope="session")
+def bicycle_parameters(bicycle_library):
+    """The benchmark's parameters, from the library's whipple_bicycle_default_parameters."""
+    import numpy as np
+
+    lib = ctypes.CDLL(bicycle_library)
+    d = ctypes.POINTER(ctypes.c_double)
+    lib.whipple_bicycle_default_parameters.argtypes = [d, ctypes.c_size_t]
+    p = np.zeros(26)
+    assert lib.whipple_bicycle_default_parameters(p.ctypes.data_as(d), 26) == 0
+    return p

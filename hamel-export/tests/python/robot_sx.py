@@ -61,3 +61,11 @@ def function(name="robot_sx"):
     """F as a CasADi Function of SX, with the inputs and output named as hamel's."""
     x, u, p = ca.SX.sym("x", 8), ca.SX.sym("u", 2), ca.SX.sym("p", 9)
     return ca.Function(name, [x, u, p], [rhs(x, u, p)], ["x", "u", "p"], ["xdot"])
+
+
+def outputs(x, p):
+    """y = h(x, p): hamel's robot's outputs (`look_ahead`), the point 0.3 m ahead of the
+    axle's centre along the heading theta = r (phi1 - phi2) / b."""
+    r, b = p[5], p[6]
+    theta = r * (x[3] - x[4]) / b
+    return ca.vertcat(x[0] + 0.3 * ca.cos(theta), x[1] + 0.3 * ca.sin(theta))

@@ -1,0 +1,52 @@
+/* Calls one of the exported robot's CasADi functions CALLS times at a fixed point, for
+ * counting its instructions per call under valgrind (instructions.sh):
+ *
+ *   per_call LIB NAME CALLS
+ *
+ * The arguments are x, u and p (and null for the nominal output, as CasADi passes them);
+ * every output is wanted except the Jacobian's block by p, which an NLP with fixed parameters
+ * does not ask for. */
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef long long casadi_int;
+typedef int (*eval_t)(const double**, double**, casadi_int*, double*, int);
+typedef casadi_int (*count_t)(void);
+
+static double storage[32][512];
+
+int main(int argc, char** argv) {
+    if (argc != 4) {
+        fprintf(stderr, "usage: %s LIB NAME CALLS\n", argv[0]);
+        return 2;
+    }
+    void* lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        fprintf(stderr, "dlopen: %s\n", dlerror());
+        return 2;
+    }
+    char symbol[256];
+    eval_t eval = (eval_t)dlsym(lib, argv[2]);
+    snprintf(symbol, sizeof symbol, "%s_n_out", argv[2]);
+    count_t n_out = (count_t)dlsym(lib, symbol);
+    if (!eval || !n_out || n_out() > 32) {
+        fprintf(stderr, "%s: missing symbols\n", argv[2]);
+        return 2;
+    }
+    static const double x[8] = {0.3, -0.2, 0.25, 1.1, -0.7, 0.4, 0.8, -0.3};
+    static const double u[2] = {0.6, -0.2};
+    static const double p[9] = {10.0, 1.0, 0.4, 0.3, 0.2, 0.1, 0.5, 0.2, 9.81};
+    const double* arg[8] = {x, u, p, NULL, NULL, NULL, NULL, NULL};
+    double* res[32];
+    int jacobian = strncmp(argv[2], "jac_", 4) == 0;
+    for (casadi_int i = 0; i < n_out(); ++i) res[i] = jacobian && i == 2 ? NULL : storage[i];
+    long calls = atol(argv[3]);
+    for (long k = 0; k < calls; ++k)
+        if (eval(arg, res, NULL, NULL, 0)) {
+            fprintf(stderr, "evaluation failed\n");
+            return 1;
+        }
+    return 0;
+}
