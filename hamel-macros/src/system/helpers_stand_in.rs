@@ -49,14 +49,9 @@ fn build(attr: &TokenStream, imp: &syn::ItemImpl, sets: &[syn::Path]) -> Option<
 
     // The user's functions and constants, under the bound that no type meets; the functions'
     // bodies are left out, so that a mistake in one is reported by the model's expansion only.
-    let mut inherent = imp.clone();
     // On a trait impl, which is its own mistake (`on_trait_impl`): the inherent block it
     // should be.
-    inherent.trait_ = None;
-    inherent.unsafety = None;
-    inherent
-        .items
-        .retain(|item| matches!(item, syn::ImplItem::Fn(_) | syn::ImplItem::Const(_)));
+    let mut inherent = super::as_inherent(imp);
     inherent.attrs.push(syn::parse_quote!(#[doc(hidden)]));
     inherent
         .generics

@@ -215,18 +215,24 @@ fn expand_impl(
 /// written, its functions would each be "not a member of the trait", and the program's uses of
 /// the model would each miss its `impl HamelSystem`.
 fn on_trait_impl(attr: TokenStream, imp: &syn::ItemImpl, error: syn::Error) -> TokenStream {
-    let mut inherent = imp.clone();
-    inherent.trait_ = None;
-    inherent.unsafety = None;
-    // Only functions and constants can be inherent items (associated types cannot).
-    inherent
-        .items
-        .retain(|item| matches!(item, syn::ImplItem::Fn(_) | syn::ImplItem::Const(_)));
+    let inherent = as_inherent(imp);
     let mut ignored = Vec::new();
     let names = model::parse_names(attr, &mut ignored);
     let roles = model::Roles::find(&inherent.items, &mut ignored);
     let sketch = Sketch::new(&names, &roles);
     fallback(&inherent, &HashSet::new(), &sketch, error)
+}
+
+/// The impl block `imp` as an inherent impl: without its trait, and with only the items an
+/// inherent impl can hold, functions and constants (associated types cannot be inherent).
+pub(crate) fn as_inherent(imp: &syn::ItemImpl) -> syn::ItemImpl {
+    let mut inherent = imp.clone();
+    inherent.trait_ = None;
+    inherent.unsafety = None;
+    inherent
+        .items
+        .retain(|item| matches!(item, syn::ImplItem::Fn(_) | syn::ImplItem::Const(_)));
+    inherent
 }
 
 /// When the model has a mistake, the bodies the equations did not reach (the model could not
