@@ -15,14 +15,15 @@
 //! - [`abi`]: the boundary. No panic crosses it (every entry is caught), failures are status
 //!   codes with a per-thread message (`<model>_last_error`); null pointers, lengths and
 //!   values that are not finite are checked and named.
-//! - [`model`]: a model as the export sees it, its functions on one flat argument vector
-//!   z = (x, u, p, t) over any scalar type ([`model!`] implements it from what
+//! - [`model`](mod@model): a model as the export sees it, its functions on one flat argument
+//!   vector z = (x, u, p, t) over any scalar type ([`model!`] implements it from what
 //!   `#[hamel_system]` generates); [`primal`]: those functions with their inputs and the
 //!   dependencies the generated code's graph gives (the sparsity of every derivative);
 //!   [`passes`]: one evaluation in `f64`, dual or hyper-dual numbers.
-//! - [`c_api`]: the plain C functions; [`casadi`]: CasADi's convention; [`header`]: the C
-//!   header, from the names, units and doc comments the model carries; [`fmi2`]: the model as
-//!   an FMU of FMI 2.0 (Model Exchange and Co-Simulation), with [`fmi2!`].
+//! - [`c_api`](mod@c_api): the plain C functions; [`casadi`](mod@casadi): CasADi's
+//!   convention; [`header`]: the C header, from the names, units and doc comments the model
+//!   carries; [`fmi2`](mod@fmi2): the model as an FMU of FMI 2.0 (Model Exchange and
+//!   Co-Simulation), with [`fmi2!`].
 //!
 //! `hamel::docs::export` is the guide; `cargo run --release --example export -- casadi
 //! mobile_robot OUTDIR` builds the library and header of any catalogue model.
@@ -52,7 +53,7 @@ pub mod __private {
 
     /// For each of `wanted`, its position in `names`: the parameters the generated code reads,
     /// in the order of the struct's fields. `Err` with the first name that `names` lacks, which
-    /// [`model!`](crate::model) turns into a compile error with [`unlisted_parameter`].
+    /// [`model!`](macro@crate::model) turns into a compile error with [`unlisted_parameter`].
     pub const fn positions<const K: usize>(
         names: &[&str],
         wanted: &[&'static str],

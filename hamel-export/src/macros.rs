@@ -584,9 +584,9 @@ macro_rules! c_api {
 
 /// `casadi!(Marker, "name")`: CasADi's external functions of a model: `name_f` (the
 /// right-hand side) and `name_h` (the outputs), each with `jac_`, `fwd1_`, `adj1_` and
-/// `jac_adj1_` beside it, and every symbol CasADi looks for (see [`crate::casadi`]); with the
-/// feature `compiled`, `name_lie` too (the outputs' Lie derivatives, empty for a model
-/// without `control(..)`).
+/// `jac_adj1_` beside it, and every symbol CasADi looks for (see
+/// [`crate::casadi`](mod@crate::casadi)); with the feature `compiled`, `name_lie` too (the
+/// outputs' Lie derivatives, empty for a model without `control(..)`).
 #[macro_export]
 macro_rules! casadi {
     ($marker:ty, $name:literal) => {

@@ -4,7 +4,7 @@
 /// Co-Simulation, unprefixed as a binary FMU's are) for the model of `Marker` (see
 /// [`crate::model!`]), exported as the FMU whose model identifier is `"MobileRobot"`. At most
 /// one per library: the symbols' names are the standard's. The FMU itself (the library with
-/// `modelDescription.xml`) is written by [`crate::fmi2::write_fmu`].
+/// `modelDescription.xml`) is written by `crate::fmi2::write_fmu` (feature `fmu`).
 #[macro_export]
 macro_rules! fmi2 {
     ($marker:ty, $identifier:literal) => {

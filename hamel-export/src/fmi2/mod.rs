@@ -12,7 +12,7 @@
 //! One module per job:
 //! - [`variables`]: what each value reference is (one table for the description and the
 //!   instance); [`description`]: `modelDescription.xml` from the model's traits, its units
-//!   ([`units`]) and the dependencies of the generated code; [`archive`]: the `.fmu` file.
+//!   ([`units`]) and the dependencies of the generated code; `archive` (feature `fmu`): the `.fmu` file.
 //! - [`types`]: the standard's C types; [`modes`]: its state machine; [`logger`]: messages
 //!   through the importer's callback; [`api`]: the boundary (pointers checked, modes
 //!   checked, panics caught); [`instance`]: one instance's data and variables;
