@@ -184,6 +184,34 @@ fn jacobian_columns(
     which: &[usize],
     budget: Budget,
 ) -> Option<Vec<Entry>> {
+    let entries = tangent_columns(g, roots, columns, which, |_, _| true, budget)?;
+    within(g, &entries, &[], budget).then_some(entries)
+}
+
+/// The second derivatives in `which` columns b, rows a ≥ b where `row` holds; `None` past the
+/// budget.
+fn second_columns(
+    g: &mut Graph,
+    adjoint: &[NodeId],
+    columns: &Columns,
+    which: &[usize],
+    row: impl Fn(usize) -> bool,
+    budget: Budget,
+) -> Option<Vec<Entry>> {
+    tangent_columns(g, adjoint, columns, which, |a, b| a >= b && row(a), budget)
+}
+
+/// The nonzero derivatives of `roots` along each of `which` columns, as (row, column, node)
+/// where `keep(row, column)` holds, by one forward sweep a column; `None` when the sweeps add
+/// more nodes than the budget allows.
+fn tangent_columns(
+    g: &mut Graph,
+    roots: &[NodeId],
+    columns: &Columns,
+    which: &[usize],
+    keep: impl Fn(usize, usize) -> bool,
+    budget: Budget,
+) -> Option<Vec<Entry>> {
     if budget.operations == 0 && !which.is_empty() {
         return None;
     }
@@ -199,41 +227,8 @@ fn jacobian_columns(
             tangents
                 .into_iter()
                 .enumerate()
-                .filter(|(_, node)| !g.is_zero(*node))
+                .filter(|&(r, node)| keep(r, c) && !g.is_zero(node))
                 .map(|(r, node)| (r, c, node)),
-        );
-    }
-    within(g, &entries, &[], budget).then_some(entries)
-}
-
-/// The second derivatives in `which` columns b, rows a ≥ b where `row` holds; `None` past the
-/// budget.
-fn second_columns(
-    g: &mut Graph,
-    adjoint: &[NodeId],
-    columns: &Columns,
-    which: &[usize],
-    row: impl Fn(usize) -> bool,
-    budget: Budget,
-) -> Option<Vec<Entry>> {
-    if budget.operations == 0 && !which.is_empty() {
-        return None;
-    }
-    let start = g.len();
-    let one = g.one();
-    let mut entries = Vec::new();
-    for &b in which {
-        let tangents = tangent(g, adjoint, &[(columns.nodes[b], one)]);
-        if g.len() - start > budget.nodes {
-            return None;
-        }
-        entries.extend(
-            tangents
-                .into_iter()
-                .enumerate()
-                .skip(b)
-                .filter(|&(a, node)| row(a) && !g.is_zero(node))
-                .map(|(a, node)| (a, b, node)),
         );
     }
     Some(entries)
