@@ -3,8 +3,9 @@
  *
  *   external_speed LIB_A NAME_A LIB_B NAME_B [ROUNDS] [BATCH]
  *
- * For each of f, jac_f (every block) and f + jac_f, and jac_adj1_f (the blocks an NLP with
- * fixed parameters asks for: by x and u), alternates batches of BATCH calls of A and of B,
+ * For each of f, jac_f (every block), f + jac_f, fwd1_f (a direction in x and u, none in p)
+ * and jac_adj1_f (every block: what CasADi asks for in the parking example's NLP, though its
+ * parameters are fixed), alternates batches of BATCH calls of A and of B,
  * ROUNDS times, and prints the median time per call of each and the median of the per-round
  * ratios B/A with its 10th and 90th percentiles (interleaved: the machine's drift hits both).
  * The point is a fixed state, input and the parameters given on the command line's defaults. */
@@ -26,7 +27,7 @@ struct function {
     double* res[32];
 };
 
-static double storage[64][512];
+static double storage[128][512];
 
 static void load(void* lib, const char* name, struct function* f) {
     char symbol[256];
@@ -63,21 +64,24 @@ static const double x[8] = {0.3, -0.2, 0.25, 1.1, -0.7, 0.4, 0.8, -0.3};
 static const double u[2] = {0.6, -0.2};
 static const double p[9] = {10.0, 1.0, 0.4, 0.3, 0.2, 0.1, 0.5, 0.2, 9.81};
 static const double lam[8] = {0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9};
+static const double dx[8] = {0.1, 0.2, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8};
+static const double du[2] = {-0.4, 0.9};
 
-/* Arguments (x, u, p, then the adjoint seed where the function takes one); outputs: all,
- * or for jac_adj1 only those by x and u (CasADi passes null for the others). */
-static void prepare(struct function* f, int slot, int second_order) {
+enum seeds { NONE, FORWARD, ADJOINT };
+
+/* Arguments: x, u, p, null for the nominal output, then the seeds the function takes (a
+ * direction in x and u; the adjoint's weights); every output wanted. */
+static void prepare(struct function* f, int slot, enum seeds seeds) {
     f->arg[0] = x;
     f->arg[1] = u;
     f->arg[2] = p;
     for (int i = 3; i < f->n_in; ++i) f->arg[i] = NULL;
-    if (second_order) f->arg[4] = lam;
-    for (int i = 0; i < f->n_out; ++i) {
-        /* jac_adj1 outputs: for adj_x, adj_u, adj_p, five blocks each: by x, u, p, out, adj. */
-        int block = i % 5, of = i / 5;
-        int wanted = !second_order || (of < 2 && block < 2);
-        f->res[i] = wanted ? storage[slot * 8 + (i % 8)] : NULL;
+    if (seeds == FORWARD) {
+        f->arg[4] = dx;
+        f->arg[5] = du;
     }
+    if (seeds == ADJOINT) f->arg[4] = lam;
+    for (int i = 0; i < f->n_out; ++i) f->res[i] = storage[slot * 16 + (i % 16)];
 }
 
 static double batch(struct function** fs, int count, int calls) {
@@ -103,21 +107,24 @@ int main(int argc, char** argv) {
         fprintf(stderr, "dlopen: %s\n", dlerror());
         return 2;
     }
-    const char* kinds[4] = {"f", "jac_f", "f + jac_f", "jac_adj1_f (x, u)"};
-    struct function fn[2][3];
+    const char* kinds[5] = {"f", "jac_f", "f + jac_f", "fwd1_f", "jac_adj1_f"};
+    struct function fn[2][4];
     for (int m = 0; m < 2; ++m) {
         char name[256];
         load(libs[m], names[m], &fn[m][0]);
         snprintf(name, sizeof name, "jac_%s", names[m]);
         load(libs[m], name, &fn[m][1]);
-        snprintf(name, sizeof name, "jac_adj1_%s", names[m]);
+        snprintf(name, sizeof name, "fwd1_%s", names[m]);
         load(libs[m], name, &fn[m][2]);
-        prepare(&fn[m][0], m * 3 + 0, 0);
-        prepare(&fn[m][1], m * 3 + 1, 0);
-        prepare(&fn[m][2], m * 3 + 2, 1);
+        snprintf(name, sizeof name, "jac_adj1_%s", names[m]);
+        load(libs[m], name, &fn[m][3]);
+        prepare(&fn[m][0], m * 4 + 0, NONE);
+        prepare(&fn[m][1], m * 4 + 1, NONE);
+        prepare(&fn[m][2], m * 4 + 2, FORWARD);
+        prepare(&fn[m][3], m * 4 + 3, ADJOINT);
     }
     printf("%-18s %12s %12s %10s %17s\n", "function", "A (ns/call)", "B (ns/call)", "B/A", "p10-p90 of B/A");
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 5; ++k) {
         double ta[1024], tb[1024], ratio[1024];
         for (int r = 0; r < rounds; ++r) {
             for (int m = 0; m < 2; ++m) {
@@ -126,8 +133,9 @@ int main(int argc, char** argv) {
                 if (k == 0) list[0] = &fn[m][0];
                 else if (k == 1) list[0] = &fn[m][1];
                 else if (k == 2) { list[0] = &fn[m][0]; list[1] = &fn[m][1]; count = 2; }
-                else list[0] = &fn[m][2];
-                int n = k == 3 ? calls / 10 : calls;
+                else if (k == 3) list[0] = &fn[m][2];
+                else list[0] = &fn[m][3];
+                int n = k == 4 ? calls / 10 : calls;
                 double t = batch(list, count, n);
                 if (m == 0) ta[r] = t; else tb[r] = t;
             }

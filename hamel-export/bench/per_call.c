@@ -3,9 +3,10 @@
  *
  *   per_call LIB NAME CALLS
  *
- * The arguments are x, u and p (and null for the nominal output, as CasADi passes them);
- * every output is wanted except the Jacobian's block by p, which an NLP with fixed parameters
- * does not ask for. */
+ * The arguments are x, u and p, null for the nominal output (as CasADi passes it), and the
+ * seeds: a forward derivative's direction in x and u (null in p), an adjoint's weights. Every
+ * output is wanted (CasADi asks for every block of jac_adj1 in the parking example's NLP,
+ * though its parameters are fixed) except the Jacobian's block by p. */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +15,10 @@
 typedef long long casadi_int;
 typedef int (*eval_t)(const double**, double**, casadi_int*, double*, int);
 typedef casadi_int (*count_t)(void);
+
+static const double dx[8] = {0.1, 0.2, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8};
+static const double du[2] = {-0.4, 0.9};
+static const double lam[8] = {0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9};
 
 static double storage[32][512];
 
@@ -31,7 +36,9 @@ int main(int argc, char** argv) {
     eval_t eval = (eval_t)dlsym(lib, argv[2]);
     snprintf(symbol, sizeof symbol, "%s_n_out", argv[2]);
     count_t n_out = (count_t)dlsym(lib, symbol);
-    if (!eval || !n_out || n_out() > 32) {
+    snprintf(symbol, sizeof symbol, "%s_n_in", argv[2]);
+    count_t n_in = (count_t)dlsym(lib, symbol);
+    if (!eval || !n_out || !n_in || n_out() > 32 || n_in() > 8) {
         fprintf(stderr, "%s: missing symbols\n", argv[2]);
         return 2;
     }
@@ -40,8 +47,19 @@ int main(int argc, char** argv) {
     static const double p[9] = {10.0, 1.0, 0.4, 0.3, 0.2, 0.1, 0.5, 0.2, 9.81};
     const double* arg[8] = {x, u, p, NULL, NULL, NULL, NULL, NULL};
     double* res[32];
-    int jacobian = strncmp(argv[2], "jac_", 4) == 0;
-    for (casadi_int i = 0; i < n_out(); ++i) res[i] = jacobian && i == 2 ? NULL : storage[i];
+    int forward = strncmp(argv[2], "fwd1_", 5) == 0;
+    int second = strncmp(argv[2], "jac_adj1_", 9) == 0;
+    int adjoint = second || strncmp(argv[2], "adj1_", 5) == 0;
+    int jacobian = !second && strncmp(argv[2], "jac_", 4) == 0;
+    if (forward) {
+        arg[4] = dx;
+        arg[5] = du;
+    }
+    if (adjoint) arg[4] = lam;
+    for (casadi_int i = 0; i < n_out(); ++i) {
+        int wanted = !(jacobian && i == 2);
+        res[i] = wanted ? storage[i] : NULL;
+    }
     long calls = atol(argv[3]);
     for (long k = 0; k < calls; ++k)
         if (eval(arg, res, NULL, NULL, 0)) {

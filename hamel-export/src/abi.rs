@@ -11,6 +11,7 @@ use core::ffi::{c_char, c_int};
 use std::cell::RefCell;
 use std::ffi::CString;
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The status codes every exported function that can fail returns (also in the header).
 #[repr(i32)]
@@ -51,9 +52,16 @@ thread_local! {
     static LAST_ERROR: RefCell<Option<CString>> = const { RefCell::new(None) };
 }
 
+/// Whether any thread ever kept an error. Until one does, a success has no message to clear
+/// and skips the thread-local (whose address a shared library asks the loader for, at every
+/// call of every function).
+static ANY_ERROR: AtomicBool = AtomicBool::new(false);
+
 /// Keep `message` as this thread's last error (interior NULs, which C cannot show, become
 /// spaces).
+#[cold]
 pub fn set_last_error(message: &str) {
+    ANY_ERROR.store(true, Ordering::Relaxed);
     let clean: Vec<u8> = message
         .bytes()
         .map(|b| if b == 0 { b' ' } else { b })
@@ -74,32 +82,51 @@ pub fn last_error() -> *const c_char {
 /// Run `body`: its status as a C int, its message kept, a panic caught and reported as
 /// [`Status::Internal`]. A success clears the last error only if there was one (no
 /// allocation on the success path).
+#[inline(always)]
 pub fn guard(function: &str, body: impl FnOnce() -> Result<(), Failure>) -> c_int {
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => {
-            LAST_ERROR.with(|e| {
-                if let Ok(mut e) = e.try_borrow_mut() {
-                    if e.is_some() {
-                        *e = None;
-                    }
-                }
-            });
+            if ANY_ERROR.load(Ordering::Relaxed) {
+                clear_last_error();
+            }
             Status::Ok as c_int
         }
-        Ok(Err(failure)) => {
-            set_last_error(&format!("{function}: {}", failure.message));
-            failure.status as c_int
-        }
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a panic".to_string());
-            set_last_error(&format!("{function}: internal error (a bug): {what}"));
-            Status::Internal as c_int
-        }
+        Ok(Err(failure)) => refuse(function, failure),
+        Err(panic) => internal(function, panic),
     }
+}
+
+/// After a success: no message, if this thread kept one.
+#[inline(never)]
+fn clear_last_error() {
+    LAST_ERROR.with(|e| {
+        if let Ok(mut e) = e.try_borrow_mut() {
+            if e.is_some() {
+                *e = None;
+            }
+        }
+    });
+}
+
+/// A failure's status, its message kept.
+#[cold]
+#[inline(never)]
+fn refuse(function: &str, failure: Failure) -> c_int {
+    set_last_error(&format!("{function}: {}", failure.message));
+    failure.status as c_int
+}
+
+/// A panic caught: [`Status::Internal`], its message kept.
+#[cold]
+#[inline(never)]
+fn internal(function: &str, panic: Box<dyn std::any::Any + Send>) -> c_int {
+    let what = panic
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".to_string());
+    set_last_error(&format!("{function}: internal error (a bug): {what}"));
+    Status::Internal as c_int
 }
 
 /// Run `body` for a function that returns a value rather than a status (a count, a
@@ -119,15 +146,13 @@ pub fn guard_value<T>(function: &str, fallback: T, body: impl FnOnce() -> T) -> 
 /// # Safety
 /// A non-null `ptr` must point to `len` readable values that stay valid and unaliased by
 /// writes for the returned lifetime.
+#[inline(always)]
 pub unsafe fn slice<'a>(ptr: *const f64, len: usize, name: &str) -> Result<&'a [f64], Failure> {
     if len == 0 {
         return Ok(&[]);
     }
     if ptr.is_null() {
-        return Err(Failure::new(
-            Status::NullPointer,
-            format!("`{name}` is a null pointer"),
-        ));
+        return Err(null(name));
     }
     // SAFETY: non-null and, by the caller's contract, `len` readable values.
     Ok(unsafe { core::slice::from_raw_parts(ptr, len) })
@@ -138,6 +163,7 @@ pub unsafe fn slice<'a>(ptr: *const f64, len: usize, name: &str) -> Result<&'a [
 /// # Safety
 /// A non-null `ptr` must point to `len` writable values not otherwise accessed for the
 /// returned lifetime.
+#[inline(always)]
 pub unsafe fn slice_mut<'a>(
     ptr: *mut f64,
     len: usize,
@@ -147,13 +173,17 @@ pub unsafe fn slice_mut<'a>(
         return Ok(&mut []);
     }
     if ptr.is_null() {
-        return Err(Failure::new(
-            Status::NullPointer,
-            format!("`{name}` is a null pointer"),
-        ));
+        return Err(null(name));
     }
     // SAFETY: non-null and, by the caller's contract, `len` writable values.
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+}
+
+/// The refusal of a null `name`: out of line, so that the checks inline into every call.
+#[cold]
+#[inline(never)]
+fn null(name: &str) -> Failure {
+    Failure::new(Status::NullPointer, format!("`{name}` is a null pointer"))
 }
 
 /// A length given by the caller must be the one the function takes.
@@ -180,11 +210,18 @@ pub fn all_finite(values: &[f64]) -> bool {
 }
 
 /// Every value must be finite; the first that is not is named (`x[2] (alpha) = NaN`).
-#[inline]
+#[inline(always)]
 pub fn check_finite(name: &str, values: &[f64], labels: &[&str]) -> Result<(), Failure> {
     if all_finite(values) {
         return Ok(());
     }
+    name_not_finite(name, values, labels)
+}
+
+/// The refusal of `check_finite`, out of line.
+#[cold]
+#[inline(never)]
+fn name_not_finite(name: &str, values: &[f64], labels: &[&str]) -> Result<(), Failure> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(i) => {

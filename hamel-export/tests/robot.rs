@@ -258,6 +258,104 @@ fn forward_and_adjoint_derivatives_agree_with_the_jacobian() {
     }
 }
 
+/// With the feature `compiled`, `f` and `fwd1_f` called with x, u and p given (and no
+/// direction in p, or one of zeros) take a path of their own; a null block (zeros, by
+/// CasADi's convention) takes the general one. Both must give the same bits, and the
+/// refusals must be the general path's.
+#[test]
+fn the_common_calls_path_and_the_general_one_agree() {
+    let p = parameters();
+    let null = core::ptr::null();
+    let zeros_u = [0.0; 2];
+    let zeros_p = [0.0; 9];
+    let seed = [0.1, 0.2, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8];
+    let seed_u = [-0.4, 0.9];
+    let mut fast = vec![vec![0.0; 8]];
+    let mut general = vec![vec![0.0; 8]];
+    // u = 0: given (the common path) or null (the general path).
+    assert_eq!(
+        call(
+            robot_f,
+            &[X.as_ptr(), zeros_u.as_ptr(), p.as_ptr()],
+            &mut fast
+        ),
+        0
+    );
+    assert_eq!(
+        call(robot_f, &[X.as_ptr(), null, p.as_ptr()], &mut general),
+        0
+    );
+    assert_eq!(fast, general);
+    assert_eq!(fast[0], rhs(&p, &X, &[0.0; 2]));
+    let args = |u: *const f64, dp: *const f64| {
+        [
+            X.as_ptr(),
+            u,
+            p.as_ptr(),
+            null,
+            seed.as_ptr(),
+            seed_u.as_ptr(),
+            dp,
+        ]
+    };
+    for dp in [null, zeros_p.as_ptr()] {
+        assert_eq!(
+            call(fwd1_robot_f, &args(zeros_u.as_ptr(), dp), &mut fast),
+            0
+        );
+        assert_eq!(call(fwd1_robot_f, &args(null, dp), &mut general), 0);
+        assert_eq!(fast, general);
+    }
+    // A direction in p: the general path, the derivative along it added.
+    let mut dp = zeros_p;
+    dp[0] = 1.0;
+    assert_eq!(
+        call(
+            fwd1_robot_f,
+            &args(zeros_u.as_ptr(), dp.as_ptr()),
+            &mut general
+        ),
+        0
+    );
+    assert_ne!(fast, general);
+    // A direction that is not finite is refused and named, on either path.
+    let bad = [0.1, f64::INFINITY, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8];
+    let bad_args = [
+        X.as_ptr(),
+        U.as_ptr(),
+        p.as_ptr(),
+        null,
+        bad.as_ptr(),
+        null,
+        null,
+    ];
+    assert_eq!(call(fwd1_robot_f, &bad_args, &mut fast), 3);
+    assert_eq!(
+        last_error(),
+        "fwd1_robot_f: fwd_x[1] = inf is not a finite number"
+    );
+    // A state that is not finite: refused by name in `fwd1_f` as in `f`.
+    let mut x = X;
+    x[0] = f64::NAN;
+    let nan_args = [
+        x.as_ptr(),
+        U.as_ptr(),
+        p.as_ptr(),
+        null,
+        seed.as_ptr(),
+        null,
+        null,
+    ];
+    assert_eq!(call(fwd1_robot_f, &nan_args, &mut fast), 3);
+    assert_eq!(
+        last_error(),
+        "fwd1_robot_f: x[0] (x) = NaN is not a finite number"
+    );
+    // After a refusal, a success clears the message.
+    assert_eq!(call(fwd1_robot_f, &args(U.as_ptr(), null), &mut fast), 0);
+    assert_eq!(last_error(), "");
+}
+
 #[test]
 fn second_derivatives_are_the_adjoints_central_differences() {
     let p = parameters();

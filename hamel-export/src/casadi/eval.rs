@@ -6,11 +6,11 @@
 //! it without the feature) is computed by dual-number passes, only for the directions a
 //! wanted output needs and the generated code's graph says can be nonzero.
 
-use super::{Content, Family, Function, Kind};
+use super::{Content, Family, Function, Kind, fast};
 use crate::abi::{Failure, Status, all_finite, check_finite, slice, slice_mut};
 use crate::model::Model;
 use crate::passes::{self, singular};
-use crate::primal::{Block, Primal};
+use crate::primal::{Block, Primal, Which};
 use hamel_runtime::{HamelSystem, Parameters};
 
 /// Evaluate `kind` of `family` for CasADi: 0 on success; otherwise the failure.
@@ -18,6 +18,7 @@ use hamel_runtime::{HamelSystem, Parameters};
 /// # Safety
 /// `arg` and `res` must be CasADi's arrays for this function: at least `n_in` and `n_out`
 /// pointers, each null or pointing to as many values as the port's pattern has nonzeros.
+#[inline(always)]
 pub unsafe fn eval<M: Model>(
     family: &Family,
     kind: Kind,
@@ -25,10 +26,13 @@ pub unsafe fn eval<M: Model>(
     res: *const *mut f64,
 ) -> Result<(), Failure> {
     if arg.is_null() || res.is_null() {
-        return Err(Failure::new(
-            Status::NullPointer,
-            "the argument or result array is a null pointer",
-        ));
+        return Err(null_arrays());
+    }
+    if family.primal.which == Which::Rhs && matches!(kind, Kind::Value | Kind::Forward) {
+        // SAFETY: the caller's contract, which is `fast::rhs`'s.
+        if let Some(result) = unsafe { fast::rhs::<M>(kind, arg, res) } {
+            return result;
+        }
     }
     let f = family.function(kind);
     let primal = &family.primal;
@@ -50,49 +54,72 @@ pub unsafe fn eval<M: Model>(
     // One pass over z (the blocks CasADi did not give are zeros); only when it finds a value
     // that is not finite, the block and the component's label for the message.
     if !all_finite(z.as_ref()) {
-        for block in &primal.inputs {
-            let values = &z.as_ref()[block.offset..block.offset + block.len];
-            check_finite(block.name, values, labels::<M>(block))?;
-        }
+        name_not_finite::<M>(primal, z.as_ref())?;
     }
     let nb = primal.inputs.len();
     let mut outputs = Outputs { f, res };
-    // The seeds: the forward derivative's direction over z, or the adjoint's weights.
-    let mut seeds = M::array(0.0f64);
     match kind {
+        Kind::Value => with_run::<M, _>(family, &z, |r| r.value(&mut outputs)),
+        Kind::Jacobian => with_run::<M, _>(family, &z, |r| r.jacobian(&mut outputs)),
         Kind::Forward => {
-            for (k, block) in primal.inputs.iter().enumerate() {
+            // The direction, block by block (at most x, u, p, t), read where it is given.
+            let mut seeds: [Option<&[f64]>; 4] = [None; 4];
+            for (k, seed) in seeds.iter_mut().enumerate().take(nb) {
                 if let Some(values) = input(nb + 1 + k)? {
                     check_finite(f.inputs[nb + 1 + k].name(), values, &[])?;
-                    seeds.as_mut()[block.offset..block.offset + block.len].copy_from_slice(values);
+                    *seed = Some(values);
                 }
             }
+            with_run::<M, _>(family, &z, |r| r.forward(&seeds, &mut outputs))
         }
         Kind::Adjoint | Kind::AdjointJacobian => {
+            let mut weights = M::array(0.0f64);
+            let weights = &mut weights.as_mut()[..primal.output.1];
             if let Some(values) = input(nb + 1)? {
                 check_finite(f.inputs[nb + 1].name(), values, &[])?;
-                seeds.as_mut()[..values.len()].copy_from_slice(values);
+                weights.copy_from_slice(values);
+            }
+            if kind == Kind::Adjoint {
+                with_run::<M, _>(family, &z, |r| r.adjoint(weights, &mut outputs))
+            } else {
+                with_run::<M, _>(family, &z, |r| r.adjoint_jacobian(weights, &mut outputs))
             }
         }
-        Kind::Value | Kind::Jacobian => {}
     }
-    let s = primal.sizes;
-    let parameters = &z.as_ref()[s.p()..s.t()];
-    M::with_prepared(parameters, |prepared| {
-        let run = Run::<M> {
+}
+
+/// `then` with the evaluation at `z`, its parameters' prepared values at hand.
+#[inline(always)]
+fn with_run<M: Model, R>(family: &Family, z: &M::Array<f64>, then: impl FnOnce(&Run<M>) -> R) -> R {
+    let s = family.primal.sizes;
+    M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        then(&Run {
             family,
             prepared,
-            z: &z,
-        };
-        let weights = &seeds.as_ref()[..primal.output.1];
-        match kind {
-            Kind::Value => run.value(&mut outputs),
-            Kind::Jacobian => run.jacobian(&mut outputs),
-            Kind::Forward => run.forward(seeds.as_ref(), &mut outputs),
-            Kind::Adjoint => run.adjoint(weights, &mut outputs),
-            Kind::AdjointJacobian => run.adjoint_jacobian(weights, &mut outputs),
-        }
+            z,
+        })
     })
+}
+
+/// The refusal of null argument or result arrays.
+#[cold]
+#[inline(never)]
+fn null_arrays() -> Failure {
+    Failure::new(
+        Status::NullPointer,
+        "the argument or result array is a null pointer",
+    )
+}
+
+/// The refusal of a point with a value that is not finite: its block and component named.
+#[cold]
+#[inline(never)]
+fn name_not_finite<M: Model>(primal: &Primal, z: &[f64]) -> Result<(), Failure> {
+    for block in &primal.inputs {
+        let values = &z[block.offset..block.offset + block.len];
+        check_finite(block.name, values, labels::<M>(block))?;
+    }
+    Ok(())
 }
 
 /// The names of a block's components, for messages.
@@ -198,16 +225,23 @@ impl<M: Model> Run<'_, M> {
         jacobian_by_passes::<M>(self.primal(), self.z.as_ref(), outputs, &done)
     }
 
-    /// `fwd1_f`: one forward derivative along `direction` (over z).
-    fn forward(&self, direction: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
+    /// `fwd1_f`: one forward derivative along the direction given block by block (`None`:
+    /// zero).
+    fn forward(&self, seeds: &[Option<&[f64]>; 4], outputs: &mut Outputs) -> Result<(), Failure> {
         let which = self.primal().which;
         let Some(out) = outputs.get(0)? else {
             return Ok(());
         };
         if let Some(plans) = &self.family.plans {
+            // The direction over the compiled code's columns, copied from the blocks in runs.
             let mut local = M::array(0.0f64);
-            for (slot, &z) in local.as_mut().iter_mut().zip(&plans.local) {
-                *slot = direction[z];
+            for &(block, within, column, len) in &plans.runs {
+                if let Some(Some(seed)) = seeds.get(block) {
+                    let to = local.as_mut().get_mut(column..column + len);
+                    if let (Some(to), Some(from)) = (to, seed.get(within..within + len)) {
+                        to.copy_from_slice(from);
+                    }
+                }
             }
             let local = &local.as_ref()[..plans.local.len()];
             let parameters = local[plans.parameters.clone()].iter().any(|&d| d != 0.0);
@@ -217,7 +251,13 @@ impl<M: Model> Run<'_, M> {
                 return result.map_err(|e| self.singular(e));
             }
         }
-        passes::forward::<M>(which, self.z.as_ref(), direction, out)
+        let mut direction = M::array(0.0f64);
+        for (block, seed) in self.primal().inputs.iter().zip(seeds) {
+            if let Some(seed) = seed {
+                direction.as_mut()[block.offset..block.offset + block.len].copy_from_slice(seed);
+            }
+        }
+        passes::forward::<M>(which, self.z.as_ref(), direction.as_ref(), out)
     }
 
     /// `adj1_f`: (∂out/∂block)ᵀ λ for each wanted block.

@@ -14,6 +14,7 @@
 //! the model's graph), and [`plan`] says where each computed entry goes.
 
 mod eval;
+mod fast;
 pub mod plan;
 pub mod sparsity;
 pub mod symbols;

@@ -147,14 +147,64 @@ pub struct Scatter {
     /// Whether it is of the parameters' stage.
     pub parameters: bool,
     /// From the second derivatives' array.
-    pub second: Vec<(usize, usize)>,
+    second: Vec<(u32, u32)>,
     /// From the Jacobian's array.
-    pub jacobian: Vec<(usize, usize)>,
+    jacobian: Vec<(u32, u32)>,
     /// The output is `jacobian` entries `start..start + nnz` in order (a plain copy).
-    pub copy: Option<usize>,
+    copy: Option<usize>,
+    /// The lengths the pairs need: of the second derivatives' array, the Jacobian's and the
+    /// output (one more than the largest index of each).
+    needs: [usize; 3],
+    /// Whether the pairs write every slot of the output (then it needs no zeros first).
+    covers: bool,
 }
 
 impl Scatter {
+    /// A scatter of the compiled code's entries, or of none (`Scatter::uncompiled`).
+    fn new(
+        parameters: bool,
+        second: Vec<(usize, usize)>,
+        jacobian: Vec<(usize, usize)>,
+        copy: Option<usize>,
+    ) -> Scatter {
+        let most = |pairs: &[(usize, usize)], pick: fn(&(usize, usize)) -> usize| {
+            pairs.iter().map(|p| pick(p) + 1).max().unwrap_or(0)
+        };
+        let needs = [
+            most(&second, |p| p.0),
+            most(&jacobian, |p| p.0),
+            most(&second, |p| p.1).max(most(&jacobian, |p| p.1)),
+        ];
+        let mut slots: Vec<usize> = second.iter().chain(&jacobian).map(|p| p.1).collect();
+        slots.sort_unstable();
+        slots.dedup();
+        let covers = slots.iter().enumerate().all(|(k, &slot)| k == slot);
+        // Indices of arrays the size of a model's derivatives: far below u32::MAX.
+        let narrow = |pairs: Vec<(usize, usize)>| -> Vec<(u32, u32)> {
+            pairs
+                .into_iter()
+                .filter_map(|(e, s)| Some((u32::try_from(e).ok()?, u32::try_from(s).ok()?)))
+                .collect()
+        };
+        Scatter {
+            compiled: true,
+            parameters,
+            second: narrow(second),
+            jacobian: narrow(jacobian),
+            copy,
+            needs,
+            covers: covers && slots.len() == needs[2],
+        }
+    }
+
+    /// An output the compiled code does not fill (computed by dual numbers).
+    fn uncompiled(parameters: bool) -> Scatter {
+        Scatter {
+            parameters,
+            ..Scatter::default()
+        }
+    }
+
     /// Write the output's nonzeros from the compiled arrays.
     #[inline]
     pub fn write(&self, out: &mut [f64], second: &[f64], jacobian: &[f64]) {
@@ -164,17 +214,33 @@ impl Scatter {
                 return;
             }
         }
-        out.fill(0.0);
-        for &(e, slot) in &self.second {
-            if let (Some(o), Some(v)) = (out.get_mut(slot), second.get(e)) {
-                *o = *v;
+        if !(self.covers && out.len() == self.needs[2]) {
+            out.fill(0.0);
+        }
+        // The lengths checked once for every pair (not pair by pair: this copy runs on every
+        // call of `jac_adj1_f`, hundreds of entries, and cost as much as computing them).
+        let [ns, nj, no] = self.needs;
+        if second.len() >= ns && jacobian.len() >= nj && out.len() >= no {
+            // SAFETY: `needs` exceeds every pair's entry and slot (`Scatter::new` computed it
+            // from these pairs, which nothing changes after), and the slices are that long.
+            unsafe {
+                gather(out, second, &self.second);
+                gather(out, jacobian, &self.jacobian);
             }
         }
-        for &(e, slot) in &self.jacobian {
-            if let (Some(o), Some(v)) = (out.get_mut(slot), jacobian.get(e)) {
-                *o = *v;
-            }
-        }
+    }
+}
+
+/// out[slot] = from[entry] for each pair.
+///
+/// # Safety
+/// Every pair's entry is below `from.len()` and its slot below `out.len()` (what
+/// `Scatter::needs` records of its own pairs, checked by `Scatter::write`).
+#[inline(always)]
+unsafe fn gather(out: &mut [f64], from: &[f64], pairs: &[(u32, u32)]) {
+    for &(e, slot) in pairs {
+        // SAFETY: within both slices (this function's contract).
+        unsafe { *out.get_unchecked_mut(slot as usize) = *from.get_unchecked(e as usize) };
     }
 }
 
@@ -184,6 +250,10 @@ impl Scatter {
 pub struct Plans {
     /// The compiled code's columns as indices into z.
     pub local: Vec<usize>,
+    /// The same columns as runs of consecutive components of one input block: (block, first
+    /// component, first column, length). A column in no block (the time of a model that
+    /// does not depend on it) is in no run.
+    pub runs: Vec<(usize, usize, usize, usize)>,
     /// Which of them are parameters.
     pub parameters: std::ops::Range<usize>,
     pub jacobian: Vec<Scatter>,
@@ -233,20 +303,17 @@ impl Plans {
                 Content::Second(i, j) => {
                     let parameters = is_parameters(primal, i) || is_parameters(primal, j);
                     match structure.second_entries(primal, parameters) {
-                        Some(entries) => Scatter {
-                            compiled: true,
+                        Some(entries) => Scatter::new(
                             parameters,
-                            second: entries
+                            entries
                                 .iter()
                                 .filter(|e| e.1 == i && e.3 == j)
                                 .filter_map(|e| Some((e.0, port.pattern.position(e.2, e.4)?)))
                                 .collect(),
-                            ..Scatter::default()
-                        },
-                        None => Scatter {
-                            parameters,
-                            ..Scatter::default()
-                        },
+                            Vec::new(),
+                            None,
+                        ),
+                        None => Scatter::uncompiled(parameters),
                     }
                 }
                 Content::Transposed(i) => {
@@ -260,8 +327,23 @@ impl Plans {
                 _ => Scatter::default(),
             })
             .collect();
+        let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
+        for (column, &z) in local.iter().enumerate() {
+            let Some((block, within)) = block_of(primal, z) else {
+                continue;
+            };
+            match runs.last_mut() {
+                Some((b, w, c, len))
+                    if *b == block && *w + *len == within && *c + *len == column =>
+                {
+                    *len += 1
+                }
+                _ => runs.push((block, within, column, 1)),
+            }
+        }
         Some(Plans {
             local: local.clone(),
+            runs,
             parameters: first..last,
             jacobian,
             second,
@@ -280,10 +362,7 @@ fn jacobian_scatter(
 ) -> Scatter {
     let parameters = is_parameters(primal, i);
     let Some(entries) = structure.jacobian_entries(primal, parameters) else {
-        return Scatter {
-            parameters,
-            ..Scatter::default()
-        };
+        return Scatter::uncompiled(parameters);
     };
     let jacobian: Vec<(usize, usize)> = entries
         .iter()
@@ -297,11 +376,5 @@ fn jacobian_scatter(
             .enumerate()
             .all(|(k, &(e, s))| e == start + k && s == k)
     });
-    Scatter {
-        compiled: true,
-        parameters,
-        second: Vec::new(),
-        jacobian,
-        copy,
-    }
+    Scatter::new(parameters, Vec::new(), jacobian, copy)
 }
