@@ -306,6 +306,25 @@ fn the_common_calls_path_and_the_general_one_agree() {
         assert_eq!(call(fwd1_robot_f, &args(null, dp), &mut general), 0);
         assert_eq!(fast, general);
     }
+    // The second derivatives likewise, every block wanted.
+    let blocks = unsafe { jac_adj1_robot_f_n_out() } as usize;
+    let mut fast = vec![vec![0.0; 96]; blocks];
+    let mut general = vec![vec![1.0; 96]; blocks];
+    let weights = [0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9];
+    let second = |u: *const f64| [X.as_ptr(), u, p.as_ptr(), null, weights.as_ptr()];
+    assert_eq!(
+        call(jac_adj1_robot_f, &second(zeros_u.as_ptr()), &mut fast),
+        0
+    );
+    assert_eq!(call(jac_adj1_robot_f, &second(null), &mut general), 0);
+    for k in 0..blocks {
+        let pattern = unsafe { jac_adj1_robot_f_sparsity_out(k as CasadiInt) };
+        // Compressed columns: nrow, ncol, the column starts; the last start is nnz.
+        let nnz = unsafe { *pattern.add(2 + *pattern.add(1) as usize) } as usize;
+        assert_eq!(fast[k][..nnz], general[k][..nnz], "block {k}");
+    }
+    let mut fast = vec![vec![0.0; 8]];
+    let mut general = vec![vec![0.0; 8]];
     // A direction in p: the general path, the derivative along it added.
     let mut dp = zeros_p;
     dp[0] = 1.0;

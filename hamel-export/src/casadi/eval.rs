@@ -28,9 +28,14 @@ pub unsafe fn eval<M: Model>(
     if arg.is_null() || res.is_null() {
         return Err(null_arrays());
     }
-    if family.primal.which == Which::Rhs && matches!(kind, Kind::Value | Kind::Forward) {
-        // SAFETY: the caller's contract, which is `fast::rhs`'s.
-        if let Some(result) = unsafe { fast::rhs::<M>(kind, arg, res) } {
+    if family.primal.which == Which::Rhs {
+        // SAFETY: the caller's contract, which is `fast`'s.
+        let fast = match kind {
+            Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
+            Kind::AdjointJacobian => unsafe { fast::second::<M>(family, arg, res) },
+            Kind::Jacobian | Kind::Adjoint => None,
+        };
+        if let Some(result) = fast {
             return result;
         }
     }

@@ -6,11 +6,55 @@
 //! block, a value that is not finite, a nonzero direction in p or t), takes the general path of
 //! [`super::eval`], which refuses or computes it with the same code.
 
-use super::Kind;
+use super::{Family, Kind};
 use crate::abi::{Failure, all_finite};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
 use crate::primal::Which;
+
+/// The point (x, u, p and t) into `z`, read with the model's sizes; `false` if a block is
+/// null or a value not finite (the general path takes the call: zeros, or the refusal).
+///
+/// # Safety
+/// `arg` is CasADi's non-null array of inputs of a function of the right-hand side.
+#[inline(always)]
+unsafe fn point<M: Model>(arg: *const *const f64, z: &mut M::Array<f64>) -> bool {
+    let s = Sizes::of::<M>();
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    let given = |k: usize| unsafe { *arg.add(k) };
+    {
+        let z = z.as_mut();
+        // x, u, p (and t): CasADi's inputs 0, 1, 2 (and 3).
+        for (k, (start, len)) in [(0, s.nx), (s.u(), s.nu), (s.p(), s.np)]
+            .into_iter()
+            .enumerate()
+        {
+            if len > 0 {
+                let block = given(k);
+                if block.is_null() {
+                    return false;
+                }
+                // SAFETY: a non-null input points to its port's nonzeros: the dense block.
+                z[start..start + len]
+                    .copy_from_slice(unsafe { core::slice::from_raw_parts(block, len) });
+            }
+        }
+        if M::TIME_DEPENDENT {
+            let t = given(3);
+            if t.is_null() {
+                return false;
+            }
+            // SAFETY: as above, one value.
+            z[s.t()] = unsafe { *t };
+        }
+    }
+    all_finite(&z.as_ref()[..s.z()])
+}
+
+/// How many of CasADi's inputs are the point: x, u, p (and t).
+fn point_blocks<M: Model>() -> usize {
+    3 + usize::from(M::TIME_DEPENDENT)
+}
 
 /// `f` or `fwd1_f` of the right-hand side when the call has the common shape; `None` (having
 /// written nothing) to take the general path.
@@ -24,37 +68,12 @@ pub unsafe fn rhs<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Failure>> {
     let s = Sizes::of::<M>();
-    // The blocks x, u, p (and t): CasADi's inputs 0, 1, 2 (and 3).
-    let blocks = 3 + usize::from(M::TIME_DEPENDENT);
+    let blocks = point_blocks::<M>();
     // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
     let given = |k: usize| unsafe { *arg.add(k) };
     let mut z = M::array(0.0f64);
-    {
-        let z = z.as_mut();
-        for (k, (start, len)) in [(0, s.nx), (s.u(), s.nu), (s.p(), s.np)]
-            .into_iter()
-            .enumerate()
-        {
-            if len > 0 {
-                let block = given(k);
-                if block.is_null() {
-                    return None;
-                }
-                // SAFETY: a non-null input points to its port's nonzeros: the dense block.
-                z[start..start + len]
-                    .copy_from_slice(unsafe { core::slice::from_raw_parts(block, len) });
-            }
-        }
-        if M::TIME_DEPENDENT {
-            let t = given(3);
-            if t.is_null() {
-                return None;
-            }
-            // SAFETY: as above, one value.
-            z[s.t()] = unsafe { *t };
-        }
-    }
-    if !all_finite(&z.as_ref()[..s.z()]) {
+    // SAFETY: the caller's contract.
+    if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
     // SAFETY: CasADi's array holds a pointer per output; the only output is ẋ or its
@@ -116,5 +135,73 @@ pub unsafe fn rhs<M: Model>(
         _ => return None,
     };
     // `None`: no compiled code (nothing was written); the general path computes it.
+    Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
+}
+
+/// `jac_adj1_f` of the right-hand side: the weighted second derivatives and the transposed
+/// Jacobian blocks, when every wanted block is compiled code's; `None` (having written
+/// nothing) to take the general path.
+///
+/// # Safety
+/// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
+#[inline(always)]
+pub unsafe fn second<M: Model>(
+    family: &Family,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Option<Result<(), Failure>> {
+    let plans = family.plans.as_ref()?;
+    let function = family.function(Kind::AdjointJacobian);
+    let s = Sizes::of::<M>();
+    let mut z = M::array(0.0f64);
+    // SAFETY: the caller's contract.
+    if !unsafe { point::<M>(arg, &mut z) } {
+        return None;
+    }
+    // The weights follow the point and the nominal output; null: zeros.
+    let mut weights = M::array(0.0f64);
+    let weights = &mut weights.as_mut()[..s.nx];
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
+    if !given.is_null() {
+        // SAFETY: a non-null input points to its port's nonzeros: nx values.
+        weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, s.nx) });
+        if !all_finite(weights) {
+            return None;
+        }
+    }
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let wanted = |k: usize| {
+        let ptr = unsafe { *res.add(k) };
+        let nnz = function.outputs[k].0.pattern.nnz();
+        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    };
+    let mut parameters = false;
+    for (k, scatter) in plans.second.iter().enumerate() {
+        if wanted(k).is_some() {
+            if !scatter.compiled {
+                return None;
+            }
+            parameters |= scatter.parameters;
+        }
+    }
+    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        M::compiled_second(
+            Which::Rhs,
+            prepared,
+            &z,
+            weights,
+            parameters,
+            |second, jacobian| {
+                for (k, scatter) in plans.second.iter().enumerate() {
+                    if let Some((ptr, nnz)) = wanted(k) {
+                        // SAFETY: a wanted output points to its port's nonzeros, writable.
+                        let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
+                        scatter.write(out, second, jacobian);
+                    }
+                }
+            },
+        )
+    });
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
