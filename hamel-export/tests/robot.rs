@@ -258,9 +258,9 @@ fn forward_and_adjoint_derivatives_agree_with_the_jacobian() {
     }
 }
 
-/// With the feature `compiled`, `f` and `fwd1_f` called with x, u and p given (and no
-/// direction in p, or one of zeros) take a path of their own; a null block (zeros, by
-/// CasADi's convention) takes the general one. Both must give the same bits, and the
+/// With the feature `compiled`, `f`, `fwd1_f` (with no direction in p, or one of zeros),
+/// `adj1_f` and `jac_adj1_f` called with x, u and p given take a path of their own; a null
+/// block (zeros, by CasADi's convention) takes the general one. Both must give the same bits, and the
 /// refusals must be the general path's.
 #[test]
 fn the_common_calls_path_and_the_general_one_agree() {
@@ -323,6 +323,12 @@ fn the_common_calls_path_and_the_general_one_agree() {
         let nnz = unsafe { *pattern.add(2 + *pattern.add(1) as usize) } as usize;
         assert_eq!(fast[k][..nnz], general[k][..nnz], "block {k}");
     }
+    // The adjoint likewise, by x, u and p.
+    let mut fast = vec![vec![0.0; 8], vec![0.0; 2], vec![0.0; 9]];
+    let mut general = vec![vec![1.0; 8], vec![1.0; 2], vec![1.0; 9]];
+    assert_eq!(call(adj1_robot_f, &second(zeros_u.as_ptr()), &mut fast), 0);
+    assert_eq!(call(adj1_robot_f, &second(null), &mut general), 0);
+    assert_eq!(fast, general);
     let mut fast = vec![vec![0.0; 8]];
     let mut general = vec![vec![0.0; 8]];
     // A direction in p: the general path, the derivative along it added.

@@ -32,8 +32,9 @@ pub unsafe fn eval<M: Model>(
         // SAFETY: the caller's contract, which is `fast`'s.
         let fast = match kind {
             Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
+            Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) },
             Kind::AdjointJacobian => unsafe { fast::second::<M>(family, arg, res) },
-            Kind::Jacobian | Kind::Adjoint => None,
+            Kind::Jacobian => None,
         };
         if let Some(result) = fast {
             return result;

@@ -205,3 +205,70 @@ pub unsafe fn second<M: Model>(
     });
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
+
+/// `adj1_f` of the right-hand side: (∂ẋ/∂x)ᵀλ, (∂ẋ/∂u)ᵀλ, (∂ẋ/∂p)ᵀλ (and ∂ẋ/∂t·λ) from the
+/// compiled adjoint over its columns (x, u, the parameters it reads, t); `None` (having
+/// written nothing) to take the general path.
+///
+/// # Safety
+/// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
+#[inline(always)]
+pub unsafe fn adjoint<M: Model>(
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Option<Result<(), Failure>> {
+    let s = Sizes::of::<M>();
+    let mut z = M::array(0.0f64);
+    // SAFETY: the caller's contract.
+    if !unsafe { point::<M>(arg, &mut z) } {
+        return None;
+    }
+    let mut weights = M::array(0.0f64);
+    let weights = &mut weights.as_mut()[..s.nx];
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
+    if !given.is_null() {
+        // SAFETY: a non-null input points to its port's nonzeros: nx values.
+        weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, s.nx) });
+        if !all_finite(weights) {
+            return None;
+        }
+    }
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let out = |k: usize| unsafe { *res.add(k) };
+    let parameters = s.np > 0 && !out(2).is_null();
+    let columns = s.p() + M::READ.len() + 1;
+    let mut local = M::array(0.0f64);
+    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        M::compiled_adjoint(
+            Which::Rhs,
+            prepared,
+            &z,
+            weights,
+            parameters,
+            &mut local.as_mut()[..columns],
+        )
+    });
+    if let Err(e) = written? {
+        return Some(Err(singular::<M>(e, z.as_ref())));
+    }
+    let local = &local.as_ref()[..columns];
+    // SAFETY (each block below): a non-null output points to its port's nonzeros, dense.
+    for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
+        if len > 0 && !out(k).is_null() {
+            unsafe { core::slice::from_raw_parts_mut(out(k), len) }
+                .copy_from_slice(&local[start..start + len]);
+        }
+    }
+    if parameters {
+        let adj_p = unsafe { core::slice::from_raw_parts_mut(out(2), s.np) };
+        adj_p.fill(0.0);
+        for (column, &read) in M::READ.iter().enumerate() {
+            adj_p[read] = local[s.p() + column];
+        }
+    }
+    if M::TIME_DEPENDENT && !out(3).is_null() {
+        unsafe { *out(3) = local[columns - 1] };
+    }
+    Some(Ok(()))
+}
