@@ -259,8 +259,8 @@ fn forward_and_adjoint_derivatives_agree_with_the_jacobian() {
 }
 
 /// With the feature `compiled`, `f`, `fwd1_f` (with no direction in p, or one of zeros),
-/// `adj1_f` and `jac_adj1_f` called with x, u and p given take a path of their own; a null
-/// block (zeros, by CasADi's convention) takes the general one. Both must give the same bits, and the
+/// `adj1_f`, `jac_f` and `jac_adj1_f` called with x, u and p given take a path of their own;
+/// a null block (zeros, by CasADi's convention) takes the general one. Both must give the same bits, and the
 /// refusals must be the general path's.
 #[test]
 fn the_common_calls_path_and_the_general_one_agree() {
@@ -320,6 +320,17 @@ fn the_common_calls_path_and_the_general_one_agree() {
     for k in 0..blocks {
         let pattern = unsafe { jac_adj1_robot_f_sparsity_out(k as CasadiInt) };
         // Compressed columns: nrow, ncol, the column starts; the last start is nnz.
+        let nnz = unsafe { *pattern.add(2 + *pattern.add(1) as usize) } as usize;
+        assert_eq!(fast[k][..nnz], general[k][..nnz], "block {k}");
+    }
+    // The Jacobian likewise, every block.
+    let mut fast = vec![vec![0.0; 64], vec![0.0; 16], vec![0.0; 72]];
+    let mut general = vec![vec![1.0; 64], vec![1.0; 16], vec![1.0; 72]];
+    let point = |u: *const f64| [X.as_ptr(), u, p.as_ptr(), null];
+    assert_eq!(call(jac_robot_f, &point(zeros_u.as_ptr()), &mut fast), 0);
+    assert_eq!(call(jac_robot_f, &point(null), &mut general), 0);
+    for k in 0..3 {
+        let pattern = unsafe { jac_robot_f_sparsity_out(k as CasadiInt) };
         let nnz = unsafe { *pattern.add(2 + *pattern.add(1) as usize) } as usize;
         assert_eq!(fast[k][..nnz], general[k][..nnz], "block {k}");
     }

@@ -33,8 +33,8 @@ pub unsafe fn eval<M: Model>(
         let fast = match kind {
             Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
             Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) },
+            Kind::Jacobian => unsafe { fast::jacobian::<M>(family, arg, res) },
             Kind::AdjointJacobian => unsafe { fast::second::<M>(family, arg, res) },
-            Kind::Jacobian => None,
         };
         if let Some(result) = fast {
             return result;

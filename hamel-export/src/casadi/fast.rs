@@ -1,10 +1,12 @@
-//! The calls an NLP solver makes most: `f` and `fwd1_f` of the right-hand side with x, u and
-//! p given (CasADi evaluates a Jacobian of its own graph by forward derivatives, one
-//! direction per call: the parking example makes 260,000 calls of `fwd1_f` a solve). Here
-//! the blocks' sizes are constants of the model, so reading them is a few moves, not a walk
-//! over the function's ports; every other call, and every call this path declines (a null
-//! block, a value that is not finite, a nonzero direction in p or t), takes the general path of
-//! [`super::eval`], which refuses or computes it with the same code.
+//! The calls an NLP solver makes, on the right-hand side with x, u and p given: `f`,
+//! `fwd1_f` (CasADi evaluates the Jacobian of its own graph by forward derivatives, one
+//! direction per call: the parking example makes 262,000 calls of `fwd1_f` a solve, 16,000
+//! of `jac_adj1_f`, 61,000 of `f`, 14,000 of `adj1_f`), `adj1_f`, `jac_f` and `jac_adj1_f`.
+//! Here the blocks' sizes are constants of the model, so reading the point is a few moves,
+//! not a walk over the function's ports. Every other call, and every call this path declines
+//! (a null block, a value that is not finite, a nonzero direction in p or t, a wanted block
+//! the compiled code does not give), takes the general path of [`super::eval`], which
+//! refuses it or computes it with the same compiled code.
 
 use super::{Family, Kind};
 use crate::abi::{Failure, all_finite};
@@ -173,7 +175,7 @@ pub unsafe fn second<M: Model>(
     // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
     let wanted = |k: usize| {
         let ptr = unsafe { *res.add(k) };
-        let nnz = function.outputs[k].0.pattern.nnz();
+        let nnz = function.outputs.get(k)?.0.pattern.nnz();
         (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
     };
     let mut parameters = false;
@@ -271,4 +273,53 @@ pub unsafe fn adjoint<M: Model>(
         unsafe { *out(3) = local[columns - 1] };
     }
     Some(Ok(()))
+}
+
+/// `jac_f` of the right-hand side: the blocks by x, u (and t) and, when wanted, by p, when
+/// every wanted block is compiled code's; `None` (having written nothing) to take the
+/// general path.
+///
+/// # Safety
+/// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
+#[inline(always)]
+pub unsafe fn jacobian<M: Model>(
+    family: &Family,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Option<Result<(), Failure>> {
+    let plans = family.plans.as_ref()?;
+    let function = family.function(Kind::Jacobian);
+    let s = Sizes::of::<M>();
+    let mut z = M::array(0.0f64);
+    // SAFETY: the caller's contract.
+    if !unsafe { point::<M>(arg, &mut z) } {
+        return None;
+    }
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let wanted = |k: usize| {
+        let ptr = unsafe { *res.add(k) };
+        let nnz = function.outputs.get(k)?.0.pattern.nnz();
+        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    };
+    let mut parameters = false;
+    for (k, scatter) in plans.jacobian.iter().enumerate() {
+        if wanted(k).is_some() {
+            if !scatter.compiled {
+                return None;
+            }
+            parameters |= scatter.parameters;
+        }
+    }
+    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |values| {
+            for (k, scatter) in plans.jacobian.iter().enumerate() {
+                if let Some((ptr, nnz)) = wanted(k) {
+                    // SAFETY: a wanted output points to its port's nonzeros, writable.
+                    let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
+                    scatter.write(out, &[], values);
+                }
+            }
+        })
+    });
+    Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
