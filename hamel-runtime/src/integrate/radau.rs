@@ -36,14 +36,17 @@ use crate::vector::Vector;
 /// tolerance. Its steps follow the slow motion; each solves 3n implicit equations by
 /// simplified Newton on the Jacobian ([`Ode::jacobian`]: for a simulation, the system's exact
 /// one), which it evaluates afresh only when the iteration slows down (contracts by more than
-/// 0.001 per iteration; by more than 0.1 for a Jacobian by differences of ten or more
-/// components, which costs n evaluations). At tolerances looser than about 10⁻⁶, [`super::Rodas5P`] is usually faster
-/// on the exact Jacobian (`hamel::docs::running`, "Which stiff method").
+/// 0.001 per iteration; a Jacobian by differences, which costs n evaluations, only when the
+/// iteration also took more than two, and by more than 0.1 for ten or more components), and
+/// keeps its step size, and so its LU factorizations, unless the Jacobian is renewed or the
+/// step would grow by more than 1.2. At tolerances looser than about 10⁻⁶,
+/// [`super::Rodas5P`] is usually faster on the exact Jacobian (`hamel::docs::running`,
+/// "Which stiff method").
 ///
 /// The tolerances are RADAU5's: rtol and atol are mapped to 0.1·rtol^(2/3) and
 /// 0.1·rtol^(2/3)·atol/rtol before the local error is held to them. The global error is then
-/// not rtol: on the standard stiff test set it came out between 0.06 and 17 times rtol, on
-/// stiff mechanical models up to 660 times (measured per problem in
+/// not rtol: on the standard stiff test set it came out between 0.06 and 13 times rtol, on
+/// stiff mechanical models up to 900 times (measured per problem in
 /// `hamel::docs::running`). Samples
 /// inside a step come from the collocation polynomial (third order, as RADAU5's CONTR5),
 /// projected; the integrator never shortens a step to hit a sample.
@@ -127,7 +130,18 @@ const THET_DIFFERENCED: f64 = 0.1;
 
 /// The size from which a Jacobian by differences counts as costly ([`THET_DIFFERENCED`]).
 const COSTLY_DIFFERENCES: usize = 10;
+/// RADAU5's stretch of a step that nearly reaches the end (its QUOT1).
 const QUOT1: f64 = 1.0;
+/// The largest growth of the step that still keeps it, and so its factorization, after a
+/// step on which the Jacobian is kept (RADAU5's QUOT2). Below it the step is kept whatever
+/// the controller proposes, shrinking included, as scipy's `Radau` does (RADAU5 keeps it only
+/// for ratios in [1, 1.2] and factors afresh for a step 1 % smaller). An accepted step's
+/// proposal to shrink comes from an error estimate near the tolerance (or the predictive
+/// controller's caution), and the same step again mostly passes: measured
+/// (`benches/work_precision`, `once PROBLEM "hamel Radau5"`, rtol 10⁻³…10⁻¹⁰), the
+/// factorizations fall by up to 59 % (VDPOL at 10⁻¹⁰, 3434 to 1412), 38 % (OREGO), 10 %
+/// (HIRES), with the evaluations within ±4 % and the worst error per rtol the same or
+/// smaller on all five test-set problems; the rejections rise (VDPOL 4 to 19 at 10⁻¹⁰).
 const QUOT2: f64 = 1.2;
 
 impl Radau5 {
@@ -451,9 +465,10 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                     Next::Done => return Ok(()),
                     Next::Continue => {}
                 }
-                last = self.next_step(h / quot);
+                let refresh = self.renew_jacobian(iterations);
+                last = self.next_step(h / quot, refresh);
                 self.jacobian.fresh = false;
-                if self.theta > self.thet() {
+                if refresh {
                     self.evaluate_jacobian()?;
                 }
             } else {
@@ -468,7 +483,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
 
     /// Sets the step after an accepted one, RADAU5's proposal being `proposed`; whether it
     /// is the last.
-    fn next_step(&mut self, proposed: f64) -> bool {
+    fn next_step(&mut self, proposed: f64, refresh: bool) -> bool {
         let h = self.h;
         let mut h_new = proposed.min(self.hmax);
         if self.reject {
@@ -480,10 +495,14 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             self.h = self.t_end - self.t;
             return true;
         }
-        // Within a band of ratios the step, and so the factorization, is kept.
-        let ratio = h_new / h;
-        if !(self.theta <= self.thet() && (QUOT1..=QUOT2).contains(&ratio)) {
+        // Below a growth of QUOT2 the step, and so the factorization, is kept when the
+        // Jacobian is.
+        if refresh || h_new / h > QUOT2 {
             self.h = h_new;
+        } else if self.t + h >= self.t_end {
+            // The kept step, longer than the proposal, would pass the end.
+            self.h = self.t_end - self.t;
+            return true;
         }
         false
     }
@@ -520,6 +539,22 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             self.evaluate_jacobian()?;
         }
         Ok(())
+    }
+
+    /// Whether the Jacobian is evaluated afresh after an accepted step whose iteration took
+    /// `iterations`: when the iteration contracted by more than [`Self::thet`] (RADAU5), and,
+    /// for a Jacobian by differences, which costs n evaluations, only if it also needed more
+    /// than two iterations (scipy's `Radau`, whose rule this is for every Jacobian). Measured
+    /// on the test set by differences (`benches/work_precision`, `once PROBLEM "hamel Radau5
+    /// (differences)"`, against scipy's `Radau` by differences at equal error, rtol
+    /// 10⁻³…10⁻¹⁰): the largest ratio of evaluations falls on ROBER from 1.32 to 1.17, stays
+    /// 1.40 on HIRES (one point), and 1.06–1.09 on VDPOL and OREGO; the factorizations fall by
+    /// 10–40 %; Robertson's y₁ at 4·10¹⁰ comes out 1.2·10⁻⁵ off (was 1.5·10⁻⁵) in 1916
+    /// evaluations (was 2105). With the exact Jacobian RADAU5's rule stays: there a Jacobian
+    /// costs no evaluation, and scipy's rule took ROBER at 10⁻¹⁰ from 0.60 to 0.99 of scipy's
+    /// evaluations at equal error.
+    fn renew_jacobian(&self, iterations: usize) -> bool {
+        self.theta > self.thet() && (!self.jacobian.differenced() || iterations > 2)
     }
 
     /// The contraction below which the Jacobian is kept after a step (RADAU5's THET).
