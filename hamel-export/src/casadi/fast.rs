@@ -8,7 +8,8 @@
 //! the compiled code does not give), takes the general path of [`super::eval`], which
 //! refuses it or computes it with the same compiled code.
 
-use super::{Family, Kind};
+use super::plan::Scatter;
+use super::{Family, Function, Kind};
 use crate::abi::{Failure, all_finite};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
@@ -56,6 +57,75 @@ unsafe fn point<M: Model>(arg: *const *const f64, z: &mut M::Array<f64>) -> bool
 /// How many of CasADi's inputs are the point: x, u, p (and t).
 fn point_blocks<M: Model>() -> usize {
     3 + usize::from(M::TIME_DEPENDENT)
+}
+
+/// An adjoint's weights (the input after the point and the nominal output; null: zeros)
+/// into `weights`; `false` if one is not finite.
+///
+/// # Safety
+/// `arg` is CasADi's non-null array of inputs of `adj1_f` or `jac_adj1_f` of the right-hand
+/// side.
+#[inline(always)]
+unsafe fn read_weights<M: Model>(arg: *const *const f64, weights: &mut [f64]) -> bool {
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
+    if given.is_null() {
+        return true;
+    }
+    // SAFETY: a non-null input points to its port's nonzeros: as many as the weights.
+    weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, weights.len()) });
+    all_finite(weights)
+}
+
+/// The sparse outputs of `jac_f` or `jac_adj1_f` and where the compiled code's entries go.
+struct Blocks<'a> {
+    function: &'a Function,
+    res: *const *mut f64,
+    scatters: &'a [Scatter],
+}
+
+impl Blocks<'_> {
+    /// Output `k`'s pointer and length if it is wanted (a null pointer or an empty pattern is
+    /// not).
+    #[inline(always)]
+    fn wanted(&self, k: usize) -> Option<(*mut f64, usize)> {
+        // SAFETY: CasADi's array holds a pointer per output (`Blocks::write`'s contract).
+        let ptr = unsafe { *self.res.add(k) };
+        let nnz = self.function.outputs.get(k)?.0.pattern.nnz();
+        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    }
+
+    /// Whether one of the wanted blocks is by p (the compiled code's second stage); `None`
+    /// if the compiled code does not give one of them.
+    #[inline(always)]
+    fn stages(&self) -> Option<bool> {
+        let mut parameters = false;
+        for (k, scatter) in self.scatters.iter().enumerate() {
+            if self.wanted(k).is_some() {
+                if !scatter.compiled {
+                    return None;
+                }
+                parameters |= scatter.parameters;
+            }
+        }
+        Some(parameters)
+    }
+
+    /// Every wanted block from the compiled arrays.
+    ///
+    /// # Safety
+    /// `res` is CasADi's non-null array of this function's outputs, each null or pointing to
+    /// its port's nonzeros, writable.
+    #[inline(always)]
+    unsafe fn write(&self, second: &[f64], jacobian: &[f64]) {
+        for (k, scatter) in self.scatters.iter().enumerate() {
+            if let Some((ptr, nnz)) = self.wanted(k) {
+                // SAFETY: a wanted output points to its port's nonzeros (the contract).
+                let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
+                scatter.write(out, second, jacobian);
+            }
+        }
+    }
 }
 
 /// `f` or `fwd1_f` of the right-hand side when the call has the common shape; `None` (having
@@ -153,40 +223,24 @@ pub unsafe fn second<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
-    let function = family.function(Kind::AdjointJacobian);
     let s = Sizes::of::<M>();
     let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
     if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
-    // The weights follow the point and the nominal output; null: zeros.
     let mut weights = M::array(0.0f64);
     let weights = &mut weights.as_mut()[..s.nx];
-    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
-    let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
-    if !given.is_null() {
-        // SAFETY: a non-null input points to its port's nonzeros: nx values.
-        weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, s.nx) });
-        if !all_finite(weights) {
-            return None;
-        }
+    // SAFETY: the caller's contract.
+    if !unsafe { read_weights::<M>(arg, weights) } {
+        return None;
     }
-    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
-    let wanted = |k: usize| {
-        let ptr = unsafe { *res.add(k) };
-        let nnz = function.outputs.get(k)?.0.pattern.nnz();
-        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    let blocks = Blocks {
+        function: family.function(Kind::AdjointJacobian),
+        res,
+        scatters: &plans.second,
     };
-    let mut parameters = false;
-    for (k, scatter) in plans.second.iter().enumerate() {
-        if wanted(k).is_some() {
-            if !scatter.compiled {
-                return None;
-            }
-            parameters |= scatter.parameters;
-        }
-    }
+    let parameters = blocks.stages()?;
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         M::compiled_second(
             Which::Rhs,
@@ -194,15 +248,8 @@ pub unsafe fn second<M: Model>(
             &z,
             weights,
             parameters,
-            |second, jacobian| {
-                for (k, scatter) in plans.second.iter().enumerate() {
-                    if let Some((ptr, nnz)) = wanted(k) {
-                        // SAFETY: a wanted output points to its port's nonzeros, writable.
-                        let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
-                        scatter.write(out, second, jacobian);
-                    }
-                }
-            },
+            // SAFETY: the caller's contract, which is `Blocks::write`'s.
+            |second, jacobian| unsafe { blocks.write(second, jacobian) },
         )
     });
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
@@ -227,14 +274,9 @@ pub unsafe fn adjoint<M: Model>(
     }
     let mut weights = M::array(0.0f64);
     let weights = &mut weights.as_mut()[..s.nx];
-    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
-    let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
-    if !given.is_null() {
-        // SAFETY: a non-null input points to its port's nonzeros: nx values.
-        weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, s.nx) });
-        if !all_finite(weights) {
-            return None;
-        }
+    // SAFETY: the caller's contract.
+    if !unsafe { read_weights::<M>(arg, weights) } {
+        return None;
     }
     // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
     let out = |k: usize| unsafe { *res.add(k) };
@@ -288,37 +330,22 @@ pub unsafe fn jacobian<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
-    let function = family.function(Kind::Jacobian);
     let s = Sizes::of::<M>();
     let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
     if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
-    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
-    let wanted = |k: usize| {
-        let ptr = unsafe { *res.add(k) };
-        let nnz = function.outputs.get(k)?.0.pattern.nnz();
-        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    let blocks = Blocks {
+        function: family.function(Kind::Jacobian),
+        res,
+        scatters: &plans.jacobian,
     };
-    let mut parameters = false;
-    for (k, scatter) in plans.jacobian.iter().enumerate() {
-        if wanted(k).is_some() {
-            if !scatter.compiled {
-                return None;
-            }
-            parameters |= scatter.parameters;
-        }
-    }
+    let parameters = blocks.stages()?;
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |values| {
-            for (k, scatter) in plans.jacobian.iter().enumerate() {
-                if let Some((ptr, nnz)) = wanted(k) {
-                    // SAFETY: a wanted output points to its port's nonzeros, writable.
-                    let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
-                    scatter.write(out, &[], values);
-                }
-            }
+            // SAFETY: the caller's contract, which is `Blocks::write`'s.
+            unsafe { blocks.write(&[], values) }
         })
     });
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
