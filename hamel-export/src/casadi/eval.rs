@@ -28,13 +28,16 @@ pub unsafe fn eval<M: Model>(
     if arg.is_null() || res.is_null() {
         return Err(null_arrays());
     }
-    if family.primal.which == Which::Rhs {
+    // Only with compiled code (which `plans` stands for): without it the fast path would read
+    // the point and hand every call on.
+    if family.primal.which == Which::Rhs && family.plans.is_some() {
         // SAFETY: the caller's contract, which is `fast`'s.
         let fast = match kind {
             Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
             Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) },
-            Kind::Jacobian => unsafe { fast::jacobian::<M>(family, arg, res) },
-            Kind::AdjointJacobian => unsafe { fast::second::<M>(family, arg, res) },
+            Kind::Jacobian | Kind::AdjointJacobian => unsafe {
+                fast::sparse::<M>(family, kind, arg, res)
+            },
         };
         if let Some(result) = fast {
             return result;

@@ -210,51 +210,6 @@ pub unsafe fn rhs<M: Model>(
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
 
-/// `jac_adj1_f` of the right-hand side: the weighted second derivatives and the transposed
-/// Jacobian blocks, when every wanted block is compiled code's; `None` (having written
-/// nothing) to take the general path.
-///
-/// # Safety
-/// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
-#[inline(always)]
-pub unsafe fn second<M: Model>(
-    family: &Family,
-    arg: *const *const f64,
-    res: *const *mut f64,
-) -> Option<Result<(), Failure>> {
-    let plans = family.plans.as_ref()?;
-    let s = Sizes::of::<M>();
-    let mut z = M::array(0.0f64);
-    // SAFETY: the caller's contract.
-    if !unsafe { point::<M>(arg, &mut z) } {
-        return None;
-    }
-    let mut weights = M::array(0.0f64);
-    let weights = &mut weights.as_mut()[..s.nx];
-    // SAFETY: the caller's contract.
-    if !unsafe { read_weights::<M>(arg, weights) } {
-        return None;
-    }
-    let blocks = Blocks {
-        function: family.function(Kind::AdjointJacobian),
-        res,
-        scatters: &plans.second,
-    };
-    let parameters = blocks.stages()?;
-    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        M::compiled_second(
-            Which::Rhs,
-            prepared,
-            &z,
-            weights,
-            parameters,
-            // SAFETY: the caller's contract, which is `Blocks::write`'s.
-            |second, jacobian| unsafe { blocks.write(second, jacobian) },
-        )
-    });
-    Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
-}
-
 /// `adj1_f` of the right-hand side: (∂ẋ/∂x)ᵀλ, (∂ẋ/∂u)ᵀλ, (∂ẋ/∂p)ᵀλ (and ∂ẋ/∂t·λ) from the
 /// compiled adjoint over its columns (x, u, the parameters it reads, t); `None` (having
 /// written nothing) to take the general path.
@@ -317,15 +272,16 @@ pub unsafe fn adjoint<M: Model>(
     Some(Ok(()))
 }
 
-/// `jac_f` of the right-hand side: the blocks by x, u (and t) and, when wanted, by p, when
-/// every wanted block is compiled code's; `None` (having written nothing) to take the
-/// general path.
+/// `jac_f` (the blocks by x, u, t and, when wanted, by p) or `jac_adj1_f` (the weighted
+/// second derivatives and the transposed Jacobian blocks) of the right-hand side, when every
+/// wanted block is compiled code's; `None` (having written nothing) to take the general path.
 ///
 /// # Safety
 /// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
 #[inline(always)]
-pub unsafe fn jacobian<M: Model>(
+pub unsafe fn sparse<M: Model>(
     family: &Family,
+    kind: Kind,
     arg: *const *const f64,
     res: *const *mut f64,
 ) -> Option<Result<(), Failure>> {
@@ -336,17 +292,39 @@ pub unsafe fn jacobian<M: Model>(
     if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
+    let second = kind == Kind::AdjointJacobian;
+    let mut weights = M::array(0.0f64);
+    let weights = &mut weights.as_mut()[..s.nx];
+    // SAFETY: the caller's contract.
+    if second && !unsafe { read_weights::<M>(arg, weights) } {
+        return None;
+    }
     let blocks = Blocks {
-        function: family.function(Kind::Jacobian),
+        function: family.function(kind),
         res,
-        scatters: &plans.jacobian,
+        scatters: if second {
+            &plans.second
+        } else {
+            &plans.jacobian
+        },
     };
     let parameters = blocks.stages()?;
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |values| {
-            // SAFETY: the caller's contract, which is `Blocks::write`'s.
-            unsafe { blocks.write(&[], values) }
-        })
+        // SAFETY (both writes): the caller's contract, which is `Blocks::write`'s.
+        if second {
+            M::compiled_second(
+                Which::Rhs,
+                prepared,
+                &z,
+                weights,
+                parameters,
+                |h, j| unsafe { blocks.write(h, j) },
+            )
+        } else {
+            M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |j| unsafe {
+                blocks.write(&[], j)
+            })
+        }
     });
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
