@@ -19,7 +19,9 @@
 //! table alone, from three rounds, and writes nothing. `once PROBLEM` runs each tolerance
 //! once, untimed, and prints the rows as CSV (wall time NaN): a fixed amount of work, for an
 //! instruction count (`valgrind --tool=callgrind <binary> once POLLU`; a round's batches
-//! depend on the clock) and for checking that a change keeps every count and error.
+//! depend on the clock) and for checking that a change keeps every count and error. `at
+//! PROBLEM SOLVER RTOL...` does the same at the tolerances given (`trend.py` runs it on a fine
+//! grid of them).
 
 #[allow(dead_code)]
 #[path = "../tests/validation/tests/common/stiff_problems.rs"]
@@ -135,14 +137,21 @@ fn batch<T>(mut f: impl FnMut() -> T) -> (T, f64) {
 fn round(problem: &str, round: usize) -> Result<Vec<Row>, String> {
     let mut all = Vec::new();
     for solver in SOLVERS {
-        all.extend(rows(problem, solver, round, true)?);
+        all.extend(rows(problem, solver, solver.tolerances(), round, true)?);
     }
     Ok(all)
 }
 
-/// The rows of `problem` with `solver` at every tolerance: timed (a warm-up run, then a batch
-/// at each) or not (one run at each, the wall time NaN); none where the solver does not apply.
-fn rows(problem: &str, solver: Solver, round: usize, timed: bool) -> Result<Vec<Row>, String> {
+/// The rows of `problem` with `solver` at each of `tolerances`: timed (a warm-up run, then a
+/// batch at each) or not (one run at each, the wall time NaN); none where the solver does not
+/// apply.
+fn rows(
+    problem: &str,
+    solver: Solver,
+    tolerances: &[f64],
+    round: usize,
+    timed: bool,
+) -> Result<Vec<Row>, String> {
     let (_, new) = PROBLEMS
         .iter()
         .find(|(name, _)| *name == problem)
@@ -156,8 +165,7 @@ fn rows(problem: &str, solver: Solver, round: usize, timed: bool) -> Result<Vec<
     if timed {
         run(TOLERANCES[1]);
     }
-    Ok(solver
-        .tolerances()
+    Ok(tolerances
         .iter()
         .map(|&rtol| {
             let ((stats, error), wall) = if timed {
@@ -357,15 +365,33 @@ fn main() {
             .map(|rows| compare::append_csv(&rows, &compare::data_dir().join("hamel.csv"))),
         ["once", problem] => SOLVERS
             .iter()
-            .map(|&solver| rows(problem, solver, 0, false))
+            .map(|&solver| rows(problem, solver, solver.tolerances(), 0, false))
             .collect::<Result<Vec<Vec<Row>>, String>>()
             .map(|rows| print!("{}", compare::csv_text(&rows.concat(), true))),
         ["once", problem, solver] => SOLVERS
             .iter()
             .find(|s| s.label() == solver)
             .ok_or_else(|| format!("no solver {solver:?}"))
-            .and_then(|&s| rows(problem, s, 0, false))
+            .and_then(|&s| rows(problem, s, s.tolerances(), 0, false))
             .map(|rows| print!("{}", compare::csv_text(&rows, true))),
+        ["at", problem, solver, ref tolerances @ ..] => {
+            let tolerances: Result<Vec<f64>, String> = tolerances
+                .iter()
+                .map(|t| match t.parse::<f64>() {
+                    Ok(v) if v > 0.0 && v < 1.0 => Ok(v),
+                    _ => Err(format!("a tolerance is a number in (0, 1), not {t:?}")),
+                })
+                .collect();
+            tolerances.and_then(|tolerances| {
+                let solver = SOLVERS
+                    .iter()
+                    .find(|s| s.label() == solver)
+                    .ok_or_else(|| format!("no solver {solver:?}"))?;
+                let rows = rows(problem, *solver, &tolerances, 0, false)?;
+                print!("{}", compare::csv_text(&rows, true));
+                Ok(())
+            })
+        }
         ["report"] => {
             let mut rows = Vec::new();
             for solver in ["hamel", "scipy", "hairer", "diffsol"] {
@@ -384,7 +410,11 @@ fn main() {
             .flat_map(|number| PROBLEMS.iter().map(move |(name, _)| round(name, number)))
             .collect::<Result<Vec<Vec<Row>>, String>>()
             .map(|rows| compare::report(&rows.concat(), false)),
-        _ => Err("usage: work_precision [round R PROBLEM | once PROBLEM [SOLVER] | report]".into()),
+        _ => Err(
+            "usage: work_precision [round R PROBLEM | once PROBLEM [SOLVER] | at PROBLEM SOLVER \
+             RTOL... | report]"
+                .into(),
+        ),
     };
     if let Err(message) = result {
         eprintln!("work_precision: {message}");

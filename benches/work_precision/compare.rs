@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use hamel::plot::{Figure, Panel};
+use hamel::plot::{Figure, Panel, Rgb, Series, Style};
 use hamel_benches::interleave::Spread;
 
 /// The solvers whose rows are measured here, and the others' labels in their CSVs.
@@ -517,8 +517,28 @@ fn rodas_against_radau(rows: &[Row], problems: &[&str], rounds: &[usize]) {
     }
 }
 
+/// Each solver's colour and line in the figures, a pair of its own for each of the twelve
+/// series (the plot's palette has ten colours and repeated two): a method's colour, dashed
+/// for its runs without a Jacobian (hamel's Radau5 and Rodas5P, scipy's Radau). A solver not
+/// listed gets black dots only.
+const LOOKS: [(&str, Rgb, Style); 12] = [
+    (RADAU5, Rgb(214, 39, 40), Style::Line),
+    (RODAS5P, Rgb(31, 119, 180), Style::Line),
+    (RADAU5_DIFFERENCED, Rgb(214, 39, 40), Style::Dashed),
+    (RODAS5P_DIFFERENCED, Rgb(31, 119, 180), Style::Dashed),
+    ("scipy Radau", Rgb(255, 127, 14), Style::Line),
+    (SCIPY_DIFFERENCED, Rgb(255, 127, 14), Style::Dashed),
+    ("scipy BDF", Rgb(188, 189, 34), Style::Line),
+    ("scipy LSODA", Rgb(23, 190, 207), Style::Line),
+    ("Hairer RADAU5", Rgb(0, 0, 0), Style::Line),
+    ("Hairer RODAS", Rgb(127, 127, 127), Style::Line),
+    ("diffsol BDF", Rgb(44, 160, 44), Style::Line),
+    ("diffsol ESDIRK34", Rgb(148, 103, 189), Style::Line),
+];
+
 /// Error against wall time for every solver on `problem`, into `<problem>.svg` (with
-/// `hamel::plot`, whose panels have a logarithmic y axis: the x axis is log₁₀ of the time).
+/// `hamel::plot`, whose panels have a logarithmic y axis: the x axis is log₁₀ of the time),
+/// each run a dot on its solver's line.
 fn draw(problem: &str, rows: &[&Row]) {
     let mut by_solver: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
     for r in rows {
@@ -536,15 +556,27 @@ fn draw(problem: &str, rows: &[&Row]) {
         .x_label("log10 of the wall time in s (median of rounds)")
         .y_label("achieved error")
         .log_y();
-    for (solver, mut points) in by_solver {
+    // In LOOKS's order, so that the legend groups hamel's, scipy's, Hairer's and diffsol's.
+    let order = |solver: &str| LOOKS.iter().position(|(s, ..)| *s == solver);
+    let mut solvers: Vec<_> = by_solver.into_iter().collect();
+    solvers.sort_by_key(|(solver, _)| order(solver).unwrap_or(LOOKS.len()));
+    for (solver, mut points) in solvers {
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
-        panel = panel.line(solver, &x, &y);
+        let (color, style) = match order(solver) {
+            Some(i) => (LOOKS[i].1, LOOKS[i].2),
+            None => (Rgb(0, 0, 0), Style::Points),
+        };
+        panel = panel.series(Series::new(solver, &x, &y, style).color(color));
+        if style != Style::Points {
+            // Unnamed: a dot at each run, without a legend entry of its own.
+            panel = panel.series(Series::points("", &x, &y).color(color));
+        }
     }
     let name = problem.to_lowercase().replace(' ', "_");
     Figure::new()
         .panel(panel)
-        .size(720, 480)
+        .size(960, 600)
         .save_svg(figure_dir().join(format!("{name}.svg")))
         .expect("write the figure");
 }
