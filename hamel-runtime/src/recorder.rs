@@ -210,6 +210,17 @@ where
         summary.work = work;
         let balance = energy - e0 - work;
         summary.max_energy_balance = nan_max(summary.max_energy_balance, balance.abs());
+    }
+
+    /// The scale of the energy monitors and the drift and balance relative to it, from the
+    /// running maxima: formed once, when the run is over (they depend on the maxima alone, so
+    /// this is what the last sample would have made of them).
+    fn relative_energy(&mut self) {
+        let summary = &mut self.summary;
+        if summary.samples == 0 {
+            return;
+        }
+        let e0 = summary.initial_energy;
         summary.energy_scale = if S::CONSERVATIVE {
             EnergyScale::conservative(e0, self.max_kinetic)
         } else {
@@ -237,8 +248,9 @@ where
     }
 
     /// The summary, with what the integration cost; the sink is told the run is over.
-    pub fn finish(self, stats: Stats) -> Result<Summary, Error> {
+    pub fn finish(mut self, stats: Stats) -> Result<Summary, Error> {
         self.sink.end()?;
+        self.relative_energy();
         let mut summary = self.summary;
         summary.steps = stats.steps;
         summary.rejected = stats.rejected;

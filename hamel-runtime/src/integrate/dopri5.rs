@@ -246,7 +246,14 @@ fn error_norm<V: Vector>(
         let sc = atol + rtol * y[i].abs().max(y1[i].abs());
         sum += (e / sc).powi(2);
     }
-    (sum / len as f64).sqrt()
+    // The mean: by a power of two (as 8 states are) a multiplication, the same bits as the
+    // division and a few cycles sooner on the path to the next step size.
+    let mean = if len.is_power_of_two() {
+        sum * (1.0 / len as f64)
+    } else {
+        sum / len as f64
+    };
+    mean.sqrt()
 }
 
 /// The continuous extension of an accepted step from (t, y): a polynomial of degree 4 in
@@ -307,8 +314,11 @@ impl Controller {
     /// The next step size after a step of size h with error err ≤ 1 was accepted.
     #[inline]
     fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
+        // The last accepted error's power first: it is known before this step's error, so
+        // it is computed while that error is still being summed.
+        let old = self.facold.powf(BETA);
         let fac11 = err.powf(EXPO1);
-        let fac = (fac11 / self.facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
+        let fac = (fac11 / old / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
         self.facold = err.max(FACOLD_MIN);
         let mut h_new = (h / fac).min(hmax);
         if self.after_rejection {
@@ -554,10 +564,12 @@ impl DormandPrince {
             let err = error_norm((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
             if err <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
+                // The next step size first: its powers and divisions, on which the next step
+                // waits, then overlap the bookkeeping of this one (samples, dense output).
+                let h_new = controller.accepted(h, err, hmax);
                 let Some(next) = run.complete((t, &y), (t1, last), y1, h)? else {
                     return Ok(());
                 };
-                let h_new = controller.accepted(h, err, hmax);
                 nan_step = None;
                 (t, y) = (t1, next);
                 if last {
