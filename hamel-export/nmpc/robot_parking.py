@@ -15,8 +15,9 @@ The same problem is solved three times, on three implementations of the same rig
 - `sx`: the robot written in CasADi's SX from the paper's equations (tests/python/robot_sx.py),
   evaluated by CasADi's virtual machine;
 - `sx-c`: the same SX model through CasADi's own C code generation (the function and the
-  derivative functions CasADi asks for, `jac_`, `fwd1_`, `adj1_`, `jac_adj1_`), compiled by
-  `cc -O3` and loaded as an external, as CasADi users deploy models.
+  derivative functions CasADi asks for, `jac_`, `fwd1_`, `adj1_`, `jac_adj1_`, and the
+  `fwd<N>_` of as many directions as hamel's library exports), compiled by `cc -O3` and
+  loaded as an external, as CasADi users deploy models.
 
     python robot_parking.py OUTDIR [--repeat 5] [--figure robot_parking.svg] [--json timings.json]
 
@@ -26,6 +27,7 @@ from hamel's; writes the figure of the path and torques.
 """
 
 import argparse
+import ctypes
 import json
 import pathlib
 import statistics
@@ -104,12 +106,22 @@ def solve(f):
     return np.array(sol.value(X)), np.array(sol.value(U)), iterations, seconds
 
 
-def casadi_generated_c(directory):
+def forward_directions(library):
+    """The N > 1 of the `fwd<N>_mobile_robot_f` that hamel's library exports: CasADi calls
+    them for a batch of exactly N forward directions through a call of the model."""
+    exported = ctypes.CDLL(str(library))
+    return [n for n in (2, 4, 8, 16, 32, 64) if hasattr(exported, f"fwd{n}_mobile_robot_f")]
+
+
+def casadi_generated_c(directory, directions=(2, 4, 8)):
     """The SX model with the derivative functions CasADi loads, generated as C by CasADi and
-    compiled by cc -O3: an external function like hamel's, of CasADi's own making."""
+    compiled by cc -O3: an external function like hamel's, of CasADi's own making, with the
+    same multi-direction forward functions `fwd<N>_` as hamel's library (`directions`), so
+    that CasADi makes the same calls of both."""
     f = robot_sx.function("robot_sx")
     cg = ca.CodeGenerator("robot_sx.c", {"with_header": False})
-    for g in (f, f.jacobian(), f.forward(1), f.reverse(1), f.reverse(1).jacobian()):
+    derivatives = [f.jacobian(), f.forward(1), f.reverse(1), f.reverse(1).jacobian()]
+    for g in [f] + derivatives + [f.forward(n) for n in directions]:
         cg.add(g)
     source = pathlib.Path(directory) / "robot_sx.c"
     cg.generate(str(directory) + "/")
@@ -160,11 +172,12 @@ def main():
     parser.add_argument("--figure")
     parser.add_argument("--json")
     args = parser.parse_args()
+    library = pathlib.Path(args.outdir) / "libmobile_robot.so"
     with tempfile.TemporaryDirectory() as tmp:
         models = {
-            "hamel": ca.external("mobile_robot_f", str(pathlib.Path(args.outdir) / "libmobile_robot.so")),
+            "hamel": ca.external("mobile_robot_f", str(library)),
             "sx": robot_sx.function(),
-            "sx-c": casadi_generated_c(tmp),
+            "sx-c": casadi_generated_c(tmp, forward_directions(library)),
         }
         runs = {name: [] for name in models}
         results = {}
