@@ -20,6 +20,7 @@ The same problem is solved three times, on three implementations of the same rig
   loaded as an external, as CasADi users deploy models.
 
     python robot_parking.py OUTDIR [--repeat 5] [--figure robot_parking.svg] [--json timings.json]
+                                   [--baseline OTHER_OUTDIR]
 
 prints, for each, the solve's iterations, the wall time per solve and per IPOPT iteration
 (median of --repeat solves, interleaved), and the largest difference of the optimal states
@@ -171,6 +172,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--figure")
     parser.add_argument("--json")
+    parser.add_argument("--baseline", help="the OUTDIR of another build of hamel's library: "
+                        "solved too (`hamel-b`), with CasADi's C given its fwd<N>_ (`sx-c-b`)")
     args = parser.parse_args()
     library = pathlib.Path(args.outdir) / "libmobile_robot.so"
     with tempfile.TemporaryDirectory() as tmp:
@@ -179,6 +182,12 @@ def main():
             "sx": robot_sx.function(),
             "sx-c": casadi_generated_c(tmp, forward_directions(library)),
         }
+        if args.baseline:
+            baseline = pathlib.Path(args.baseline) / "libmobile_robot.so"
+            other = pathlib.Path(tmp) / "baseline"
+            other.mkdir()
+            models["hamel-b"] = ca.external("mobile_robot_f", str(baseline))
+            models["sx-c-b"] = casadi_generated_c(other, forward_directions(baseline))
         runs = {name: [] for name in models}
         results = {}
         # Interleaved: one solve of each model per round.
@@ -191,7 +200,7 @@ def main():
     report = {}
     print(f"robot parking: N = {N} intervals, {SUBSTEPS} RK4 steps each, T = {T} s, "
           f"|tau| <= {TAU_MAX} N m, IPOPT with the exact Hessian; {args.repeat} solves each")
-    print(f"{'model':6} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
+    print(f"{'model':7} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
           f"{'max |x - x_hamel|':>18}")
     for name in models:
         states, torques, iterations = results[name]
@@ -204,11 +213,14 @@ def main():
             "solves_ms": [1e3 * s for s in runs[name]],
             "max_state_difference": difference,
         }
-        print(f"{name:6} {iterations:>10} {1e3 * seconds:>11.1f} "
+        print(f"{name:7} {iterations:>10} {1e3 * seconds:>11.1f} "
               f"{1e3 * seconds / max(iterations, 1):>19.2f} {difference:>18.1e}")
-    for other in ("sx", "sx-c"):
-        ratios = [a / b for a, b in zip(runs[other], runs["hamel"])]
-        print(f"solve time {other} / hamel: median {statistics.median(ratios):.2f} "
+    pairs = [("sx", "hamel"), ("sx-c", "hamel")]
+    if args.baseline:
+        pairs += [("sx-c-b", "hamel-b"), ("hamel-b", "hamel"), ("sx-c-b", "sx-c")]
+    for other, base in pairs:
+        ratios = [a / b for a, b in zip(runs[other], runs[base])]
+        print(f"solve time {other} / {base}: median {statistics.median(ratios):.2f} "
               f"(range {min(ratios):.2f}-{max(ratios):.2f} over {len(ratios)} rounds)")
     if args.figure:
         figure(args.figure, reference, results["hamel"][1])
