@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Instructions per call of the exported robot's CasADi functions (f, jac_, fwd1_, adj1_,
-# jac_adj1_), counted by valgrind's callgrind: a measure of the calls' work that the
+# Instructions per call of the exported robot's CasADi functions (f, jac_, fwd1_, fwd2_,
+# fwd4_, fwd8_, adj1_, jac_adj1_), counted by valgrind's callgrind: a measure of the calls' work that the
 # machine's load does not move. The difference of two runs (CALLS and 2 CALLS) cancels the
 # program's start-up. With PYTHON (which has casadi: the venv .ci/run makes), the same for
 # CasADi's generated C of the SX robot (as run.sh builds it), on the same arguments.
@@ -37,7 +37,7 @@ robot_parking.casadi_generated_c(sys.argv[1])
 PY
 fi
 printf '%-10s %8s %8s\n' function hamel "${python:+CasADi C}"
-for prefix in "" jac_ fwd1_ adj1_ jac_adj1_; do
+for prefix in "" jac_ fwd1_ fwd2_ fwd4_ fwd8_ adj1_ jac_adj1_; do
     hamel=$(per_call "$outdir/libmobile_robot.so" "${prefix}mobile_robot_f")
     theirs=""
     [ -n "$python" ] && theirs=$(per_call "$work/librobot_sx.so" "${prefix}robot_sx")

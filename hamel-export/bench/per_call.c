@@ -4,7 +4,8 @@
  *   per_call LIB NAME CALLS
  *
  * The arguments are x, u and p, null for the nominal output (as CasADi passes it), and the
- * seeds: a forward derivative's direction in x and u (null in p), an adjoint's weights. Every
+ * seeds: a forward derivative's directions in x and u (null in p; fwd<N>_: N directions,
+ * the first one's components scaled by 1, 2, ..., N), an adjoint's weights. Every
  * output is wanted (CasADi asks for every block of jac_adj1 in the parking example's NLP,
  * though its parameters are fixed) except the Jacobian's block by p. */
 #include <dlfcn.h>
@@ -18,6 +19,7 @@ typedef casadi_int (*count_t)(void);
 
 static const double dx[8] = {0.1, 0.2, -0.3, 0.4, 0.5, -0.6, 0.7, 0.8};
 static const double du[2] = {-0.4, 0.9};
+static double dxs[64 * 8], dus[64 * 2];
 static const double lam[8] = {0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9};
 
 static double storage[32][512];
@@ -47,13 +49,20 @@ int main(int argc, char** argv) {
     static const double p[9] = {10.0, 1.0, 0.4, 0.3, 0.2, 0.1, 0.5, 0.2, 9.81};
     const double* arg[8] = {x, u, p, NULL, NULL, NULL, NULL, NULL};
     double* res[32];
-    int forward = strncmp(argv[2], "fwd1_", 5) == 0;
+    /* fwd<N>_: N directions. */
+    int directions = 0;
+    if (strncmp(argv[2], "fwd", 3) == 0) directions = atoi(argv[2] + 3);
+    int forward = directions >= 1 && directions <= 64;
     int second = strncmp(argv[2], "jac_adj1_", 9) == 0;
     int adjoint = second || strncmp(argv[2], "adj1_", 5) == 0;
     int jacobian = !second && strncmp(argv[2], "jac_", 4) == 0;
     if (forward) {
-        arg[4] = dx;
-        arg[5] = du;
+        for (int d = 0; d < directions; ++d) {
+            for (int i = 0; i < 8; ++i) dxs[8 * d + i] = (d + 1) * dx[i];
+            for (int i = 0; i < 2; ++i) dus[2 * d + i] = (d + 1) * du[i];
+        }
+        arg[4] = dxs;
+        arg[5] = dus;
     }
     if (adjoint) arg[4] = lam;
     for (casadi_int i = 0; i < n_out(); ++i) {

@@ -15,10 +15,12 @@ The same problem is solved three times, on three implementations of the same rig
 - `sx`: the robot written in CasADi's SX from the paper's equations (tests/python/robot_sx.py),
   evaluated by CasADi's virtual machine;
 - `sx-c`: the same SX model through CasADi's own C code generation (the function and the
-  derivative functions CasADi asks for, `jac_`, `fwd1_`, `adj1_`, `jac_adj1_`), compiled by
-  `cc -O3` and loaded as an external, as CasADi users deploy models.
+  derivative functions CasADi asks for, `jac_`, `fwd1_`, `adj1_`, `jac_adj1_`, and the
+  `fwd<N>_` of as many directions as hamel's library exports), compiled by `cc -O3` and
+  loaded as an external, as CasADi users deploy models.
 
     python robot_parking.py OUTDIR [--repeat 5] [--figure robot_parking.svg] [--json timings.json]
+                                   [--baseline OTHER_OUTDIR]
 
 prints, for each, the solve's iterations, the wall time per solve and per IPOPT iteration
 (median of --repeat solves, interleaved), and the largest difference of the optimal states
@@ -26,6 +28,7 @@ from hamel's; writes the figure of the path and torques.
 """
 
 import argparse
+import ctypes
 import json
 import pathlib
 import statistics
@@ -104,12 +107,22 @@ def solve(f):
     return np.array(sol.value(X)), np.array(sol.value(U)), iterations, seconds
 
 
-def casadi_generated_c(directory):
+def forward_directions(library):
+    """The N > 1 of the `fwd<N>_mobile_robot_f` that hamel's library exports: CasADi calls
+    them for a batch of exactly N forward directions through a call of the model."""
+    exported = ctypes.CDLL(str(library))
+    return [n for n in (2, 4, 8, 16, 32, 64) if hasattr(exported, f"fwd{n}_mobile_robot_f")]
+
+
+def casadi_generated_c(directory, directions=(2, 4, 8)):
     """The SX model with the derivative functions CasADi loads, generated as C by CasADi and
-    compiled by cc -O3: an external function like hamel's, of CasADi's own making."""
+    compiled by cc -O3: an external function like hamel's, of CasADi's own making, with the
+    same multi-direction forward functions `fwd<N>_` as hamel's library (`directions`), so
+    that CasADi makes the same calls of both."""
     f = robot_sx.function("robot_sx")
     cg = ca.CodeGenerator("robot_sx.c", {"with_header": False})
-    for g in (f, f.jacobian(), f.forward(1), f.reverse(1), f.reverse(1).jacobian()):
+    derivatives = [f.jacobian(), f.forward(1), f.reverse(1), f.reverse(1).jacobian()]
+    for g in [f] + derivatives + [f.forward(n) for n in directions]:
         cg.add(g)
     source = pathlib.Path(directory) / "robot_sx.c"
     cg.generate(str(directory) + "/")
@@ -159,13 +172,22 @@ def main():
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--figure")
     parser.add_argument("--json")
+    parser.add_argument("--baseline", help="the OUTDIR of another build of hamel's library: "
+                        "solved too (`hamel-b`), with CasADi's C given its fwd<N>_ (`sx-c-b`)")
     args = parser.parse_args()
+    library = pathlib.Path(args.outdir) / "libmobile_robot.so"
     with tempfile.TemporaryDirectory() as tmp:
         models = {
-            "hamel": ca.external("mobile_robot_f", str(pathlib.Path(args.outdir) / "libmobile_robot.so")),
+            "hamel": ca.external("mobile_robot_f", str(library)),
             "sx": robot_sx.function(),
-            "sx-c": casadi_generated_c(tmp),
+            "sx-c": casadi_generated_c(tmp, forward_directions(library)),
         }
+        if args.baseline:
+            baseline = pathlib.Path(args.baseline) / "libmobile_robot.so"
+            other = pathlib.Path(tmp) / "baseline"
+            other.mkdir()
+            models["hamel-b"] = ca.external("mobile_robot_f", str(baseline))
+            models["sx-c-b"] = casadi_generated_c(other, forward_directions(baseline))
         runs = {name: [] for name in models}
         results = {}
         # Interleaved: one solve of each model per round.
@@ -178,7 +200,7 @@ def main():
     report = {}
     print(f"robot parking: N = {N} intervals, {SUBSTEPS} RK4 steps each, T = {T} s, "
           f"|tau| <= {TAU_MAX} N m, IPOPT with the exact Hessian; {args.repeat} solves each")
-    print(f"{'model':6} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
+    print(f"{'model':7} {'iterations':>10} {'solve (ms)':>11} {'per iteration (ms)':>19} "
           f"{'max |x - x_hamel|':>18}")
     for name in models:
         states, torques, iterations = results[name]
@@ -191,11 +213,14 @@ def main():
             "solves_ms": [1e3 * s for s in runs[name]],
             "max_state_difference": difference,
         }
-        print(f"{name:6} {iterations:>10} {1e3 * seconds:>11.1f} "
+        print(f"{name:7} {iterations:>10} {1e3 * seconds:>11.1f} "
               f"{1e3 * seconds / max(iterations, 1):>19.2f} {difference:>18.1e}")
-    for other in ("sx", "sx-c"):
-        ratios = [a / b for a, b in zip(runs[other], runs["hamel"])]
-        print(f"solve time {other} / hamel: median {statistics.median(ratios):.2f} "
+    pairs = [("sx", "hamel"), ("sx-c", "hamel")]
+    if args.baseline:
+        pairs += [("sx-c-b", "hamel-b"), ("hamel-b", "hamel"), ("sx-c-b", "sx-c")]
+    for other, base in pairs:
+        ratios = [a / b for a, b in zip(runs[other], runs[base])]
+        print(f"solve time {other} / {base}: median {statistics.median(ratios):.2f} "
               f"(range {min(ratios):.2f}-{max(ratios):.2f} over {len(ratios)} rounds)")
     if args.figure:
         figure(args.figure, reference, results["hamel"][1])

@@ -357,6 +357,9 @@ fn describe(kind: Kind) -> &'static str {
         Kind::Value => "the values",
         Kind::Jacobian => "every Jacobian block, exact",
         Kind::Forward => "one forward directional derivative",
+        Kind::Forward2 | Kind::Forward4 | Kind::Forward8 => {
+            "forward directional derivatives, one column of each fwd_ block per direction (CasADi calls fwdN for a batch of exactly N directions)"
+        }
         Kind::Adjoint => "one adjoint (reverse) directional derivative",
         Kind::AdjointJacobian => {
             "the Jacobian of adj1: the second derivatives weighted by adj (an exact Hessian of a Lagrangian)"

@@ -583,8 +583,8 @@ macro_rules! c_api {
 }
 
 /// `casadi!(Marker, "name")`: CasADi's external functions of a model: `name_f` (the
-/// right-hand side) and `name_h` (the outputs), each with `jac_`, `fwd1_`, `adj1_` and
-/// `jac_adj1_` beside it, and every symbol CasADi looks for (see
+/// right-hand side) and `name_h` (the outputs), each with `jac_`, `fwd1_`, `adj1_`,
+/// `jac_adj1_`, `fwd2_`, `fwd4_` and `fwd8_` beside it, and every symbol CasADi looks for (see
 /// [`crate::casadi`](mod@crate::casadi)); with the feature `compiled`, `name_lie` too (the
 /// outputs' Lie derivatives, empty for a model without `control(..)`).
 #[macro_export]
@@ -626,6 +626,9 @@ macro_rules! __casadi_family {
             $crate::__casadi_function!($marker, family, Value, "", $name, $suffix);
             $crate::__casadi_function!($marker, family, Jacobian, "jac_", $name, $suffix);
             $crate::__casadi_function!($marker, family, Forward, "fwd1_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, Forward2, "fwd2_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, Forward4, "fwd4_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, Forward8, "fwd8_", $name, $suffix);
             $crate::__casadi_function!($marker, family, Adjoint, "adj1_", $name, $suffix);
             $crate::__casadi_function!(
                 $marker,

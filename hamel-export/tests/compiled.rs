@@ -113,6 +113,68 @@ fn close(a: f64, b: f64, scale: f64) -> bool {
     (a - b).abs() <= 1e-12 * scale.max(1e-300)
 }
 
+/// `fwd2_f`, `fwd4_f`, `fwd8_f` along random directions of every input, and of all but the
+/// parameters (the compiled Jacobian's stage by x, u and t alone): each column the product
+/// of the Jacobian (by columns of dual numbers) with its direction, as `fwd1_f` is checked.
+fn forward_directions<M: Model>(
+    family: &Family,
+    args: &[Option<&[f64]>],
+    columns: &[Vec<f64>],
+    random: &mut Random,
+) {
+    let primal = &family.primal;
+    let (no, nz) = (primal.output.1, columns.len());
+    for kind in [Kind::Forward2, Kind::Forward4, Kind::Forward8] {
+        let n = kind.directions();
+        for with_parameters in [true, false] {
+            // Direction d over z; zero in p unless `with_parameters`.
+            let direction: Vec<Vec<f64>> = (0..n)
+                .map(|_| {
+                    (0..nz)
+                        .map(|c| {
+                            let in_p = primal.inputs.iter().any(|b| {
+                                b.name == "p" && (b.offset..b.offset + b.len).contains(&c)
+                            });
+                            let v = random.within(1.0);
+                            if in_p && !with_parameters { 0.0 } else { v }
+                        })
+                        .collect()
+                })
+                .collect();
+            // CasADi's stacked columns, block by block.
+            let stacked: Vec<Vec<f64>> = primal
+                .inputs
+                .iter()
+                .map(|b| {
+                    direction
+                        .iter()
+                        .flat_map(|v| v[b.offset..b.offset + b.len].iter().copied())
+                        .collect()
+                })
+                .collect();
+            let mut fwd_args = args.to_vec();
+            fwd_args.push(None);
+            fwd_args.extend(stacked.iter().map(|v| Some(v.as_slice())));
+            let fwd = call::<M>(family, kind, &fwd_args);
+            for (d, v) in direction.iter().enumerate() {
+                let scale = (0..no)
+                    .flat_map(|r| (0..nz).map(move |c| (r, c)))
+                    .map(|(r, c)| (columns[c][r] * v[c]).abs())
+                    .fold(0.0, f64::max);
+                for r in 0..no {
+                    let exact: f64 = (0..nz).map(|c| columns[c][r] * v[c]).sum();
+                    assert!(
+                        close(fwd[0][d * no + r], exact, scale),
+                        "{:?} fwd{n} direction {d} row {r}: {} vs {exact}",
+                        primal.which,
+                        fwd[0][d * no + r]
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The model's own right-hand side (`HamelSystem::rhs`) at z.
 fn own_rhs<M: Model>(z: &[f64], out: &mut [f64]) {
     let s = Sizes::of::<M>();
@@ -225,6 +287,7 @@ fn check<M: Model>(which: Which, seed: u64) {
                 fwd[0][r]
             );
         }
+        forward_directions::<M>(&family, &args, &columns, &mut random);
         let mut adj_args = args.clone();
         adj_args.push(None);
         adj_args.push(Some(&weights));
@@ -380,7 +443,8 @@ fn calls_allocate_nothing() {
     for kind in Kind::ALL {
         let f = family.function(kind);
         let z = point::<Robot>(&mut random);
-        let seeds: Vec<f64> = (0..Sizes::of::<Robot>().z())
+        // Enough for the largest seed port (fwd8_f's directions in p).
+        let seeds: Vec<f64> = (0..8 * Sizes::of::<Robot>().z())
             .map(|_| random.within(1.0))
             .collect();
         // Every input given (the nominal outputs as zeros), every output wanted.

@@ -44,6 +44,28 @@ unsafe extern "C" {
         w: *mut f64,
         m: c_int,
     ) -> c_int;
+    fn fwd2_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn fwd4_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn fwd8_robot_f(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut CasadiInt,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn fwd8_robot_f_sparsity_in(i: CasadiInt) -> *const CasadiInt;
     fn jac_adj1_robot_f(
         a: *const *const f64,
         r: *const *mut f64,
@@ -390,6 +412,139 @@ fn the_common_calls_path_and_the_general_one_agree() {
     // After a refusal, a success clears the message.
     assert_eq!(call(fwd1_robot_f, &args(U.as_ptr(), null), &mut fast), 0);
     assert_eq!(last_error(), "");
+}
+
+/// `n` directions in x, u and p (CasADi's stacked columns), each different; `p_scale` scales
+/// those in p (0: a direction of zeros, as CasADi gives where the parameters are fixed).
+fn directions(n: usize, p_scale: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let entry = |d: usize, i: usize| ((7 * d + 3 * i) % 11) as f64 / 5.0 - 1.0;
+    let dx = (0..8 * n).map(|k| entry(k / 8, k % 8)).collect();
+    let du = (0..2 * n).map(|k| entry(k / 2, 8 + k % 2)).collect();
+    let dp = (0..9 * n)
+        .map(|k| p_scale * entry(k / 9, 10 + k % 9))
+        .collect();
+    (dx, du, dp)
+}
+
+/// `fwd2_f`, `fwd4_f` and `fwd8_f`: each column the derivative `fwd1_f` gives along that
+/// column's direction, on the common calls' path (x, u, p given, none of the directions in
+/// p) and on the general one (u null; or a direction in p); a direction that is not finite
+/// is refused and named as in `fwd1_f`. With the feature `compiled` the columns are the
+/// compiled Jacobian's products with the directions, `fwd1_f` the compiled forward code
+/// (exact derivatives by different operations: within 1e-12 of the largest term, as in
+/// tests/compiled.rs); without it, both are the same dual-number pass per direction (bit for
+/// bit).
+#[test]
+fn several_forward_directions_are_as_many_calls_of_fwd1() {
+    let p = parameters();
+    let null = core::ptr::null();
+    let bits = !cfg!(feature = "compiled");
+    let cases: [(Eval, usize); 3] = [(fwd2_robot_f, 2), (fwd4_robot_f, 4), (fwd8_robot_f, 8)];
+    for (fwd_n, n) in cases {
+        for (u, p_scale) in [(U.as_ptr(), 0.0), (null, 0.0), (U.as_ptr(), 1.0)] {
+            let (dx, du, dp) = directions(n, p_scale);
+            let mut all = vec![vec![f64::NAN; 8 * n]];
+            let args = [
+                X.as_ptr(),
+                u,
+                p.as_ptr(),
+                null,
+                dx.as_ptr(),
+                du.as_ptr(),
+                dp.as_ptr(),
+            ];
+            assert_eq!(call(fwd_n, &args, &mut all), 0, "{}", last_error());
+            let mut jac = vec![vec![0.0; 64], vec![0.0; 16], vec![0.0; 72]];
+            let point = [X.as_ptr(), u, p.as_ptr(), null];
+            assert_eq!(call(jac_robot_f, &point, &mut jac), 0);
+            let dense_jacobian: Vec<Vec<Vec<f64>>> = (0..3)
+                .map(|k| dense(unsafe { jac_robot_f_sparsity_out(k) }, &jac[k as usize]))
+                .collect();
+            for d in 0..n {
+                let (sx, su, sp) = (&dx[8 * d..][..8], &du[2 * d..][..2], &dp[9 * d..][..9]);
+                let mut one = vec![vec![f64::NAN; 8]];
+                let args = [
+                    X.as_ptr(),
+                    u,
+                    p.as_ptr(),
+                    null,
+                    sx.as_ptr(),
+                    su.as_ptr(),
+                    sp.as_ptr(),
+                ];
+                assert_eq!(call(fwd1_robot_f, &args, &mut one), 0);
+                // The largest term of the product of the Jacobian with the direction, by row.
+                let mut scale = [0.0f64; 8];
+                for (m, s) in dense_jacobian.iter().zip([sx, su, sp]) {
+                    for r in 0..8 {
+                        for c in 0..s.len() {
+                            scale[r] = scale[r].max((m[r][c] * s[c]).abs());
+                        }
+                    }
+                }
+                for r in 0..8 {
+                    let (a, b) = (all[0][8 * d + r], one[0][r]);
+                    if bits {
+                        assert_eq!(a.to_bits(), b.to_bits(), "fwd{n} direction {d} row {r}");
+                    } else {
+                        assert!(
+                            (a - b).abs() <= 1e-12 * scale[r],
+                            "fwd{n} direction {d} row {r}: {a} vs {b}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // The ports: as CasADi's `forward(8)`, a column per direction.
+    let fwd_x = unsafe { core::slice::from_raw_parts(fwd8_robot_f_sparsity_in(4), 2) };
+    assert_eq!(fwd_x, [8, 8]);
+    // A direction that is not finite: refused, named by its place in the stacked columns.
+    let (mut dx, du, dp) = directions(4, 0.0);
+    dx[8 * 2 + 5] = f64::INFINITY;
+    let mut out = vec![vec![0.0; 32]];
+    let args = [
+        X.as_ptr(),
+        U.as_ptr(),
+        p.as_ptr(),
+        null,
+        dx.as_ptr(),
+        du.as_ptr(),
+        dp.as_ptr(),
+    ];
+    assert_eq!(call(fwd4_robot_f, &args, &mut out), 3);
+    assert_eq!(
+        last_error(),
+        "fwd4_robot_f: fwd_x[21] = inf is not a finite number"
+    );
+    let mut x = X;
+    x[1] = f64::NAN;
+    let (dx, ..) = directions(4, 0.0);
+    let args = [
+        x.as_ptr(),
+        U.as_ptr(),
+        p.as_ptr(),
+        null,
+        dx.as_ptr(),
+        du.as_ptr(),
+        dp.as_ptr(),
+    ];
+    assert_eq!(call(fwd4_robot_f, &args, &mut out), 3);
+    assert_eq!(
+        last_error(),
+        "fwd4_robot_f: x[1] (y) = NaN is not a finite number"
+    );
+    let status = unsafe {
+        fwd8_robot_f(
+            core::ptr::null(),
+            core::ptr::null(),
+            core::ptr::null_mut(),
+            core::ptr::null_mut(),
+            0,
+        )
+    };
+    assert_eq!(status, 1);
+    assert!(last_error().contains("null pointer"), "{}", last_error());
 }
 
 #[test]

@@ -34,6 +34,9 @@ pub unsafe fn eval<M: Model>(
         // SAFETY: the caller's contract, which is `fast`'s.
         let fast = match kind {
             Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
+            Kind::Forward2 => unsafe { fast::forwards::<M, 2>(family, arg, res) },
+            Kind::Forward4 => unsafe { fast::forwards::<M, 4>(family, arg, res) },
+            Kind::Forward8 => unsafe { fast::forwards::<M, 8>(family, arg, res) },
             Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) },
             Kind::Jacobian | Kind::AdjointJacobian => unsafe {
                 fast::sparse::<M>(family, kind, arg, res)
@@ -70,16 +73,18 @@ pub unsafe fn eval<M: Model>(
     match kind {
         Kind::Value => with_run::<M, _>(family, &z, |r| r.value(&mut outputs)),
         Kind::Jacobian => with_run::<M, _>(family, &z, |r| r.jacobian(&mut outputs)),
-        Kind::Forward => {
-            // The direction, block by block (at most x, u, p, t), read where it is given.
-            let mut seeds: [Option<&[f64]>; 4] = [None; 4];
+        Kind::Forward | Kind::Forward2 | Kind::Forward4 | Kind::Forward8 => {
+            // The directions, block by block (at most x, u, p, t), read where they are given:
+            // a column of the block per direction.
+            let mut seeds: Seeds = [None; 4];
             for (k, seed) in seeds.iter_mut().enumerate().take(nb) {
                 if let Some(values) = input(nb + 1 + k)? {
                     check_finite(f.inputs[nb + 1 + k].name(), values, &[])?;
                     *seed = Some(values);
                 }
             }
-            with_run::<M, _>(family, &z, |r| r.forward(&seeds, &mut outputs))
+            let n = kind.directions();
+            with_run::<M, _>(family, &z, |r| r.forward(n, &seeds, &mut outputs))
         }
         Kind::Adjoint | Kind::AdjointJacobian => {
             let mut weights = M::array(0.0f64);
@@ -140,6 +145,32 @@ fn labels<M: Model>(block: &Block) -> &'static [&'static str] {
         _ => &[],
     }
 }
+
+/// `N` columns of `len` values (CasADi's stacked directions) into `len` components of `N`
+/// values each.
+#[inline(always)]
+pub(super) fn transpose_into<const N: usize>(columns: &[f64], to: &mut [[f64; N]]) {
+    let len = to.len();
+    for (d, column) in columns.chunks_exact(len.max(1)).take(N).enumerate() {
+        for (to, &v) in to.iter_mut().zip(column) {
+            to[d] = v;
+        }
+    }
+}
+
+/// The converse: components of `N` values into `N` columns of `out.len() / N` values.
+#[inline(always)]
+pub(super) fn transpose_from<const N: usize>(from: &[[f64; N]], out: &mut [f64]) {
+    let len = out.len() / N;
+    for (d, column) in out.chunks_exact_mut(len.max(1)).take(N).enumerate() {
+        for (out, from) in column.iter_mut().zip(from) {
+            *out = from[d];
+        }
+    }
+}
+
+/// Forward seeds by input block (at most x, u, p, t); `None`: zero.
+type Seeds<'a> = [Option<&'a [f64]>; 4];
 
 /// The result arrays, by output.
 struct Outputs<'f> {
@@ -234,13 +265,92 @@ impl<M: Model> Run<'_, M> {
         jacobian_by_passes::<M>(self.primal(), self.z.as_ref(), outputs, &done)
     }
 
-    /// `fwd1_f`: one forward derivative along the direction given block by block (`None`:
-    /// zero).
-    fn forward(&self, seeds: &[Option<&[f64]>; 4], outputs: &mut Outputs) -> Result<(), Failure> {
-        let which = self.primal().which;
+    /// `fwd<n>_f`: `n` forward derivatives, along the directions given block by block (a
+    /// column of each block per direction; `None`: zero).
+    fn forward(&self, n: usize, seeds: &Seeds, outputs: &mut Outputs) -> Result<(), Failure> {
         let Some(out) = outputs.get(0)? else {
             return Ok(());
         };
+        // Several directions: the Jacobian once, then a product per direction.
+        if n > 1 {
+            if let Some(result) = self.forward_by_jacobian(n, seeds, out) {
+                return result;
+            }
+        }
+        let blocks = &self.primal().inputs;
+        let no = self.primal().output.1;
+        for d in 0..n {
+            let mut column: Seeds = [None; 4];
+            for ((to, from), block) in column.iter_mut().zip(seeds).zip(blocks) {
+                *to = from.and_then(|s| s.get(d * block.len..(d + 1) * block.len));
+            }
+            if let Some(out) = out.get_mut(d * no..(d + 1) * no) {
+                self.direction(&column, out)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The `n` forward derivatives as products of the compiled Jacobian (by p only if a
+    /// direction has a component in p) with the directions; `None` (having written nothing)
+    /// where that stage is not compiled.
+    fn forward_by_jacobian(
+        &self,
+        n: usize,
+        seeds: &Seeds,
+        out: &mut [f64],
+    ) -> Option<Result<(), Failure>> {
+        match n {
+            2 => self.products::<2>(seeds, out),
+            4 => self.products::<4>(seeds, out),
+            8 => self.products::<8>(seeds, out),
+            _ => None,
+        }
+    }
+
+    /// [`Run::forward_by_jacobian`] for `N` directions: the directions and the derivatives
+    /// are held direction-minor (`[f64; N]` per component), so that each Jacobian entry
+    /// multiplies all `N` at once.
+    #[inline(always)]
+    fn products<const N: usize>(
+        &self,
+        seeds: &Seeds,
+        out: &mut [f64],
+    ) -> Option<Result<(), Failure>> {
+        let plans = self.family.plans.as_ref()?;
+        let primal = self.primal();
+        // The directions over z, by component.
+        let mut directions = M::array([0.0f64; N]);
+        let mut parameters = false;
+        for (block, seed) in primal.inputs.iter().zip(seeds) {
+            let Some(seed) = seed else {
+                continue;
+            };
+            let to = directions
+                .as_mut()
+                .get_mut(block.offset..block.offset + block.len)?;
+            transpose_into(seed, to);
+            parameters |= block.name == "p" && seed.iter().any(|&v| v != 0.0);
+        }
+        let mut derivatives = M::array([0.0f64; N]);
+        let written = M::compiled_jacobian(primal.which, self.prepared, self.z, parameters, |j| {
+            plans
+                .products
+                .add(parameters, j, directions.as_ref(), derivatives.as_mut())
+        })?;
+        match written {
+            Err(e) => Some(Err(self.singular(e))),
+            Ok(false) => None,
+            Ok(true) => {
+                transpose_from(derivatives.as_ref(), out);
+                Some(Ok(()))
+            }
+        }
+    }
+
+    /// One forward derivative along the direction given block by block (`None`: zero).
+    fn direction(&self, seeds: &Seeds, out: &mut [f64]) -> Result<(), Failure> {
+        let which = self.primal().which;
         if let Some(plans) = &self.family.plans {
             // The direction over the compiled code's columns, copied from the blocks in runs.
             let mut local = M::array(0.0f64);

@@ -1,13 +1,15 @@
 //! The calls an NLP solver makes, on the right-hand side with x, u and p given: `f`,
-//! `fwd1_f` (CasADi evaluates the Jacobian of its own graph by forward derivatives, one
-//! direction per call: the parking example makes 262,000 calls of `fwd1_f` a solve, 16,000
-//! of `jac_adj1_f`, 61,000 of `f`, 14,000 of `adj1_f`), `adj1_f`, `jac_f` and `jac_adj1_f`.
+//! `fwd1_f` and `fwd<N>_f` (CasADi evaluates the Jacobian of its own graph by forward
+//! derivatives: the parking example makes, a solve, 30,640 calls of `fwd8_f` and 16,640 of
+//! `fwd1_f` — 261,760 of `fwd1_f` without `fwd<N>_f` —, 16,000 of `jac_adj1_f`, 61,520 of
+//! `f`, 14,000 of `adj1_f`), `adj1_f`, `jac_f` and `jac_adj1_f`.
 //! Here the blocks' sizes are constants of the model, so reading the point is a few moves,
 //! not a walk over the function's ports. Every other call, and every call this path declines
 //! (a null block, a value that is not finite, a nonzero direction in p or t, a wanted block
 //! the compiled code does not give), takes the general path of [`super::eval`], which
 //! refuses it or computes it with the same compiled code.
 
+use super::eval::{transpose_from, transpose_into};
 use super::plan::Scatter;
 use super::{Family, Function, Kind};
 use crate::abi::{Failure, all_finite};
@@ -208,6 +210,81 @@ pub unsafe fn rhs<M: Model>(
     };
     // `None`: no compiled code (nothing was written); the general path computes it.
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
+}
+
+/// `fwd<N>_f` of the right-hand side (N > 1) when the call has the common shape (the
+/// point and the directions finite, none in p or t): the compiled Jacobian once, and its
+/// products with the `N` directions; `None` (having written nothing) to take the general
+/// path.
+///
+/// # Safety
+/// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
+#[inline(always)]
+pub unsafe fn forwards<M: Model, const N: usize>(
+    family: &Family,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Option<Result<(), Failure>> {
+    let plans = family.plans.as_ref()?;
+    let s = Sizes::of::<M>();
+    let blocks = point_blocks::<M>();
+    let mut z = M::array(0.0f64);
+    // SAFETY: the caller's contract.
+    if !unsafe { point::<M>(arg, &mut z) } {
+        return None;
+    }
+    // SAFETY: CasADi's array holds a pointer per output; the only output is the N
+    // derivatives of ẋ, dense, a column each.
+    let out = unsafe { *res };
+    if out.is_null() {
+        return Some(Ok(()));
+    }
+    // SAFETY: non-null, nx · N writable values (the caller's contract).
+    let out = unsafe { core::slice::from_raw_parts_mut(out, s.nx * N) };
+    // The seeds follow the nominal output: x, u, p (and t), N columns each. Directions in p
+    // or t take the general path.
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    let seed = |k: usize| unsafe { *arg.add(blocks + 1 + k) };
+    // SAFETY: a non-null seed points to its block's N columns, dense.
+    let zero = |k: usize, len: usize| {
+        let block = seed(k);
+        block.is_null()
+            || unsafe { core::slice::from_raw_parts(block, len) }
+                .iter()
+                .all(|&v| v == 0.0)
+    };
+    if !zero(2, s.np * N) || (M::TIME_DEPENDENT && !zero(3, N)) {
+        return None;
+    }
+    let mut directions = M::array([0.0f64; N]);
+    for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
+        let block = seed(k);
+        if len > 0 && !block.is_null() {
+            // SAFETY: as above.
+            let columns = unsafe { core::slice::from_raw_parts(block, len * N) };
+            if !all_finite(columns) {
+                return None;
+            }
+            transpose_into(columns, directions.as_mut().get_mut(start..start + len)?);
+        }
+    }
+    let mut derivatives = M::array([0.0f64; N]);
+    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        M::compiled_jacobian(Which::Rhs, prepared, &z, false, |j| {
+            plans
+                .products
+                .add(false, j, directions.as_ref(), derivatives.as_mut())
+        })
+    });
+    match written? {
+        Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
+        // The arrays too short for the products (they are not): the general path.
+        Ok(false) => None,
+        Ok(true) => {
+            transpose_from(derivatives.as_ref(), out);
+            Some(Ok(()))
+        }
+    }
 }
 
 /// `adj1_f` of the right-hand side: (∂ẋ/∂x)ᵀλ, (∂ẋ/∂u)ᵀλ, (∂ẋ/∂p)ᵀλ (and ∂ẋ/∂t·λ) from the

@@ -1,14 +1,15 @@
 //! CasADi's external-function convention: for a primal function `f` (a model's right-hand
 //! side `<model>_f`, or its outputs `<model>_h`), the functions CasADi loads by name beside
 //! it — `jac_f`, `fwd1_f`, `adj1_f` and `jac_adj1_f` (what an exact Hessian of the Lagrangian
-//! is built from) — each with the symbols `f`, `f_n_in`, `f_n_out`, `f_sparsity_in`,
+//! is built from), and `fwd2_f`, `fwd4_f`, `fwd8_f` (several forward directions in one call,
+//! see [`Kind::directions`]) — each with the symbols `f`, `f_n_in`, `f_n_out`, `f_sparsity_in`,
 //! `f_sparsity_out`, `f_name_in`, `f_name_out`, `f_work`, `f_default_in`, `f_incref`,
 //! `f_decref`, `f_checkout`, `f_release`, `f_alloc_mem`, `f_init_mem`, `f_free_mem`, with
 //! the inputs, outputs and names CasADi's own code generation gives the same derivatives
 //! (`jac_f: (x, u, p, out_xdot) -> (jac_xdot_x, jac_xdot_u, jac_xdot_p)`, …), so that
 //! `casadi.external` finds them and CasADi's checks of their shapes pass.
 //!
-//! [`Family`] describes the five; [`eval`] evaluates one. The symbols themselves are written
+//! [`Family`] describes the eight; [`eval`] evaluates one. The symbols themselves are written
 //! by [`crate::casadi!`]. With compiled code (feature `compiled`), the sparsity of each
 //! derivative block is the compiled code's own (the entries that are not a constant zero on
 //! the model's graph), and [`plan`] says where each computed entry goes.
@@ -40,16 +41,45 @@ pub enum Kind {
     Adjoint,
     /// `jac_adj1_f`: the Jacobian of `adj1_f`: the second derivatives λ·∂²out, and ∂outᵀ.
     AdjointJacobian,
+    /// `fwd2_f`: two forward directional derivatives in one call.
+    Forward2,
+    /// `fwd4_f`: four.
+    Forward4,
+    /// `fwd8_f`: eight.
+    Forward8,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 5] = [
+    pub const ALL: [Kind; 8] = [
         Kind::Value,
         Kind::Jacobian,
         Kind::Forward,
         Kind::Adjoint,
         Kind::AdjointJacobian,
+        Kind::Forward2,
+        Kind::Forward4,
+        Kind::Forward8,
     ];
+
+    /// How many forward directions one call takes (0: not a forward derivative).
+    ///
+    /// CasADi propagates d forward directions through a call of an external function in
+    /// batches of the largest power of two N ≤ 64 with a `fwd<N>_f`, and calls `fwd<N>_f`
+    /// for a batch of exactly N directions, `fwd1_f` once per direction for any other
+    /// batch (`FunctionInternal::call_forward` and `External::get_forward`, CasADi 3.8). The
+    /// largest N exported is thus the batch size: 8, because the Jacobian of a multiple
+    /// shooting NLP over the robot propagates 8 or 9 directions a call (its coloring): with
+    /// `fwd8_f` that is one call, or two (8 and 1); with `fwd16_f` a batch of 9 would be 9
+    /// calls of `fwd1_f`.
+    pub fn directions(self) -> usize {
+        match self {
+            Kind::Forward => 1,
+            Kind::Forward2 => 2,
+            Kind::Forward4 => 4,
+            Kind::Forward8 => 8,
+            Kind::Value | Kind::Jacobian | Kind::Adjoint | Kind::AdjointJacobian => 0,
+        }
+    }
 
     /// The prefix of the function's name: `jac_f` is `jac_` and `f`.
     pub fn prefix(self) -> &'static str {
@@ -59,6 +89,9 @@ impl Kind {
             Kind::Forward => "fwd1_",
             Kind::Adjoint => "adj1_",
             Kind::AdjointJacobian => "jac_adj1_",
+            Kind::Forward2 => "fwd2_",
+            Kind::Forward4 => "fwd4_",
+            Kind::Forward8 => "fwd8_",
         }
     }
 }
@@ -94,7 +127,7 @@ pub enum Content {
     Value,
     /// ∂out/∂(input block `i`).
     Jacobian(usize),
-    /// The forward derivative.
+    /// The forward derivatives, one column per direction.
     Forward,
     /// (∂out/∂(input block `i`))ᵀ λ.
     Adjoint(usize),
@@ -114,12 +147,12 @@ pub struct Function {
     pub outputs: Vec<(Port, Content)>,
 }
 
-/// The five functions of one primal function, described once (on first use) and shared
+/// The eight functions of one primal function, described once (on first use) and shared
 /// by every call, from any thread.
 #[derive(Clone, Debug)]
 pub struct Family {
     pub primal: Primal,
-    pub functions: [Function; 5],
+    pub functions: [Function; 8],
     /// Where the compiled code's entries go; `None` without compiled code.
     pub plans: Option<Plans>,
 }
@@ -165,14 +198,17 @@ fn function(primal: &Primal, structure: &Structure, kind: Kind) -> Function {
                 outputs.push((Port::new(&name, jacobian(i)), Content::Jacobian(i)));
             }
         }
-        Kind::Forward => {
+        Kind::Forward | Kind::Forward2 | Kind::Forward4 | Kind::Forward8 => {
+            // One column per direction, as CasADi stacks them (`horzcat` of the seeds).
+            let n = kind.directions();
+            let columns = |name: &str, len: usize| Port::new(name, Pattern::dense(len, n));
             inputs.push(nominal(out, no));
             inputs.extend(
                 blocks
                     .iter()
-                    .map(|b| column(&format!("fwd_{}", b.name), b.len)),
+                    .map(|b| columns(&format!("fwd_{}", b.name), b.len)),
             );
-            outputs.push((column(&format!("fwd_{out}"), no), Content::Forward));
+            outputs.push((columns(&format!("fwd_{out}"), no), Content::Forward));
         }
         Kind::Adjoint => {
             inputs.push(nominal(out, no));

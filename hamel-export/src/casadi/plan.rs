@@ -260,10 +260,103 @@ pub struct Plans {
     pub second: Vec<Scatter>,
     /// For each input block, (column, component of the block).
     pub adjoint: Vec<Vec<(usize, usize)>>,
+    /// `fwd<N>_f`'s products of the Jacobian with the directions.
+    pub products: Products,
+}
+
+/// A Jacobian entry as a term of forward derivatives: derivative[row] += J[entry] ·
+/// direction[column] (a component of z), for every direction at once.
+#[derive(Clone, Copy, Debug)]
+struct Term {
+    entry: u32,
+    row: u32,
+    column: u32,
+}
+
+/// `fwd<N>_f` as products of the compiled Jacobian with the directions: its entries by x, u
+/// and t, then those by p.
+#[derive(Clone, Debug, Default)]
+pub struct Products {
+    terms: Vec<Term>,
+    /// How many of `terms` are by x, u and t.
+    states: usize,
+    /// The lengths the terms need: of the Jacobian's array, the derivatives and the
+    /// directions (one more than the largest entry, row and column).
+    needs: [usize; 3],
+}
+
+impl Products {
+    fn new(primal: &Primal, structure: &Structure) -> Products {
+        // Indices of arrays the size of a model's derivatives: far below u32::MAX.
+        let narrow = |v: usize| u32::try_from(v).ok();
+        let terms = |parameters: bool| -> Vec<Term> {
+            structure
+                .jacobian_entries(primal, parameters)
+                .unwrap_or_default()
+                .into_iter()
+                .filter_map(|(e, r, k, w)| {
+                    Some(Term {
+                        entry: narrow(e)?,
+                        row: narrow(r)?,
+                        column: narrow(primal.inputs.get(k)?.offset + w)?,
+                    })
+                })
+                .collect()
+        };
+        let mut all = terms(false);
+        let states = all.len();
+        all.extend(terms(true));
+        let most =
+            |pick: fn(&Term) -> u32| all.iter().map(|t| pick(t) as usize + 1).max().unwrap_or(0);
+        let needs = [most(|t| t.entry), most(|t| t.row), most(|t| t.column)];
+        Products {
+            terms: all,
+            states,
+            needs,
+        }
+    }
+
+    /// derivatives += J · directions, `N` directions at once (each component of z holds its
+    /// `N` values side by side); by p only if `parameters`. `false` (having added nothing)
+    /// if an array is shorter than the terms need.
+    #[inline(always)]
+    pub fn add<const N: usize>(
+        &self,
+        parameters: bool,
+        jacobian: &[f64],
+        directions: &[[f64; N]],
+        derivatives: &mut [[f64; N]],
+    ) -> bool {
+        let [entries, rows, columns] = self.needs;
+        if jacobian.len() < entries || derivatives.len() < rows || directions.len() < columns {
+            return false;
+        }
+        let terms = if parameters {
+            &self.terms[..]
+        } else {
+            &self.terms[..self.states]
+        };
+        for term in terms {
+            // SAFETY: `needs` exceeds every term's entry, row and column (`Products::new`
+            // computed it from these terms, which nothing changes after), and the arrays are
+            // that long (checked above).
+            let (entry, direction, derivative) = unsafe {
+                (
+                    *jacobian.get_unchecked(term.entry as usize),
+                    directions.get_unchecked(term.column as usize),
+                    derivatives.get_unchecked_mut(term.row as usize),
+                )
+            };
+            for d in 0..N {
+                derivative[d] += entry * direction[d];
+            }
+        }
+        true
+    }
 }
 
 impl Plans {
-    pub fn new(primal: &Primal, structure: &Structure, functions: &[Function; 5]) -> Option<Plans> {
+    pub fn new(primal: &Primal, structure: &Structure, functions: &[Function; 8]) -> Option<Plans> {
         let (_, local) = structure.compiled.as_ref()?;
         let s = &primal.sizes;
         let first = local
@@ -348,6 +441,7 @@ impl Plans {
             jacobian,
             second,
             adjoint,
+            products: Products::new(primal, structure),
         })
     }
 }

@@ -48,7 +48,7 @@ def test_the_external_function_loads_with_hamels_names(robot_library):
     assert [f.name_out(i) for i in range(f.n_out())] == ["xdot"]
     assert [f.size1_in(i) for i in range(3)] == [8, 2, 9]
     library = ca.Importer(robot_library, "dll")
-    for derivative in ("jac_", "fwd1_", "adj1_", "jac_adj1_"):
+    for derivative in ("jac_", "fwd1_", "fwd2_", "fwd4_", "fwd8_", "adj1_", "jac_adj1_"):
         assert library.has_function(derivative + "mobile_robot_f"), derivative
         assert library.has_function(derivative + "mobile_robot_h"), derivative
 
@@ -102,6 +102,27 @@ def test_lagrangian_hessian_equals_casadis_of_the_sx_model(robot_library):
         worst = max(worst, err)
         assert ok, err
     print(f"largest Hessian difference, relative: {worst:.2e}")
+
+
+def test_several_forward_directions_equal_casadis_of_the_sx_model(robot_library):
+    """CasADi takes fwd2_, fwd4_ and fwd8_ for 2, 4 and 8 directions through a call (not its
+    map of fwd1_), and they equal CasADi's forward derivatives of the SX model."""
+    f = ca.external("mobile_robot_f", robot_library)
+    sx = robot_sx.function()
+    worst = 0.0
+    for n in (2, 4, 8):
+        ours, theirs = f.forward(n), sx.forward(n)
+        assert ours.name() == f"fwd{n}_mobile_robot_f"
+        assert ours.class_name() == "External", ours.class_name()  # not a Map of fwd1_
+        for x, u, p in points(20):
+            seeds = [RNG.uniform(-1.0, 1.0, (k, n)) for k in (8, 2, 9)]
+            for dp in (seeds[2], np.zeros((9, n))):
+                nominal = f(x, u, p)
+                args = [x, u, p, nominal, seeds[0], seeds[1], dp]
+                ok, err = close(ours(*args), theirs(*args), 1e-12)
+                worst = max(worst, err)
+                assert ok, (n, err)
+    print(f"largest forward difference, relative: {worst:.2e}")
 
 
 def test_the_jacobians_sparsity_holds_every_nonzero(robot_library):
