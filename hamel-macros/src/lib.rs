@@ -6,6 +6,7 @@
 
 mod differentiate;
 mod engine;
+mod hash;
 mod helpers;
 mod stray_role;
 mod system;

@@ -43,8 +43,8 @@ use super::ldlt;
 use super::spec::Spec;
 use crate::engine::graph::{Graph, Node, NodeId};
 use crate::engine::lower::{Lowerer, Value};
+use crate::hash::HashMap;
 pub use rows::constraint_row;
-use std::collections::HashMap;
 use transformation::Transformation;
 
 /// Graph inputs of the generated methods.
