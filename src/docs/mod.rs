@@ -36,6 +36,12 @@ pub mod running {}
 #[doc = "```"]
 pub mod studies {}
 
+/// Studies of any model (`hamel::study`): this guide, and the module, come with hamel's
+/// feature `study` (`--features study`, or `features = ["study"]` where hamel is a
+/// dependency), which these docs were built without.
+#[cfg(not(feature = "study"))]
+pub mod studies {}
+
 #[doc = include_str!("control.md")]
 pub mod control {}
 
