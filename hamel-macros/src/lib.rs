@@ -6,7 +6,6 @@
 
 mod differentiate;
 mod engine;
-mod hash;
 mod helpers;
 mod stray_role;
 mod system;

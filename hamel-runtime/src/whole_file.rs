@@ -274,10 +274,15 @@ pub fn check_manifest(path: impl AsRef<Path>) -> Result<Option<Manifest>, Error>
     Ok(Some(manifest))
 }
 
-/// The first words of a study's shard manifest (`ensemble::shard::SHARD_MANIFEST`, which
-/// writes it), here so that a build without the feature `ensemble` checks a shard's file as
-/// one with it does (a test checks that the two agree).
-const SHARD_MANIFEST: &str = "hamel shard manifest ";
+/// The first words of a study's shard manifest as `ensemble::shard` writes them, for a build
+/// without the feature `ensemble` to check a shard's file as one with it does (a test checks
+/// them against the shards' own constant).
+#[cfg(any(test, not(feature = "ensemble")))]
+const SHARD_MANIFEST_WORDS: &str = "hamel shard manifest ";
+#[cfg(feature = "ensemble")]
+use crate::ensemble::shard::SHARD_MANIFEST;
+#[cfg(not(feature = "ensemble"))]
+const SHARD_MANIFEST: &str = SHARD_MANIFEST_WORDS;
 
 /// Whether `header` begins a study's shard manifest.
 fn is_shard_manifest(header: &str) -> bool {
@@ -326,7 +331,7 @@ mod tests {
     #[cfg(feature = "ensemble")]
     #[test]
     fn shard_manifests_are_recognized_as_the_shards_write_them() {
-        assert_eq!(SHARD_MANIFEST, crate::ensemble::shard::SHARD_MANIFEST);
+        assert_eq!(SHARD_MANIFEST_WORDS, crate::ensemble::shard::SHARD_MANIFEST);
     }
 
     fn dir(name: &str) -> PathBuf {

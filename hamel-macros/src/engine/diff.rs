@@ -18,7 +18,7 @@
 //! contributions are selected by that guard.
 
 use super::graph::{Func, Func2, Graph, Node, NodeId};
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 
 /// ∂node/∂(its operand number `which`), as a node.
 fn partial(g: &mut Graph, id: NodeId, which: usize) -> NodeId {

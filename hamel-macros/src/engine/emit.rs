@@ -7,7 +7,7 @@
 //! runtime AD types, no `unsafe`.
 
 use super::graph::{Cmp, Graph, Node, NodeId};
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 

@@ -8,7 +8,7 @@
 //! cancellations.
 
 use super::graph::{Graph, Node, NodeId};
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 
 impl Graph {
     /// `roots` rebuilt with every sum in Horner form; `varying` are the inputs that are not

@@ -9,7 +9,7 @@
 //! The graph holds real-valued nodes and boolean nodes (comparisons and their combinations,
 //! used only as the condition of a `Select`). Booleans are never differentiated.
 
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 use proc_macro2::Span;
 
 /// The first and last token of a piece of source: what `syn::Error::new_spanned` underlines.

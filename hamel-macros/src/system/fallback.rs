@@ -11,7 +11,7 @@
 
 use super::interface::{self, Bodies, Dims, Header};
 use super::model::{Names, Role, Roles, array_length, written_length};
-use crate::hash::HashSet;
+use crate::engine::hash::HashSet;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 use syn::ext::IdentExt;

@@ -2,7 +2,7 @@
 //! structurally, so that the error can point at the subexpression that breaks it.
 
 use crate::engine::graph::{Graph, Node, NodeId};
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 
 /// How a node depends on the velocity inputs.
 #[derive(Clone, Copy, Debug, PartialEq)]

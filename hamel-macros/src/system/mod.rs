@@ -48,8 +48,8 @@ mod sparse_lu;
 mod spec;
 
 use crate::engine::graph::Graph;
+use crate::engine::hash::HashSet;
 use crate::engine::lower::{ImplContext, Lowerer, Shape, Value};
-use crate::hash::HashSet;
 use fallback::{Sketch, fallback};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, quote};

@@ -1,7 +1,7 @@
 //! Locals and their scopes while a body is lowered.
 
 use super::value::Value;
-use crate::hash::HashMap;
+use crate::engine::hash::HashMap;
 
 #[derive(Clone, Debug)]
 pub struct Local {

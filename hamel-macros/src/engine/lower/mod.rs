@@ -28,7 +28,7 @@ pub use types::{Arg, Signature, render_type};
 pub use value::{Shape, Value};
 
 use crate::engine::graph::{Graph, NodeId};
-use crate::hash::{HashMap, HashSet};
+use crate::engine::hash::{HashMap, HashSet};
 use proc_macro2::TokenStream;
 use quote::ToTokens;
 use std::fmt::Display;
@@ -168,7 +168,7 @@ pub struct Lowerer<'a, 'g> {
     reported_budget: bool,
     /// Constants outside the impl block already reported as array lengths: one mistake,
     /// one error, however many signatures repeat it.
-    reported_lengths: crate::hash::HashSet<String>,
+    reported_lengths: crate::engine::hash::HashSet<String>,
     /// Functions whose signature or body had an error (by name): the error fallback stubs
     /// their bodies, so that rustc does not report the same mistake a second time.
     faulty: HashSet<String>,
@@ -210,7 +210,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             const_stack: Vec::new(),
             unrolled: 0,
             reported_budget: false,
-            reported_lengths: crate::hash::HashSet::default(),
+            reported_lengths: crate::engine::hash::HashSet::default(),
             faulty: HashSet::default(),
             lowered: HashSet::default(),
             reported_once: HashSet::default(),

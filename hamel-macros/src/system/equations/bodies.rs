@@ -17,12 +17,12 @@
 use super::{array, pairs};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
+use crate::engine::hash::HashMap;
 use crate::engine::lower::geometry::{
     self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Vec3, add, apply,
     apply_transposed, contact_frame, cross, dot, scale, sub,
 };
 use crate::engine::lower::{Lowerer, Value};
-use crate::hash::HashMap;
 use crate::system::spec::Spec;
 
 /// The direction a motion moves the graph's inputs in: q along the velocities, t at unit

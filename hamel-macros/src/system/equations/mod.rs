@@ -42,8 +42,8 @@ mod transformation;
 use super::ldlt;
 use super::spec::Spec;
 use crate::engine::graph::{Graph, Node, NodeId};
+use crate::engine::hash::HashMap;
 use crate::engine::lower::{Lowerer, Value};
-use crate::hash::HashMap;
 pub use rows::constraint_row;
 use transformation::Transformation;
 

@@ -3,8 +3,8 @@
 //! Neither changes the equations, so a mistake here is reported without stopping them.
 
 use super::count;
+use crate::engine::hash::HashSet;
 use crate::engine::lower::{Lowerer, closest};
-use crate::hash::HashSet;
 use crate::system::model::Names;
 use syn::ext::IdentExt;
 

@@ -4,8 +4,8 @@
 use super::rows::ModelShape;
 use super::signatures::{expected, render};
 use super::{count, fail};
+use crate::engine::hash::{HashMap, HashSet};
 use crate::engine::lower::Lowerer;
-use crate::hash::{HashMap, HashSet};
 use crate::system::model::{Group, Names, Role, Roles, names_of};
 use crate::system::reserved;
 use proc_macro2::TokenStream;

@@ -2,9 +2,9 @@
 //! shapes, the result, and whether the function takes the time.
 
 use super::{count, error_at_output};
+use crate::engine::hash::HashSet;
 use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::{Arg, Lowerer, Shape};
-use crate::hash::HashSet;
 use crate::system::model::{Role, RoleFn, Roles, names_of, written_length};
 use quote::ToTokens;
 use syn::ext::IdentExt;
