@@ -22,8 +22,8 @@
 //! browser (`hamel::scene`).
 //!
 //! ```text
-//! cargo run --release --example bicycle
-//! cargo run --release --example bicycle -- --animate bicycle.html
+//! cargo run --release --features png --example bicycle
+//! cargo run --release --features png --example bicycle -- --animate bicycle.html
 //! ```
 
 use hamel::models::WhippleBicycle;

@@ -3,10 +3,10 @@
 //! over trail × rider mass, drawn with the benchmark of Meijaard et al. (2007) marked.
 //!
 //! ```text
-//! cargo run --release --example bicycle_study                     # the grid, on this machine
-//! cargo run --release --example bicycle_study -- --write-grid grid.csv
-//! cargo run --release --example bicycle_study -- --table grid.csv --shard 3/8 --out results
-//! cargo run --release --example bicycle_study -- --help
+//! cargo run --release --features png,study --example bicycle_study   # the grid, on this machine
+//! cargo run --release --features png,study --example bicycle_study -- --write-grid grid.csv
+//! cargo run --release --features png,study --example bicycle_study -- --table grid.csv --shard 3/8 --out results
+//! cargo run --release --features png,study --example bicycle_study -- --help
 //! ```
 //!
 //! Each case tracks the lateral modes over 0 … 10 m/s in steps of 0.5 (`hamel::ModeSweep`)

@@ -14,7 +14,10 @@
 //! * [`docs::subset`] — the part of Rust a role function's body may use.
 //! * [`docs::design`] — the design notes: the mathematics the generated code computes.
 //!
-//! [`plot`] (feature `plot`, on by default) draws trajectories and analyses as SVG or PNG.
+//! [`plot`] (feature `plot`, on by default) draws trajectories and analyses as SVG, and as PNG
+//! with the feature `png`. Studies (`hamel::study`, [`docs::studies`]) come with the feature
+//! `study`. Both are off by default, so that a program that simulates and draws SVG builds
+//! neither.
 //! [`scene`] animates a model's bodies in 3D in the browser, and draws them at one
 //! configuration in front, side and top views.
 //!

@@ -8,9 +8,11 @@ pub use crate::{
 // its summary, linearizations and their modes (followed along a parameter), the generated
 // code's singularities, studies, control from the model.
 pub use crate::{
-    ControlAffine, CsvSink, Ensemble, Event, Linearization, Mode, ModeBranch, Outputs, Progress,
-    Singularity, Sink, Stopped, Summary, Table, track_modes,
+    ControlAffine, CsvSink, Event, Linearization, Mode, ModeBranch, Progress, Singularity, Sink,
+    Stopped, Summary, track_modes,
 };
+#[cfg(feature = "ensemble")]
+pub use crate::{Ensemble, Outputs, Table};
 // The role attributes, so that a misplaced one says where it belongs.
 pub use crate::{
     bodies, constraints, contacts, forces, gravity, holonomic, kinetic_energy, lagrangian, outputs,

@@ -37,6 +37,9 @@ pub enum ErrorKind {
     },
     /// The path's extension is neither `.svg` nor `.png` (in any case).
     UnknownFormat,
+    /// A PNG was asked for, and this build of hamel has no PNG encoder: it needs hamel's
+    /// feature `png` (SVG needs none).
+    PngNotBuilt,
     /// The figure has no panel.
     NoPanels,
     /// A panel has no series (and no field).
@@ -154,6 +157,10 @@ impl fmt::Display for ErrorKind {
             ErrorKind::UnknownFormat => {
                 f.write_str("the file name must end in .svg or .png (or use save_svg or save_png)")
             }
+            ErrorKind::PngNotBuilt => f.write_str(
+                "PNG figures need hamel's feature `png` (`cargo run --features png`, or \
+                 `features = [\"png\"]` where hamel is a dependency); SVG needs none",
+            ),
             ErrorKind::NoPanels => f.write_str("the figure has no panel"),
             ErrorKind::NoSeries { panel } => write!(f, "panel `{panel}` has no series"),
             ErrorKind::EmptySeries { panel, series } => {

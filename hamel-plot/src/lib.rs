@@ -1,5 +1,6 @@
-//! Figures of simulations and analyses, written as SVG or PNG (feature `plot`, on by
-//! default).
+//! Figures of simulations and analyses, written as SVG (feature `plot`, on by default) or PNG
+//! (feature `png`, which adds plotters' bitmap backend and the PNG encoder to the build;
+//! without it a PNG is an [`ErrorKind::PngNotBuilt`]).
 //!
 //! A [`Figure`] is a grid of [`Panel`]s; a panel has a title, axis labels, a linear or
 //! logarithmic y axis, any number of named [`Series`] (solid or dashed lines, or dots) and
@@ -92,6 +93,7 @@ mod legend;
 mod modes;
 mod prepare;
 mod render;
+#[cfg(feature = "png")]
 mod text;
 mod trajectory;
 mod units;

@@ -13,6 +13,7 @@ use super::error::ErrorKind;
 use super::figure::{Figure, Legend, Panel, Style};
 use super::legend;
 use super::prepare::{Drawn, Prepared, prepare};
+#[cfg(feature = "png")]
 use super::text::Typeset;
 
 /// The smallest panel drawn, in pixels: below this the axes' labels leave no room to plot.
@@ -57,12 +58,22 @@ pub(crate) fn svg(figure: &Figure) -> Result<String, ErrorKind> {
 }
 
 /// The figure as the bytes of a PNG file.
+#[cfg(feature = "png")]
 pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
     let (width, height, rgb) = pixels(figure)?;
     encode_png(&rgb, width, height)
 }
 
+/// Without the feature `png`, a PNG is an error that names it (after the figure's own checks,
+/// so that a figure that cannot be drawn says why first).
+#[cfg(not(feature = "png"))]
+pub(crate) fn png(figure: &Figure) -> Result<Vec<u8>, ErrorKind> {
+    checked_size(figure)?;
+    Err(ErrorKind::PngNotBuilt)
+}
+
 /// The figure drawn as a PNG file's pixels: width, height and 8-bit RGB, row by row.
+#[cfg(feature = "png")]
 pub(crate) fn pixels(figure: &Figure) -> Result<(u32, u32, Vec<u8>), ErrorKind> {
     let (width, height) = checked_size(figure)?;
     register_font()?;
@@ -77,11 +88,13 @@ pub(crate) fn pixels(figure: &Figure) -> Result<(u32, u32, Vec<u8>), ErrorKind> 
 
 /// The backend PNG figures are drawn on: 8-bit RGB pixels in `rgb`, row by row, with text
 /// in the bundled font set on one baseline ([`Typeset`]).
+#[cfg(feature = "png")]
 pub(crate) fn bitmap(rgb: &mut [u8], size: (u32, u32)) -> Typeset<BitMapBackend<'_>> {
     Typeset::new(BitMapBackend::with_buffer(rgb, size), FAMILY, FONT)
 }
 
 /// 8-bit RGB pixels, row by row, as a PNG file.
+#[cfg(feature = "png")]
 fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>, ErrorKind> {
     let mut out = Vec::new();
     let mut encoder = ::png::Encoder::new(&mut out, width, height);

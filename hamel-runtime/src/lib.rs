@@ -6,6 +6,7 @@ mod builder;
 pub mod control;
 mod crossing;
 mod driver;
+#[cfg(feature = "ensemble")]
 pub mod ensemble;
 mod error;
 mod error_kind;
@@ -34,6 +35,7 @@ pub use assembly::{ASSEMBLY_TOLERANCE, HOLONOMIC_TOLERANCE};
 pub use builder::StateBuilder;
 pub use control::{ControlAffine, ControlAffineForm, Controller};
 pub use crossing::{SingularCrossing, transformation_determinant};
+#[cfg(feature = "ensemble")]
 pub use ensemble::{
     CaseError, Ensemble, ModeColumns, Outputs, ParameterTable, Shard, StudyProgress, Table,
 };

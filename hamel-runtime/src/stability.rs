@@ -3,8 +3,8 @@
 //! ([`crate::tracking`]), the parameter values where a mode's real part crosses zero, found
 //! by Brent's method ([`crate::roots::brent`]) to [`CROSSING_TOLERANCE`], and the ranges of
 //! the parameter where every mode decays. A [`ModeSweep`] also gives its eigenvalues against
-//! the parameter as a [`Table`] with the modes' names (and `hamel::plot::modes_figure` draws
-//! them).
+//! the parameter as a `Table` (feature `ensemble`) with the modes' names (and
+//! `hamel::plot::modes_figure` draws them).
 //!
 //! A crossing is located on the mode itself, not on the largest real part: between two steps
 //! of the sweep, the mode at a parameter p is the one that matches the mode at the step below
@@ -39,6 +39,7 @@
 
 use nalgebra::Complex;
 
+#[cfg(feature = "ensemble")]
 use crate::ensemble::Table;
 use crate::error::Error;
 use crate::linearization::Linearization;
@@ -227,7 +228,8 @@ impl ModeSweep {
 
     /// The eigenvalues against the parameter: a column named after the parameter, then
     /// `<name>_re` and `<name>_im` for each branch (a name shared by several branches numbered,
-    /// `weave_1_re`, `weave_2_re`), one row per step.
+    /// `weave_1_re`, `weave_2_re`), one row per step. With the feature `ensemble`.
+    #[cfg(feature = "ensemble")]
     pub fn table(&self) -> Result<Table, Error> {
         let mut columns = vec![self.parameter.clone()];
         for k in 0..self.branches.len() {

@@ -274,12 +274,27 @@ pub fn check_manifest(path: impl AsRef<Path>) -> Result<Option<Manifest>, Error>
     Ok(Some(manifest))
 }
 
+/// The first words of a study's shard manifest as `ensemble::shard` writes them, for a build
+/// without the feature `ensemble` to check a shard's file as one with it does (a test checks
+/// them against the shards' own constant).
+#[cfg(any(test, not(feature = "ensemble")))]
+const SHARD_MANIFEST_WORDS: &str = "hamel shard manifest ";
+#[cfg(feature = "ensemble")]
+use crate::ensemble::shard::SHARD_MANIFEST;
+#[cfg(not(feature = "ensemble"))]
+const SHARD_MANIFEST: &str = SHARD_MANIFEST_WORDS;
+
+/// Whether `header` begins a study's shard manifest.
+fn is_shard_manifest(header: &str) -> bool {
+    header.starts_with(SHARD_MANIFEST)
+}
+
 /// A manifest's fields: one of a file written whole, or of a study's shard
 /// (`ensemble::shard`), which records the same and the hash of what it was computed from.
 fn parse(text: &str) -> Option<Manifest> {
     let mut lines = text.lines();
     let header = lines.next()?;
-    if header != MANIFEST_HEADER && !header.starts_with(crate::ensemble::shard::SHARD_MANIFEST) {
+    if header != MANIFEST_HEADER && !is_shard_manifest(header) {
         return None;
     }
     let mut field = |key: &str, radix: u32| -> Option<u64> {
@@ -312,6 +327,12 @@ pub(crate) fn checksum(path: &Path) -> std::io::Result<(u64, u64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(feature = "ensemble")]
+    #[test]
+    fn shard_manifests_are_recognized_as_the_shards_write_them() {
+        assert_eq!(SHARD_MANIFEST_WORDS, crate::ensemble::shard::SHARD_MANIFEST);
+    }
 
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("hamel-whole-{name}-{}", std::process::id()));

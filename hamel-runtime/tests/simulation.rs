@@ -1,6 +1,7 @@
 //! The simulation driver on a hand-written system: a skate (knife edge) on a level plane,
 //! with the closed-form solution of its free motion.
 
+#[cfg(feature = "ensemble")]
 mod ensembles;
 
 use crate::common;

@@ -27,6 +27,15 @@ pub mod model {}
 pub mod geometry {}
 
 #[doc = include_str!("running.md")]
+// Ensembles and their tables come with the feature `ensemble` (`study` includes it), and so
+// does their section, with its runnable example.
+#[cfg_attr(feature = "ensemble", doc = include_str!("running_ensembles.md"))]
+#[cfg_attr(
+    not(feature = "ensemble"),
+    doc = "\n## Studies: many runs on every core\n\n`hamel::Ensemble`, one computation run for \
+           many cases on every core, and `hamel::Table`, their rows, come with hamel's feature \
+           `ensemble` (or `study`, which includes it); these docs were built without it."
+)]
 pub mod running {}
 
 #[cfg(feature = "study")]
@@ -34,6 +43,12 @@ pub mod running {}
 #[doc = "```no_run"]
 #[doc = include_str!("../../examples/rattleback_study.rs")]
 #[doc = "```"]
+pub mod studies {}
+
+/// Studies of any model (`hamel::study`): this guide, and the module, come with hamel's
+/// feature `study` (`--features study`, or `features = ["study"]` where hamel is a
+/// dependency), which these docs were built without.
+#[cfg(not(feature = "study"))]
 pub mod studies {}
 
 #[doc = include_str!("control.md")]

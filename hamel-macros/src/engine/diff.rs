@@ -18,7 +18,7 @@
 //! contributions are selected by that guard.
 
 use super::graph::{Func, Func2, Graph, Node, NodeId};
-use std::collections::HashMap;
+use crate::engine::hash::HashMap;
 
 /// ∂node/∂(its operand number `which`), as a node.
 fn partial(g: &mut Graph, id: NodeId, which: usize) -> NodeId {
@@ -163,7 +163,8 @@ fn binary_partial(
 /// root. The seeds must not depend on the seeded inputs themselves.
 pub fn tangent(g: &mut Graph, roots: &[NodeId], seeds: &[(NodeId, NodeId)]) -> Vec<NodeId> {
     let live = g.live_set(roots);
-    let mut dot: HashMap<NodeId, NodeId> = HashMap::with_capacity(live.len());
+    let mut dot: HashMap<NodeId, NodeId> =
+        HashMap::with_capacity_and_hasher(live.len(), Default::default());
     for &(input, seed) in seeds {
         if !g.is_zero(seed) {
             dot.insert(input, seed);
@@ -220,13 +221,13 @@ pub fn adjoint(g: &mut Graph, roots: &[NodeId], weights: &[NodeId], wrt: &[NodeI
         .collect();
     let guards = guards(g, roots, &live);
 
-    let mut contributions: HashMap<NodeId, Vec<NodeId>> = HashMap::new();
+    let mut contributions: HashMap<NodeId, Vec<NodeId>> = HashMap::default();
     for (&root, &weight) in roots.iter().zip(weights) {
         if active[root.index()] && !g.is_zero(weight) {
             contributions.entry(root).or_default().push(weight);
         }
     }
-    let mut result: HashMap<NodeId, NodeId> = HashMap::new();
+    let mut result: HashMap<NodeId, NodeId> = HashMap::default();
     for &id in live.iter().rev() {
         let Some(terms) = contributions.remove(&id) else {
             continue;
@@ -280,7 +281,7 @@ pub fn adjoint(g: &mut Graph, roots: &[NodeId], weights: &[NodeId], wrt: &[NodeI
 /// used (only those appear in the map). Computed from the roots down: a node is used when
 /// any of its users is, and a `Select` uses its branches only under their condition.
 fn guards(g: &mut Graph, roots: &[NodeId], live: &[NodeId]) -> HashMap<NodeId, NodeId> {
-    let mut guard: HashMap<NodeId, NodeId> = HashMap::new();
+    let mut guard: HashMap<NodeId, NodeId> = HashMap::default();
     let truth = g.boolean(true);
     for &r in roots {
         guard.insert(r, truth);

@@ -7,9 +7,9 @@
 //! runtime AD types, no `unsafe`.
 
 use super::graph::{Cmp, Graph, Node, NodeId};
+use crate::engine::hash::HashMap;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
-use std::collections::HashMap;
 
 /// Deepest nesting of an inlined expression before it is bound to a `let` instead.
 const MAX_INLINE_DEPTH: usize = 24;
@@ -93,7 +93,7 @@ impl<'g> Emitter<'g> {
         Emitter {
             graph,
             scalar,
-            inputs: HashMap::new(),
+            inputs: HashMap::default(),
             prefix: "v".into(),
         }
     }
@@ -119,7 +119,7 @@ impl<'g> Emitter<'g> {
     pub fn emit_stages(&self, stages: &[&[NodeId]]) -> syn::Result<Vec<Code>> {
         let g = self.graph;
         let all_roots: Vec<NodeId> = stages.iter().flat_map(|s| s.iter().copied()).collect();
-        let mut uses: HashMap<NodeId, usize> = HashMap::new();
+        let mut uses: HashMap<NodeId, usize> = HashMap::default();
         for id in self.cone(&all_roots) {
             for &operand in g.node(id).operands().as_slice() {
                 *uses.entry(operand).or_default() += 1;
@@ -128,10 +128,10 @@ impl<'g> Emitter<'g> {
         for &r in &all_roots {
             *uses.entry(r).or_default() += 2;
         }
-        let mut refs: HashMap<NodeId, (TokenStream, Prec)> = HashMap::new();
+        let mut refs: HashMap<NodeId, (TokenStream, Prec)> = HashMap::default();
         // How deeply each inlined expression nests: rustc's parser overflows on expressions
         // thousands of levels deep, so past a bound a single-use node gets a `let` anyway.
-        let mut depth: HashMap<NodeId, usize> = HashMap::new();
+        let mut depth: HashMap<NodeId, usize> = HashMap::default();
         let mut counter = 0usize;
         let mut out = Vec::with_capacity(stages.len());
         for roots in stages {

@@ -8,14 +8,14 @@
 //! cancellations.
 
 use super::graph::{Graph, Node, NodeId};
-use std::collections::HashMap;
+use crate::engine::hash::HashMap;
 
 impl Graph {
     /// `roots` rebuilt with every sum in Horner form; `varying` are the inputs that are not
     /// parameters. The rest of each node as it is (no other simplification runs again).
     pub fn factored(&mut self, roots: &[NodeId], varying: &[NodeId]) -> Vec<NodeId> {
         let mut active = self.depends_on(varying);
-        let mut image: HashMap<NodeId, NodeId> = HashMap::new();
+        let mut image: HashMap<NodeId, NodeId> = HashMap::default();
         for id in self.live_set(roots) {
             let node = self.node(id);
             let m = |x: NodeId| image.get(&x).copied().unwrap_or(x);
@@ -157,7 +157,7 @@ impl Graph {
         if terms.is_empty() {
             return self.zero();
         }
-        let mut counts: HashMap<NodeId, usize> = HashMap::new();
+        let mut counts: HashMap<NodeId, usize> = HashMap::default();
         for (_, factors) in &terms {
             let mut seen = factors.clone();
             seen.dedup();

@@ -9,8 +9,8 @@
 //! The graph holds real-valued nodes and boolean nodes (comparisons and their combinations,
 //! used only as the condition of a `Select`). Booleans are never differentiated.
 
+use crate::engine::hash::HashMap;
 use proc_macro2::Span;
-use std::collections::HashMap;
 
 /// The first and last token of a piece of source: what `syn::Error::new_spanned` underlines.
 /// (`Span::join` is nightly-only, so a range is kept as its two ends.)
@@ -697,7 +697,7 @@ impl Graph {
         replace: &HashMap<NodeId, NodeId>,
     ) -> Vec<NodeId> {
         let live = self.live_set(roots);
-        let mut image: HashMap<NodeId, NodeId> = HashMap::new();
+        let mut image: HashMap<NodeId, NodeId> = HashMap::default();
         for id in live {
             let new = if let Some(&r) = replace.get(&id) {
                 r
@@ -897,7 +897,7 @@ mod tests {
         let s = g.unary(Func::Sin, p);
         let e = g.add(s, x);
         let zero = g.zero();
-        let out = g.substitute(&[e], &HashMap::from([(y, zero)]));
+        let out = g.substitute(&[e], &[(y, zero)].into_iter().collect());
         // sin(x·0) + x = sin(0) + x = x
         assert_eq!(out[0], x);
     }

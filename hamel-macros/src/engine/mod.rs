@@ -12,6 +12,7 @@ pub mod diff;
 pub mod emit;
 mod factor;
 pub mod graph;
+pub mod hash;
 pub mod lower;
 mod normal;
 pub mod ops;

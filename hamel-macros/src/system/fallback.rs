@@ -11,9 +11,9 @@
 
 use super::interface::{self, Bodies, Dims, Header};
 use super::model::{Names, Role, Roles, array_length, written_length};
+use crate::engine::hash::HashSet;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
-use std::collections::HashSet;
 use syn::ext::IdentExt;
 
 /// What the user wrote about the model's shape, read without checking it.
@@ -207,7 +207,7 @@ pub fn stand_in(
     sketch: &Sketch,
 ) -> TokenStream {
     let mut stripped = super::model::strip_role_attributes(inherent);
-    let mut taken: HashSet<String> = HashSet::new();
+    let mut taken: HashSet<String> = HashSet::default();
     for item in &mut stripped.items {
         match item {
             syn::ImplItem::Fn(f) => {

@@ -798,7 +798,8 @@ fn dual_jacobian(cx: &Context<'_>) -> TokenStream {
     if let Some(t) = &eq.transformation {
         roots.extend(t.checks.iter().map(|c| c.value));
     }
-    let live: std::collections::HashSet<NodeId> = cx.graph.live_set(&roots).into_iter().collect();
+    let live: crate::engine::hash::HashSet<NodeId> =
+        cx.graph.live_set(&roots).into_iter().collect();
     let inputs = &eq.inputs;
     let directions = inputs
         .q

@@ -2,7 +2,7 @@
 //! structurally, so that the error can point at the subexpression that breaks it.
 
 use crate::engine::graph::{Graph, Node, NodeId};
-use std::collections::HashMap;
+use crate::engine::hash::HashMap;
 
 /// How a node depends on the velocity inputs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +60,7 @@ fn sum(a: Class, b: Class) -> Class {
 }
 
 pub fn classify(g: &Graph, root: NodeId, velocities: &[NodeId]) -> Verdict {
-    let mut class: HashMap<NodeId, Class> = HashMap::new();
+    let mut class: HashMap<NodeId, Class> = HashMap::default();
     for id in g.live_set(&[root]) {
         let c = |x: NodeId| class.get(&x).copied().unwrap_or(Class::Free);
         let node = g.node(id);

@@ -48,11 +48,11 @@ mod sparse_lu;
 mod spec;
 
 use crate::engine::graph::Graph;
+use crate::engine::hash::HashSet;
 use crate::engine::lower::{ImplContext, Lowerer, Shape, Value};
 use fallback::{Sketch, fallback};
 use proc_macro2::TokenStream;
 use quote::{ToTokens, quote};
-use std::collections::HashSet;
 use syn::spanned::Spanned;
 
 pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
@@ -179,11 +179,11 @@ fn expand_impl(
             imp.impl_token.span(),
             "hamel internal error: model not built, but no error reported",
         );
-        return fallback(imp, &HashSet::new(), &sketch, error);
+        return fallback(imp, &HashSet::default(), &sketch, error);
     };
     let mut stripped = model::strip_role_attributes(imp);
     if let Err(e) = rate_bodies::emit(&graph, &externals, &replaced, &mut stripped) {
-        return fallback(imp, &HashSet::new(), &sketch, e);
+        return fallback(imp, &HashSet::default(), &sketch, e);
     }
     // The exported functions' derivatives, for `hamel-export` (feature `export`).
     #[cfg(feature = "export")]
@@ -207,7 +207,7 @@ fn expand_impl(
         &read,
         &stripped,
     )
-    .unwrap_or_else(|e| fallback(imp, &HashSet::new(), &sketch, e))
+    .unwrap_or_else(|e| fallback(imp, &HashSet::default(), &sketch, e))
 }
 
 /// `#[hamel_system]` on a trait impl (`impl HamelSystem for Model`): the error, and the block
@@ -220,7 +220,7 @@ fn on_trait_impl(attr: TokenStream, imp: &syn::ItemImpl, error: syn::Error) -> T
     let names = model::parse_names(attr, &mut ignored);
     let roles = model::Roles::find(&inherent.items, &mut ignored);
     let sketch = Sketch::new(&names, &roles);
-    fallback(&inherent, &HashSet::new(), &sketch, error)
+    fallback(&inherent, &HashSet::default(), &sketch, error)
 }
 
 /// The impl block `imp` as an inherent impl: without its trait, and with only the items an

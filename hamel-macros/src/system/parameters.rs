@@ -305,7 +305,7 @@ fn duplicates(
     entries: &[(String, TokenStream, String)],
     fields: &[&syn::Field],
 ) -> Option<syn::Error> {
-    let mut seen = std::collections::HashSet::new();
+    let mut seen = crate::engine::hash::HashSet::default();
     let (name, _, _) = entries.iter().find(|(n, _, _)| !seen.insert(n.clone()))?;
     let at = fields
         .iter()

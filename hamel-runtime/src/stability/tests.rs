@@ -112,6 +112,7 @@ fn mix(a: &ModeBranch, b: &ModeBranch) -> (ModeBranch, ModeBranch) {
     (one(steps(a, b)), one(steps(b, a)))
 }
 
+#[cfg(feature = "ensemble")]
 #[test]
 fn the_table_has_the_parameter_and_each_named_mode() {
     let sweep = ModeSweep::track("p", steps(4, 0.5), &three)

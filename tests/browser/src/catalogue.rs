@@ -178,7 +178,7 @@ pub fn cases(dir: &Path) -> Result<Vec<Case>, Error> {
 #[path = "../../../examples/support/capsize.rs"]
 pub mod capsize;
 
-/// The bicycle falling as its weave grows, as `cargo run --example bicycle -- --animate`
+/// The bicycle falling as its weave grows, as `cargo run --features png --example bicycle -- --animate`
 /// writes it, to `dir/bicycle_capsize.html`.
 pub fn bicycle_capsize_page(dir: &Path) -> Result<PathBuf, Error> {
     let bike = WhippleBicycle::default();

@@ -43,7 +43,7 @@ fn the_readmes_dask_snippet_runs_as_written() {
     }
     let Some(binary) = example_binary() else {
         println!(
-            "skipped: the bicycle_study example is not built (cargo build --example bicycle_study)"
+            "skipped: the bicycle_study example is not built (cargo build --features png,study --example bicycle_study)"
         );
         return;
     };

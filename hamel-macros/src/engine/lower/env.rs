@@ -1,7 +1,7 @@
 //! Locals and their scopes while a body is lowered.
 
 use super::value::Value;
-use std::collections::HashMap;
+use crate::engine::hash::HashMap;
 
 #[derive(Clone, Debug)]
 pub struct Local {
@@ -19,7 +19,7 @@ pub struct Env {
 
 impl Env {
     pub fn push(&mut self) {
-        self.scopes.push(HashMap::new());
+        self.scopes.push(HashMap::default());
     }
 
     pub fn pop(&mut self) {

@@ -28,9 +28,9 @@ pub use types::{Arg, Signature, render_type};
 pub use value::{Shape, Value};
 
 use crate::engine::graph::{Graph, NodeId};
+use crate::engine::hash::{HashMap, HashSet};
 use proc_macro2::TokenStream;
 use quote::ToTokens;
-use std::collections::{HashMap, HashSet};
 use std::fmt::Display;
 
 /// Ceiling on the total number of unrolled loop iterations in one expansion.
@@ -53,8 +53,8 @@ pub struct ImplContext<'a> {
 
 impl<'a> ImplContext<'a> {
     pub fn new(items: impl IntoIterator<Item = &'a syn::ImplItem>) -> Self {
-        let mut fns = HashMap::new();
-        let mut consts = HashMap::new();
+        let mut fns = HashMap::default();
+        let mut consts = HashMap::default();
         for item in items {
             match item {
                 syn::ImplItem::Fn(f) => {
@@ -69,9 +69,9 @@ impl<'a> ImplContext<'a> {
         ImplContext {
             fns,
             consts,
-            generated: HashMap::new(),
+            generated: HashMap::default(),
             generated_names: Vec::new(),
-            helpers: HashMap::new(),
+            helpers: HashMap::default(),
         }
     }
 
@@ -168,7 +168,7 @@ pub struct Lowerer<'a, 'g> {
     reported_budget: bool,
     /// Constants outside the impl block already reported as array lengths: one mistake,
     /// one error, however many signatures repeat it.
-    reported_lengths: std::collections::HashSet<String>,
+    reported_lengths: crate::engine::hash::HashSet<String>,
     /// Functions whose signature or body had an error (by name): the error fallback stubs
     /// their bodies, so that rustc does not report the same mistake a second time.
     faulty: HashSet<String>,
@@ -206,17 +206,17 @@ impl<'a, 'g> Lowerer<'a, 'g> {
             externals: Externals::default(),
             errors: Vec::new(),
             call_stack: Vec::new(),
-            const_cache: HashMap::new(),
+            const_cache: HashMap::default(),
             const_stack: Vec::new(),
             unrolled: 0,
             reported_budget: false,
-            reported_lengths: std::collections::HashSet::new(),
-            faulty: HashSet::new(),
-            lowered: HashSet::new(),
-            reported_once: HashSet::new(),
+            reported_lengths: crate::engine::hash::HashSet::default(),
+            faulty: HashSet::default(),
+            lowered: HashSet::default(),
+            reported_once: HashSet::default(),
             mistakes: 0,
-            signature_hints: HashMap::new(),
-            expected_arguments: HashMap::new(),
+            signature_hints: HashMap::default(),
+            expected_arguments: HashMap::default(),
             parameter_arrays: std::collections::BTreeMap::new(),
             current_signature: None,
             rate_context: None,
@@ -291,7 +291,7 @@ impl<'a, 'g> Lowerer<'a, 'g> {
     /// the same place is kept once, however many times it was found (a function lowered
     /// twice, a signature checked twice).
     pub fn take_errors(&mut self) -> syn::Result<()> {
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let mut errors = std::mem::take(&mut self.errors)
             .into_iter()
             .flatten()

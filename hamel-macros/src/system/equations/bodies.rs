@@ -17,13 +17,13 @@
 use super::{array, pairs};
 use crate::engine::diff;
 use crate::engine::graph::{Graph, NodeId};
+use crate::engine::hash::HashMap;
 use crate::engine::lower::geometry::{
     self, Body, Contact, Geo, GeoKind, Made, Mat3, Point, Rotation, Vec3, add, apply,
     apply_transposed, contact_frame, cross, dot, scale, sub,
 };
 use crate::engine::lower::{Lowerer, Value};
 use crate::system::spec::Spec;
-use std::collections::HashMap;
 
 /// The direction a motion moves the graph's inputs in: q along the velocities, t at unit
 /// rate. Tangents along it are time derivatives; the velocities of vectors and the angular
@@ -46,8 +46,8 @@ impl Motion {
         Motion {
             seeds,
             moving,
-            velocities: HashMap::new(),
-            spins: HashMap::new(),
+            velocities: HashMap::default(),
+            spins: HashMap::default(),
         }
     }
 

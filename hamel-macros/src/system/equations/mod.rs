@@ -42,9 +42,9 @@ mod transformation;
 use super::ldlt;
 use super::spec::Spec;
 use crate::engine::graph::{Graph, Node, NodeId};
+use crate::engine::hash::HashMap;
 use crate::engine::lower::{Lowerer, Value};
 pub use rows::constraint_row;
-use std::collections::HashMap;
 use transformation::Transformation;
 
 /// Graph inputs of the generated methods.

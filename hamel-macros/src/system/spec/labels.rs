@@ -3,9 +3,9 @@
 //! Neither changes the equations, so a mistake here is reported without stopping them.
 
 use super::count;
+use crate::engine::hash::HashSet;
 use crate::engine::lower::{Lowerer, closest};
 use crate::system::model::Names;
-use std::collections::HashSet;
 use syn::ext::IdentExt;
 
 /// The names scenes and pictures give the bodies of `#[bodies]` (which returns `bodies`
@@ -41,7 +41,7 @@ pub(super) fn body_names(
         ));
         return default(b);
     }
-    let mut seen = HashSet::new();
+    let mut seen = HashSet::default();
     for ident in list {
         if !seen.insert(ident.unraw().to_string()) {
             lowerer.push_error(syn::Error::new_spanned(
@@ -73,7 +73,7 @@ pub(super) fn units(
             .flatten()
             .map(|g| g.base.unraw().to_string()),
     );
-    let mut seen = HashSet::new();
+    let mut seen = HashSet::default();
     let mut units = Vec::new();
     for (ident, unit) in &names.units {
         let name = ident.unraw().to_string();

@@ -20,13 +20,13 @@ pub use signatures::{argument_name, written_rows};
 use super::equations::ContactReading;
 use super::model::{Group, Names, Role, Roles};
 use crate::engine::graph::NodeId;
+use crate::engine::hash::HashSet;
 use crate::engine::lower::Lowerer;
 use energy::{energy_roles, rows_roles};
 use names::{check_all_names, coordinate_names, speed_names};
 use proc_macro2::TokenStream;
 use rows::{dependent, model_shape};
 use signatures::check_signatures;
-use std::collections::HashSet;
 
 #[derive(Clone, Copy)]
 pub struct Dims {

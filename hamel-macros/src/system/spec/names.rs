@@ -4,12 +4,12 @@
 use super::rows::ModelShape;
 use super::signatures::{expected, render};
 use super::{count, fail};
+use crate::engine::hash::{HashMap, HashSet};
 use crate::engine::lower::Lowerer;
 use crate::system::model::{Group, Names, Role, Roles, names_of};
 use crate::system::reserved;
 use proc_macro2::TokenStream;
 use quote::format_ident;
-use std::collections::{HashMap, HashSet};
 use syn::ext::IdentExt;
 
 /// Inputs are read by the forces only: without `#[forces]` they would be silently ignored.
@@ -218,7 +218,7 @@ pub(super) const KINDS: [&str; 4] = ["coordinate", "speed", "input", "constraint
 /// (the `lambda_` prefix is reserved): its name need only be distinct, and not hide a
 /// constant.
 pub(super) fn check_names(lists: [&[syn::Ident]; 4], lowerer: &mut Lowerer<'_, '_>, ok: &mut bool) {
-    let mut seen: HashMap<String, (&syn::Ident, &str)> = HashMap::new();
+    let mut seen: HashMap<String, (&syn::Ident, &str)> = HashMap::default();
     let named = lists
         .into_iter()
         .zip(KINDS)

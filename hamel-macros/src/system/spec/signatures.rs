@@ -2,11 +2,11 @@
 //! shapes, the result, and whether the function takes the time.
 
 use super::{count, error_at_output};
+use crate::engine::hash::HashSet;
 use crate::engine::lower::geometry::GeoKind;
 use crate::engine::lower::{Arg, Lowerer, Shape};
 use crate::system::model::{Role, RoleFn, Roles, names_of, written_length};
 use quote::ToTokens;
-use std::collections::HashSet;
 use syn::ext::IdentExt;
 
 /// What each role's signature must be, for the messages about unsupported types in it: with
@@ -63,7 +63,7 @@ pub(super) fn check_signatures(
     ok: &mut bool,
 ) -> (HashSet<String>, Vec<Role>) {
     let mut dropped = Vec::new();
-    let mut timed = HashSet::new();
+    let mut timed = HashSet::default();
     for (role, rf) in &roles.by_role {
         let takes = takes_time(*role, rf.f, n, m, p);
         let fits = check_signature(

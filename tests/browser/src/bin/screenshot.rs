@@ -1,7 +1,7 @@
 //! A screenshot of a scene page at a time, paused, as the README's picture is made:
 //!
 //! ```text
-//! cargo run --release --example bicycle -- --animate bicycle.html
+//! cargo run --release --features png --example bicycle -- --animate bicycle.html
 //! cargo run --release -p hamel-browser --bin screenshot -- bicycle.html 2.5 images/bicycle_capsize.png
 //! ```
 //!
