@@ -79,6 +79,48 @@ unsafe fn read_weights<M: Model>(arg: *const *const f64, weights: &mut [f64]) ->
     all_finite(weights)
 }
 
+/// Forward seed block `k` (0: x, 1: u, 2: p, 3: t), after the point and the nominal output.
+///
+/// # Safety
+/// `arg` is CasADi's non-null array of inputs of `fwd<N>_f` of the right-hand side.
+#[inline(always)]
+unsafe fn seed<M: Model>(arg: *const *const f64, k: usize) -> *const f64 {
+    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
+    unsafe { *arg.add(point_blocks::<M>() + 1 + k) }
+}
+
+/// Whether the `n` directions have none in p or t (null or zero seeds): the fast paths
+/// differentiate by x and u only; CasADi gives zeros where the parameters are fixed.
+///
+/// # Safety
+/// As [`seed`]; a non-null seed points to its block's `n` columns, dense.
+#[inline(always)]
+unsafe fn fixed_parameters<M: Model>(arg: *const *const f64, n: usize) -> bool {
+    let zero = |k: usize, len: usize| {
+        // SAFETY: the caller's contract.
+        let block = unsafe { seed::<M>(arg, k) };
+        block.is_null()
+            // SAFETY: a non-null seed points to its block's values, dense.
+            || unsafe { core::slice::from_raw_parts(block, len) }
+                .iter()
+                .all(|&v| v == 0.0)
+    };
+    zero(2, Sizes::of::<M>().np * n) && (!M::TIME_DEPENDENT || zero(3, n))
+}
+
+/// The one dense output of `f` or `fwd<N>_f`, `len` values; `None` if CasADi did not ask for
+/// it (a null pointer).
+///
+/// # Safety
+/// `res` is CasADi's non-null array of outputs; a non-null output has `len` writable values.
+#[inline(always)]
+unsafe fn dense_output<'a>(res: *const *mut f64, len: usize) -> Option<&'a mut [f64]> {
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let out = unsafe { *res };
+    // SAFETY: non-null, `len` writable values (the caller's contract).
+    (!out.is_null()).then(|| unsafe { core::slice::from_raw_parts_mut(out, len) })
+}
+
 /// The sparse outputs of `jac_f` or `jac_adj1_f` and where the compiled code's entries go.
 struct Blocks<'a> {
     function: &'a Function,
@@ -142,40 +184,24 @@ pub unsafe fn rhs<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Failure>> {
     let s = Sizes::of::<M>();
-    let blocks = point_blocks::<M>();
-    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
-    let given = |k: usize| unsafe { *arg.add(k) };
     let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
     if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
-    // SAFETY: CasADi's array holds a pointer per output; the only output is ẋ or its
-    // derivative, dense.
-    let out = unsafe { *res };
-    if out.is_null() {
+    // SAFETY: the only output is ẋ or its derivative, dense (the caller's contract).
+    let Some(out) = (unsafe { dense_output(res, s.nx) }) else {
         return Some(Ok(()));
-    }
-    // SAFETY: non-null, nx writable values (the caller's contract).
-    let out = unsafe { core::slice::from_raw_parts_mut(out, s.nx) };
+    };
     let parameters = &z.as_ref()[s.p()..s.t()];
     let written = match kind {
         Kind::Value => M::with_prepared(parameters, |prepared| {
             M::compiled_value(Which::Rhs, prepared, &z, out)
         }),
         Kind::Forward => {
-            // The seeds follow the nominal output: x, u, p (and t). A direction in p or t takes
-            // the general path; CasADi gives one of zeros where the parameters are fixed.
-            let seed = |k: usize| given(blocks + 1 + k);
-            // SAFETY: a non-null seed points to its block's values, dense.
-            let zero = |k: usize, len: usize| {
-                let block = seed(k);
-                block.is_null()
-                    || unsafe { core::slice::from_raw_parts(block, len) }
-                        .iter()
-                        .all(|&v| v == 0.0)
-            };
-            if !zero(2, s.np) || (M::TIME_DEPENDENT && !zero(3, 1)) {
+            // A direction in p or t takes the general path.
+            // SAFETY: the caller's contract.
+            if !unsafe { fixed_parameters::<M>(arg, 1) } {
                 return None;
             }
             // The compiled code's columns: x, u, the parameters it reads, t.
@@ -183,7 +209,8 @@ pub unsafe fn rhs<M: Model>(
             {
                 let local = local.as_mut();
                 for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
-                    let block = seed(k);
+                    // SAFETY: the caller's contract.
+                    let block = unsafe { seed::<M>(arg, k) };
                     if len > 0 && !block.is_null() {
                         // SAFETY: a non-null seed points to its block's values, dense.
                         local[start..start + len]
@@ -227,38 +254,26 @@ pub unsafe fn forwards<M: Model, const N: usize>(
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
     let s = Sizes::of::<M>();
-    let blocks = point_blocks::<M>();
     let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
     if !unsafe { point::<M>(arg, &mut z) } {
         return None;
     }
-    // SAFETY: CasADi's array holds a pointer per output; the only output is the N
-    // derivatives of ẋ, dense, a column each.
-    let out = unsafe { *res };
-    if out.is_null() {
+    // SAFETY: the only output is the N derivatives of ẋ, dense, a column each (the
+    // caller's contract).
+    let Some(out) = (unsafe { dense_output(res, s.nx * N) }) else {
         return Some(Ok(()));
-    }
-    // SAFETY: non-null, nx · N writable values (the caller's contract).
-    let out = unsafe { core::slice::from_raw_parts_mut(out, s.nx * N) };
+    };
     // The seeds follow the nominal output: x, u, p (and t), N columns each. Directions in p
     // or t take the general path.
-    // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
-    let seed = |k: usize| unsafe { *arg.add(blocks + 1 + k) };
-    // SAFETY: a non-null seed points to its block's N columns, dense.
-    let zero = |k: usize, len: usize| {
-        let block = seed(k);
-        block.is_null()
-            || unsafe { core::slice::from_raw_parts(block, len) }
-                .iter()
-                .all(|&v| v == 0.0)
-    };
-    if !zero(2, s.np * N) || (M::TIME_DEPENDENT && !zero(3, N)) {
+    // SAFETY: the caller's contract.
+    if !unsafe { fixed_parameters::<M>(arg, N) } {
         return None;
     }
     let mut directions = M::array([0.0f64; N]);
     for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
-        let block = seed(k);
+        // SAFETY: the caller's contract.
+        let block = unsafe { seed::<M>(arg, k) };
         if len > 0 && !block.is_null() {
             // SAFETY: as above.
             let columns = unsafe { core::slice::from_raw_parts(block, len * N) };
