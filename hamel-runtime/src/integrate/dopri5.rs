@@ -172,7 +172,8 @@ const FAC2: f64 = 10.0;
 /// Weight of the previous error in the PI controller (Lund stabilization).
 const BETA: f64 = 0.04;
 const EXPO1: f64 = 0.2 - BETA * 0.75;
-const FACOLD_MIN: f64 = 1e-4;
+/// The floor of the controller's memory of the last error, Hairer's 1e-4, as a logarithm.
+const LN_FACOLD_MIN: f64 = -9.210340371976182;
 
 /// The seven stages of a step from (t, y) with size h: `k[0]` = f(t, y) (the last stage of
 /// the step before, FSAL), …, `k[6]` = f(t + h, y1). One set lives through an integration and
@@ -220,11 +221,13 @@ fn attempt<O: Ode>(
     Ok(y1)
 }
 
-/// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|),
-/// over the first `len` components (`Ode::controlled_components`). NaN if the step produced a
-/// non-finite value there (and then the step is rejected).
+/// The square of Hairer's error norm: the mean of (eᵢ/scᵢ)², scᵢ = atol + rtol·max(|y₀ᵢ|,
+/// |y₁ᵢ|), over the first `len` components (`Ode::controlled_components`); the step is
+/// accepted when it is ≤ 1. NaN if the step produced a non-finite value there (and then the
+/// step is rejected). Squared because the controller needs only its logarithm: the square
+/// root Hairer takes would sit on the path to the next step size for nothing.
 #[inline]
-fn error_norm<V: Vector>(
+fn error_norm_squared<V: Vector>(
     (y, y1): (&V, &V),
     k: &Stages<V>,
     h: f64,
@@ -239,21 +242,27 @@ fn error_norm<V: Vector>(
     // The last stage is the right-hand side's value of a moment ago.
     let k7 = &k[6];
     let (y, y1) = (y.as_ref(), y1.as_ref());
-    let mut sum = 0.0;
+    // Two partial sums (even and odd components, a pair of lanes of the vector arithmetic):
+    // the next step waits for the sum, and two chains of additions end sooner than one.
+    let mut sums = [0.0; 2];
     for i in 0..len {
-        let k7i = fresh_component(k7, i);
-        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7i);
-        let sc = atol + rtol * y[i].abs().max(y1[i].abs());
-        sum += (e / sc).powi(2);
+        // All but the last stage's share, and the weight h/scᵢ, are known before the last
+        // stage is: only a multiplication and an addition wait for it.
+        let (a, b) = (y[i].abs(), y1[i].abs());
+        // A NaN in y1 makes scᵢ, and so the error, NaN: the step is rejected.
+        let weight = h / (atol + rtol * if a > b { a } else { b });
+        let known = E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i];
+        let scaled = (known + E7 * fresh_component(k7, i)) * weight;
+        sums[i % 2] += scaled * scaled;
     }
+    let sum = sums[0] + sums[1];
     // The mean: by a power of two (as 8 states are) a multiplication, the same bits as the
     // division and a few cycles sooner on the path to the next step size.
-    let mean = if len.is_power_of_two() {
+    if len.is_power_of_two() {
         sum * (1.0 / len as f64)
     } else {
         sum / len as f64
-    };
-    mean.sqrt()
+    }
 }
 
 /// The continuous extension of an accepted step from (t, y): a polynomial of degree 4 in
@@ -294,10 +303,18 @@ impl<V: Vector> Dense<V> {
     }
 }
 
-/// Hairer's PI step-size controller with Lund stabilization.
+/// Hairer's PI step-size controller with Lund stabilization: after an accepted step of size
+/// h with error err, h_new = h·SAFETY·facoldᵝ/err^EXPO1, the ratio h_new/h kept within
+/// [FAC1, FAC2], facold the last accepted error (at least 1e-4).
+///
+/// Computed in logarithms, from the squared error: ln(err²) once, then one exponential,
+/// h_new = h·SAFETY·exp(β·ln facold − EXPO1·ln err), with ln facold kept from the last
+/// accepted step. The next step waits for this value, so its latency is the run's: Hairer's
+/// form (a square root, a power, three divisions) took about twice as long as a logarithm,
+/// an exponential and a multiplication. The step sizes differ from it in the last bits.
 struct Controller {
-    /// The error of the last accepted step (at least FACOLD_MIN).
-    facold: f64,
+    /// The logarithm of the error of the last accepted step (at least LN_FACOLD_MIN).
+    ln_facold: f64,
     /// After a rejection the next accepted step may not grow: the rejection just showed that
     /// a larger step fails.
     after_rejection: bool,
@@ -306,21 +323,26 @@ struct Controller {
 impl Controller {
     fn new() -> Self {
         Controller {
-            facold: FACOLD_MIN,
+            ln_facold: LN_FACOLD_MIN,
             after_rejection: false,
         }
     }
 
-    /// The next step size after a step of size h with error err ≤ 1 was accepted.
+    /// The next step size after a step of size h with squared error err2 ≤ 1 was accepted.
     #[inline]
-    fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
-        // The last accepted error's power first: it is known before this step's error, so
-        // it is computed while that error is still being summed.
-        let old = self.facold.powf(BETA);
-        let fac11 = err.powf(EXPO1);
-        let fac = (fac11 / old / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
-        self.facold = err.max(FACOLD_MIN);
-        let mut h_new = (h / fac).min(hmax);
+    fn accepted(&mut self, h: f64, err2: f64, hmax: f64) -> f64 {
+        // What does not depend on this step's error first, computed while it is still being
+        // summed.
+        let old = BETA * self.ln_facold;
+        let (hs, lo, hi) = (h * SAFETY, h * FAC1, h * FAC2);
+        let ln_err = 0.5 * err2.ln();
+        // Compared rather than `max`/`min`: no NaN can arise (err2 ≤ 1), and the comparisons
+        // are one instruction each.
+        let h_new = hs * (old - EXPO1 * ln_err).exp();
+        let h_new = if h_new < lo { lo } else { h_new };
+        let h_new = if h_new > hi { hi } else { h_new };
+        let mut h_new = if h_new > hmax { hmax } else { h_new };
+        self.ln_facold = ln_err.max(LN_FACOLD_MIN);
         if self.after_rejection {
             h_new = h_new.min(h);
         }
@@ -328,17 +350,14 @@ impl Controller {
         h_new
     }
 
-    /// The retry step size after a step of size h was rejected with error err > 1 (or NaN:
-    /// a non-finite stage, which the largest reduction answers).
-    fn rejected(&mut self, h: f64, err: f64) -> f64 {
+    /// The retry step size after a step of size h was rejected with squared error err2 > 1
+    /// (or NaN: a non-finite stage, which the largest reduction answers):
+    /// h·max(SAFETY/err^EXPO1, FAC1).
+    fn rejected(&mut self, h: f64, err2: f64) -> f64 {
         self.after_rejection = true;
-        let fac11 = err.powf(EXPO1);
-        let shrink = if fac11.is_nan() {
-            1.0 / FAC1
-        } else {
-            (fac11 / SAFETY).min(1.0 / FAC1)
-        };
-        h / shrink
+        let shrink = SAFETY * (-0.5 * EXPO1 * err2.ln()).exp();
+        // `max` takes FAC1 over a NaN.
+        h * shrink.max(FAC1)
     }
 }
 
@@ -561,12 +580,12 @@ impl DormandPrince {
                 h = t_end - t;
             }
             let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
-            let err = error_norm((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
-            if err <= 1.0 {
+            let err2 = error_norm_squared((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
+            if err2 <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
-                // The next step size first: its powers and divisions, on which the next step
-                // waits, then overlap the bookkeeping of this one (samples, dense output).
-                let h_new = controller.accepted(h, err, hmax);
+                // The next step size first: its logarithm and exponential, on which the next
+                // step waits, then overlap the bookkeeping of this one (samples, dense output).
+                let h_new = controller.accepted(h, err2, hmax);
                 let Some(next) = run.complete((t, &y), (t1, last), y1, h)? else {
                     return Ok(());
                 };
@@ -578,10 +597,10 @@ impl DormandPrince {
                 h = h_new;
             } else {
                 run.stats.rejected += 1;
-                if err.is_nan() {
+                if err2.is_nan() {
                     nan_step = Some(h);
                 }
-                h = controller.rejected(h, err);
+                h = controller.rejected(h, err2);
             }
         }
     }
@@ -676,6 +695,7 @@ mod tests {
 
     #[test]
     fn controller_bounds_and_memory() {
+        assert_eq!(LN_FACOLD_MIN, 1e-4f64.ln());
         let mut c = Controller::new();
         // A tiny error lets the step grow by at most FAC2.
         assert_eq!(c.accepted(1.0, 0.0, f64::INFINITY), FAC2);
@@ -686,6 +706,30 @@ mod tests {
         assert_eq!(c.accepted(0.5, 1e-8, f64::INFINITY), 0.5);
         assert!(c.accepted(0.5, 1e-8, f64::INFINITY) > 0.5);
         assert_eq!(c.accepted(0.5, 1e-8, 0.25), 0.25);
+    }
+
+    /// The logarithmic form gives Hairer's step sizes (DOPRI5: fac = err^EXPO1/facold^β,
+    /// bounded to [1/FAC2, 1/FAC1] after division by SAFETY, h_new = h/fac) to rounding.
+    #[test]
+    fn controller_gives_hairers_step_sizes() {
+        let close = |ours: f64, hairer: f64| (ours - hairer).abs() <= 1e-14 * hairer;
+        let mut c = Controller::new();
+        let mut facold: f64 = 1e-4;
+        for err in [1e-12_f64, 3e-7, 0.01, 0.2, 0.5, 0.93, 1.0, 1e-3, 0.7, 1e-9] {
+            let fac = (err.powf(EXPO1) / facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
+            let ours = c.accepted(0.1, err * err, f64::INFINITY);
+            assert!(
+                close(ours, 0.1 / fac),
+                "err {err}: {ours} against {}",
+                0.1 / fac
+            );
+            facold = err.max(1e-4);
+        }
+        for err in [1.0001_f64, 2.0, 30.0, 1e4] {
+            let hairer = 0.1 / (err.powf(EXPO1) / SAFETY).min(1.0 / FAC1);
+            let ours = c.rejected(0.1, err * err);
+            assert!(close(ours, hairer), "err {err}: {ours} against {hairer}");
+        }
     }
 
     #[test]
