@@ -274,19 +274,35 @@ struct Dense<V> {
     r: [V; 5],
 }
 
+/// Component i of the extension's five coefficients (Hairer's RCONT).
+#[inline(always)]
+fn coefficients<V: Vector>(h: f64, (y, y1): (&V, &V), k: &Stages<V>, i: usize) -> [f64; 5] {
+    let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
+    let (y, y1) = (y.as_ref()[i], y1.as_ref()[i]);
+    let ydiff = y1 - y;
+    let bspl = h * k1[i] - ydiff;
+    [
+        y,
+        ydiff,
+        bspl,
+        ydiff - h * k7[i] - bspl,
+        h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]),
+    ]
+}
+
+/// The extension's value from its coefficients at θ (θ1 = 1 − θ), Hairer's CONTD5.
+#[inline(always)]
+fn horner([r1, r2, r3, r4, r5]: [f64; 5], theta: f64, theta1: f64) -> f64 {
+    r1 + theta * (r2 + theta1 * (r3 + theta * (r4 + theta1 * r5)))
+}
+
 impl<V: Vector> Dense<V> {
-    fn new(t: f64, h: f64, (y, y1): (&V, &V), k: &Stages<V>) -> Self {
-        let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
-        let mut r = [*y, V::zeros(), V::zeros(), V::zeros(), V::zeros()];
-        let (y, y1) = (y.as_ref(), y1.as_ref());
+    fn new(t: f64, h: f64, y: (&V, &V), k: &Stages<V>) -> Self {
+        let mut r = [V::zeros(); 5];
         for i in 0..V::LEN {
-            let ydiff = y1[i] - y[i];
-            let bspl = h * k1[i] - ydiff;
-            r[1].as_mut()[i] = ydiff;
-            r[2].as_mut()[i] = bspl;
-            r[3].as_mut()[i] = ydiff - h * k7[i] - bspl;
-            r[4].as_mut()[i] =
-                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            for (rj, c) in r.iter_mut().zip(coefficients(h, y, k, i)) {
+                rj.as_mut()[i] = c;
+            }
         }
         Dense { t, h, r }
     }
@@ -295,9 +311,21 @@ impl<V: Vector> Dense<V> {
         let theta = (s - self.t) / self.h;
         let theta1 = 1.0 - theta;
         let mut out = V::zeros();
-        let [r1, r2, r3, r4, r5] = self.r.each_ref().map(|v| v.as_ref());
         for (i, o) in out.as_mut().iter_mut().enumerate() {
-            *o = r1[i] + theta * (r2[i] + theta1 * (r3[i] + theta * (r4[i] + theta1 * r5[i])));
+            *o = horner(self.r.map(|r| r.as_ref()[i]), theta, theta1);
+        }
+        out
+    }
+
+    /// [`Dense::at`] without forming the extension: its coefficients computed and used at
+    /// once, the same arithmetic and so the same bits. For a sample inside a step, where the
+    /// extension is read once or twice: forming it stores five vectors and loads them back.
+    fn value(t: f64, h: f64, y: (&V, &V), k: &Stages<V>, s: f64) -> V {
+        let theta = (s - t) / h;
+        let theta1 = 1.0 - theta;
+        let mut out = V::zeros();
+        for (i, o) in out.as_mut().iter_mut().enumerate() {
+            *o = horner(coefficients(h, y, k, i), theta, theta1);
         }
         out
     }
@@ -484,11 +512,10 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         } else {
             None
         };
-        // Otherwise formed once, and only if a sample falls inside the step.
-        let mut made = None;
+        // Otherwise evaluated where a sample falls inside the step, without forming it.
         let at = |s| match &watched {
             Some(dense) => dense.at(s),
-            None => made.get_or_insert_with(extension).at(s),
+            None => Dense::value(t, h, (y, &y1), k, s),
         };
         let stopped = self
             .samples
