@@ -226,7 +226,7 @@ fn attempt<O: Ode>(
 /// accepted when it is ≤ 1. NaN if the step produced a non-finite value there (and then the
 /// step is rejected). Squared because the controller needs only its logarithm: the square
 /// root Hairer takes would sit on the path to the next step size for nothing.
-#[inline]
+#[inline(always)]
 fn error_norm_squared<V: Vector>(
     (y, y1): (&V, &V),
     k: &Stages<V>,
@@ -469,22 +469,23 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
     /// it (`Ode::project`), reports it (if the observer watches steps) and the samples it
     /// covers, and makes `k[0]` the slope the next step starts from: the step's last stage
     /// (FSAL), or, if the projection moved the state, a new evaluation there, counted (none
-    /// after the `last` step). Returns the state the next step starts from, or `None` when
-    /// the observer stopped the integration.
+    /// after the `last` step). Makes `y` the state the next step starts from and returns
+    /// true, or returns false when the observer stopped the integration. (The state is
+    /// written in place: returned, it was copied twice a step.)
     fn complete(
         &mut self,
-        (t, y): (f64, &O::State),
+        (t, y): (f64, &mut O::State),
         (t1, last): (f64, bool),
-        y1: O::State,
+        y1: &O::State,
         h: f64,
-    ) -> Result<Option<O::State>, Error> {
-        check_state(&*self.ode, t1, &y1)?;
+    ) -> Result<bool, Error> {
+        check_state(&*self.ode, t1, y1)?;
         self.stats.steps += 1;
-        let mut y1_projected = y1;
+        let mut y1_projected = *y1;
         let moved = self.ode.project(t1, &mut y1_projected)?;
-        let k = &self.k;
+        let (k, y_start) = (&self.k, &*y);
         // The continuous extension interpolates the step's own result, before projection.
-        let extension = || Dense::new(t, h, (y, &y1), k);
+        let extension = || Dense::new(t, h, (y_start, y1), k);
         // Formed at once for an observer that reads inside the step (events), and read in
         // place for the samples too (moving it, 5n values, cost a copy a step).
         let watched = self.reads_inside.then(extension);
@@ -500,7 +501,7 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             };
             let view = StepView {
                 t,
-                x: y,
+                x: y_start,
                 t1,
                 x1: &y1_projected,
                 dense,
@@ -515,14 +516,14 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         // Otherwise evaluated where a sample falls inside the step, without forming it.
         let at = |s| match &watched {
             Some(dense) => dense.at(s),
-            None => Dense::value(t, h, (y, &y1), k, s),
+            None => Dense::value(t, h, (y_start, y1), k, s),
         };
         let stopped = self
             .samples
             .report(&mut *self.ode, (t1, &y1_projected), at, stop)?;
         if stopped.is_some() {
             self.stats.stopped = stopped;
-            return Ok(None);
+            return Ok(false);
         }
         if moved && !last {
             self.ode.rhs(t1, &y1_projected, &mut self.k[0])?;
@@ -530,7 +531,8 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         } else {
             self.k[0] = fresh(&self.k[6]);
         }
-        Ok(Some(y1_projected))
+        *y = y1_projected;
+        Ok(true)
     }
 }
 
@@ -613,11 +615,11 @@ impl DormandPrince {
                 // The next step size first: its logarithm and exponential, on which the next
                 // step waits, then overlap the bookkeeping of this one (samples, dense output).
                 let h_new = controller.accepted(h, err2, hmax);
-                let Some(next) = run.complete((t, &y), (t1, last), y1, h)? else {
+                if !run.complete((t, &mut y), (t1, last), &y1, h)? {
                     return Ok(());
-                };
+                }
                 nan_step = None;
-                (t, y) = (t1, next);
+                t = t1;
                 if last {
                     return Ok(());
                 }
@@ -649,9 +651,8 @@ impl DormandPrince {
                 t_end
             };
             let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
-            match run.complete((t, &y), (t1, i + 1 == n), y1, h)? {
-                Some(next) => y = next,
-                None => return Ok(()),
+            if !run.complete((t, &mut y), (t1, i + 1 == n), &y1, h)? {
+                return Ok(());
             }
         }
         Ok(())
