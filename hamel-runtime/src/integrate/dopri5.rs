@@ -1,7 +1,8 @@
 //! The Dormand–Prince 5(4) method with step-size control and dense output, after Hairer's
 //! DOPRI5 (Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, II.4–II.6):
 //! the same tableau, error norm, PI controller, initial-step heuristic and continuous
-//! extension, so its step counts can be checked against the Fortran code's.
+//! extension, so its step counts can be checked against the Fortran code's. (The controller
+//! is computed in logarithms, which gives the same step sizes up to rounding: [`Controller`].)
 
 use super::initial_step::{Target, initial_step};
 use super::observer::{Control, Interpolant, LazyInterpolant, Observer, SampleTimes, StepView};
