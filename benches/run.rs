@@ -59,7 +59,8 @@
 //! (p10–p90 within 0.730–0.889); Simulation with default monitors 0.906, 0.911, 0.911; no
 //! crossing watch 0.898, 0.900, 0.903; with a progress callback 0.911, 0.915, 0.917 (at
 //! 21:11, on f1e11a7, DormandPrince alone 0.838, 0.835, 0.838 and Simulation 0.975, 0.970,
-//! 0.975). Instructions a run: ode_solvers 5.59 M, DormandPrince 4.99 M (5.34 M on f1e11a7),
+//! 0.975). Again at 23:43 (load average 1.1–1.4): 0.764, 0.768, 0.766 and 0.911, 0.925,
+//! 0.915; f1e11a7's runtime right after, one run: 0.842 and 0.977. Instructions a run: ode_solvers 5.59 M, DormandPrince 4.99 M (5.34 M on f1e11a7),
 //! Simulation 6.21 M (6.56 M), with a progress callback 6.32 M. What changed: the step-size
 //! controller, on whose result the next step waits, computed in logarithms (one logarithm of
 //! the squared error and one exponential, where Hairer's form took a square root, two powers
