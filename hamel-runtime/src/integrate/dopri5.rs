@@ -312,8 +312,9 @@ impl<V: Vector> Dense<V> {
         let theta = (s - self.t) / self.h;
         let theta1 = 1.0 - theta;
         let mut out = V::zeros();
+        let [r1, r2, r3, r4, r5] = self.r.each_ref().map(|v| v.as_ref());
         for (i, o) in out.as_mut().iter_mut().enumerate() {
-            *o = horner(self.r.map(|r| r.as_ref()[i]), theta, theta1);
+            *o = horner([r1[i], r2[i], r3[i], r4[i], r5[i]], theta, theta1);
         }
         out
     }
