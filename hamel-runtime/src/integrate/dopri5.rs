@@ -1,7 +1,8 @@
 //! The Dormand–Prince 5(4) method with step-size control and dense output, after Hairer's
 //! DOPRI5 (Hairer, Nørsett & Wanner, *Solving Ordinary Differential Equations I*, II.4–II.6):
 //! the same tableau, error norm, PI controller, initial-step heuristic and continuous
-//! extension, so its step counts can be checked against the Fortran code's.
+//! extension, so its step counts can be checked against the Fortran code's. (The controller
+//! is computed in logarithms, which gives the same step sizes up to rounding: [`Controller`].)
 
 use super::initial_step::{Target, initial_step};
 use super::observer::{Control, Interpolant, LazyInterpolant, Observer, SampleTimes, StepView};
@@ -172,7 +173,8 @@ const FAC2: f64 = 10.0;
 /// Weight of the previous error in the PI controller (Lund stabilization).
 const BETA: f64 = 0.04;
 const EXPO1: f64 = 0.2 - BETA * 0.75;
-const FACOLD_MIN: f64 = 1e-4;
+/// The floor of the controller's memory of the last error, Hairer's 1e-4, as a logarithm.
+const LN_FACOLD_MIN: f64 = -9.210340371976182;
 
 /// The seven stages of a step from (t, y) with size h: `k[0]` = f(t, y) (the last stage of
 /// the step before, FSAL), …, `k[6]` = f(t + h, y1). One set lives through an integration and
@@ -220,11 +222,13 @@ fn attempt<O: Ode>(
     Ok(y1)
 }
 
-/// Hairer's error norm: the root mean square of eᵢ/scᵢ, scᵢ = atol + rtol·max(|y₀ᵢ|, |y₁ᵢ|),
-/// over the first `len` components (`Ode::controlled_components`). NaN if the step produced a
-/// non-finite value there (and then the step is rejected).
-#[inline]
-fn error_norm<V: Vector>(
+/// The square of Hairer's error norm: the mean of (eᵢ/scᵢ)², scᵢ = atol + rtol·max(|y₀ᵢ|,
+/// |y₁ᵢ|), over the first `len` components (`Ode::controlled_components`); the step is
+/// accepted when it is ≤ 1. NaN if the step produced a non-finite value there (and then the
+/// step is rejected). Squared because the controller needs only its logarithm: the square
+/// root Hairer takes would sit on the path to the next step size for nothing.
+#[inline(always)]
+fn error_norm_squared<V: Vector>(
     (y, y1): (&V, &V),
     k: &Stages<V>,
     h: f64,
@@ -239,21 +243,27 @@ fn error_norm<V: Vector>(
     // The last stage is the right-hand side's value of a moment ago.
     let k7 = &k[6];
     let (y, y1) = (y.as_ref(), y1.as_ref());
-    let mut sum = 0.0;
+    // Two partial sums (even and odd components, a pair of lanes of the vector arithmetic):
+    // the next step waits for the sum, and two chains of additions end sooner than one.
+    let mut sums = [0.0; 2];
     for i in 0..len {
-        let k7i = fresh_component(k7, i);
-        let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7i);
-        let sc = atol + rtol * y[i].abs().max(y1[i].abs());
-        sum += (e / sc).powi(2);
+        // All but the last stage's share, and the weight h/scᵢ, are known before the last
+        // stage is: only a multiplication and an addition wait for it.
+        let (a, b) = (y[i].abs(), y1[i].abs());
+        // A NaN in y1 makes scᵢ, and so the error, NaN: the step is rejected.
+        let weight = h / (atol + rtol * if a > b { a } else { b });
+        let known = E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i];
+        let scaled = (known + E7 * fresh_component(k7, i)) * weight;
+        sums[i % 2] += scaled * scaled;
     }
+    let sum = sums[0] + sums[1];
     // The mean: by a power of two (as 8 states are) a multiplication, the same bits as the
     // division and a few cycles sooner on the path to the next step size.
-    let mean = if len.is_power_of_two() {
+    if len.is_power_of_two() {
         sum * (1.0 / len as f64)
     } else {
         sum / len as f64
-    };
-    mean.sqrt()
+    }
 }
 
 /// The continuous extension of an accepted step from (t, y): a polynomial of degree 4 in
@@ -265,19 +275,35 @@ struct Dense<V> {
     r: [V; 5],
 }
 
+/// Component i of the extension's five coefficients (Hairer's RCONT).
+#[inline(always)]
+fn coefficients<V: Vector>(h: f64, (y, y1): (&V, &V), k: &Stages<V>, i: usize) -> [f64; 5] {
+    let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
+    let (y, y1) = (y.as_ref()[i], y1.as_ref()[i]);
+    let ydiff = y1 - y;
+    let bspl = h * k1[i] - ydiff;
+    [
+        y,
+        ydiff,
+        bspl,
+        ydiff - h * k7[i] - bspl,
+        h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]),
+    ]
+}
+
+/// The extension's value from its coefficients at θ (θ1 = 1 − θ), Hairer's CONTD5.
+#[inline(always)]
+fn horner([r1, r2, r3, r4, r5]: [f64; 5], theta: f64, theta1: f64) -> f64 {
+    r1 + theta * (r2 + theta1 * (r3 + theta * (r4 + theta1 * r5)))
+}
+
 impl<V: Vector> Dense<V> {
-    fn new(t: f64, h: f64, (y, y1): (&V, &V), k: &Stages<V>) -> Self {
-        let [k1, _, k3, k4, k5, k6, k7] = k.each_ref().map(|v| v.as_ref());
-        let mut r = [*y, V::zeros(), V::zeros(), V::zeros(), V::zeros()];
-        let (y, y1) = (y.as_ref(), y1.as_ref());
+    fn new(t: f64, h: f64, y: (&V, &V), k: &Stages<V>) -> Self {
+        let mut r = [V::zeros(); 5];
         for i in 0..V::LEN {
-            let ydiff = y1[i] - y[i];
-            let bspl = h * k1[i] - ydiff;
-            r[1].as_mut()[i] = ydiff;
-            r[2].as_mut()[i] = bspl;
-            r[3].as_mut()[i] = ydiff - h * k7[i] - bspl;
-            r[4].as_mut()[i] =
-                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            for (rj, c) in r.iter_mut().zip(coefficients(h, y, k, i)) {
+                rj.as_mut()[i] = c;
+            }
         }
         Dense { t, h, r }
     }
@@ -288,16 +314,37 @@ impl<V: Vector> Dense<V> {
         let mut out = V::zeros();
         let [r1, r2, r3, r4, r5] = self.r.each_ref().map(|v| v.as_ref());
         for (i, o) in out.as_mut().iter_mut().enumerate() {
-            *o = r1[i] + theta * (r2[i] + theta1 * (r3[i] + theta * (r4[i] + theta1 * r5[i])));
+            *o = horner([r1[i], r2[i], r3[i], r4[i], r5[i]], theta, theta1);
+        }
+        out
+    }
+
+    /// [`Dense::at`] without forming the extension: its coefficients computed and used at
+    /// once, the same arithmetic and so the same bits. For a sample inside a step, where the
+    /// extension is read once or twice: forming it stores five vectors and loads them back.
+    fn value(t: f64, h: f64, y: (&V, &V), k: &Stages<V>, s: f64) -> V {
+        let theta = (s - t) / h;
+        let theta1 = 1.0 - theta;
+        let mut out = V::zeros();
+        for (i, o) in out.as_mut().iter_mut().enumerate() {
+            *o = horner(coefficients(h, y, k, i), theta, theta1);
         }
         out
     }
 }
 
-/// Hairer's PI step-size controller with Lund stabilization.
+/// Hairer's PI step-size controller with Lund stabilization: after an accepted step of size
+/// h with error err, h_new = h·SAFETY·facoldᵝ/err^EXPO1, the ratio h_new/h kept within
+/// [FAC1, FAC2], facold the last accepted error (at least 1e-4).
+///
+/// Computed in logarithms, from the squared error: ln(err²) once, then one exponential,
+/// h_new = h·SAFETY·exp(β·ln facold − EXPO1·ln err), with ln facold kept from the last
+/// accepted step. The next step waits for this value, so its latency is the run's: Hairer's
+/// form (a square root, a power, three divisions) took about twice as long as a logarithm,
+/// an exponential and a multiplication. The step sizes differ from it in the last bits.
 struct Controller {
-    /// The error of the last accepted step (at least FACOLD_MIN).
-    facold: f64,
+    /// The logarithm of the error of the last accepted step (at least LN_FACOLD_MIN).
+    ln_facold: f64,
     /// After a rejection the next accepted step may not grow: the rejection just showed that
     /// a larger step fails.
     after_rejection: bool,
@@ -306,21 +353,26 @@ struct Controller {
 impl Controller {
     fn new() -> Self {
         Controller {
-            facold: FACOLD_MIN,
+            ln_facold: LN_FACOLD_MIN,
             after_rejection: false,
         }
     }
 
-    /// The next step size after a step of size h with error err ≤ 1 was accepted.
+    /// The next step size after a step of size h with squared error err2 ≤ 1 was accepted.
     #[inline]
-    fn accepted(&mut self, h: f64, err: f64, hmax: f64) -> f64 {
-        // The last accepted error's power first: it is known before this step's error, so
-        // it is computed while that error is still being summed.
-        let old = self.facold.powf(BETA);
-        let fac11 = err.powf(EXPO1);
-        let fac = (fac11 / old / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
-        self.facold = err.max(FACOLD_MIN);
-        let mut h_new = (h / fac).min(hmax);
+    fn accepted(&mut self, h: f64, err2: f64, hmax: f64) -> f64 {
+        // What does not depend on this step's error first, computed while it is still being
+        // summed.
+        let old = BETA * self.ln_facold;
+        let (hs, lo, hi) = (h * SAFETY, h * FAC1, h * FAC2);
+        let ln_err = 0.5 * err2.ln();
+        // Compared rather than `max`/`min`: no NaN can arise (err2 ≤ 1), and the comparisons
+        // are one instruction each.
+        let h_new = hs * (old - EXPO1 * ln_err).exp();
+        let h_new = if h_new < lo { lo } else { h_new };
+        let h_new = if h_new > hi { hi } else { h_new };
+        let mut h_new = if h_new > hmax { hmax } else { h_new };
+        self.ln_facold = ln_err.max(LN_FACOLD_MIN);
         if self.after_rejection {
             h_new = h_new.min(h);
         }
@@ -328,17 +380,14 @@ impl Controller {
         h_new
     }
 
-    /// The retry step size after a step of size h was rejected with error err > 1 (or NaN:
-    /// a non-finite stage, which the largest reduction answers).
-    fn rejected(&mut self, h: f64, err: f64) -> f64 {
+    /// The retry step size after a step of size h was rejected with squared error err2 > 1
+    /// (or NaN: a non-finite stage, which the largest reduction answers):
+    /// h·max(SAFETY/err^EXPO1, FAC1).
+    fn rejected(&mut self, h: f64, err2: f64) -> f64 {
         self.after_rejection = true;
-        let fac11 = err.powf(EXPO1);
-        let shrink = if fac11.is_nan() {
-            1.0 / FAC1
-        } else {
-            (fac11 / SAFETY).min(1.0 / FAC1)
-        };
-        h / shrink
+        let shrink = SAFETY * (-0.5 * EXPO1 * err2.ln()).exp();
+        // `max` takes FAC1 over a NaN.
+        h * shrink.max(FAC1)
     }
 }
 
@@ -422,22 +471,23 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
     /// it (`Ode::project`), reports it (if the observer watches steps) and the samples it
     /// covers, and makes `k[0]` the slope the next step starts from: the step's last stage
     /// (FSAL), or, if the projection moved the state, a new evaluation there, counted (none
-    /// after the `last` step). Returns the state the next step starts from, or `None` when
-    /// the observer stopped the integration.
+    /// after the `last` step). Makes `y` the state the next step starts from and returns
+    /// true, or returns false when the observer stopped the integration. (The state is
+    /// written in place: returned, it was copied twice a step.)
     fn complete(
         &mut self,
-        (t, y): (f64, &O::State),
+        (t, y): (f64, &mut O::State),
         (t1, last): (f64, bool),
-        y1: O::State,
+        y1: &O::State,
         h: f64,
-    ) -> Result<Option<O::State>, Error> {
-        check_state(&*self.ode, t1, &y1)?;
+    ) -> Result<bool, Error> {
+        check_state(&*self.ode, t1, y1)?;
         self.stats.steps += 1;
-        let mut y1_projected = y1;
+        let mut y1_projected = *y1;
         let moved = self.ode.project(t1, &mut y1_projected)?;
-        let k = &self.k;
+        let (k, y_start) = (&self.k, &*y);
         // The continuous extension interpolates the step's own result, before projection.
-        let extension = || Dense::new(t, h, (y, &y1), k);
+        let extension = || Dense::new(t, h, (y_start, y1), k);
         // Formed at once for an observer that reads inside the step (events), and read in
         // place for the samples too (moving it, 5n values, cost a copy a step).
         let watched = self.reads_inside.then(extension);
@@ -453,7 +503,7 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
             };
             let view = StepView {
                 t,
-                x: y,
+                x: y_start,
                 t1,
                 x1: &y1_projected,
                 dense,
@@ -465,18 +515,17 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         } else {
             None
         };
-        // Otherwise formed once, and only if a sample falls inside the step.
-        let mut made = None;
+        // Otherwise evaluated where a sample falls inside the step, without forming it.
         let at = |s| match &watched {
             Some(dense) => dense.at(s),
-            None => made.get_or_insert_with(extension).at(s),
+            None => Dense::value(t, h, (y_start, y1), k, s),
         };
         let stopped = self
             .samples
             .report(&mut *self.ode, (t1, &y1_projected), at, stop)?;
         if stopped.is_some() {
             self.stats.stopped = stopped;
-            return Ok(None);
+            return Ok(false);
         }
         if moved && !last {
             self.ode.rhs(t1, &y1_projected, &mut self.k[0])?;
@@ -484,7 +533,8 @@ impl<O: Ode, T: SampleTimes + ?Sized> Run<'_, O, T> {
         } else {
             self.k[0] = fresh(&self.k[6]);
         }
-        Ok(Some(y1_projected))
+        *y = y1_projected;
+        Ok(true)
     }
 }
 
@@ -561,27 +611,27 @@ impl DormandPrince {
                 h = t_end - t;
             }
             let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
-            let err = error_norm((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
-            if err <= 1.0 {
+            let err2 = error_norm_squared((&y, &y1), &run.k, h, (self.rtol, self.atol), len);
+            if err2 <= 1.0 {
                 let t1 = if last { t_end } else { t + h };
-                // The next step size first: its powers and divisions, on which the next step
-                // waits, then overlap the bookkeeping of this one (samples, dense output).
-                let h_new = controller.accepted(h, err, hmax);
-                let Some(next) = run.complete((t, &y), (t1, last), y1, h)? else {
+                // The next step size first: its logarithm and exponential, on which the next
+                // step waits, then overlap the bookkeeping of this one (samples, dense output).
+                let h_new = controller.accepted(h, err2, hmax);
+                if !run.complete((t, &mut y), (t1, last), &y1, h)? {
                     return Ok(());
-                };
+                }
                 nan_step = None;
-                (t, y) = (t1, next);
+                t = t1;
                 if last {
                     return Ok(());
                 }
                 h = h_new;
             } else {
                 run.stats.rejected += 1;
-                if err.is_nan() {
+                if err2.is_nan() {
                     nan_step = Some(h);
                 }
-                h = controller.rejected(h, err);
+                h = controller.rejected(h, err2);
             }
         }
     }
@@ -603,9 +653,8 @@ impl DormandPrince {
                 t_end
             };
             let y1 = attempt(run.ode, t, &y, &mut run.k, h, &mut run.stats)?;
-            match run.complete((t, &y), (t1, i + 1 == n), y1, h)? {
-                Some(next) => y = next,
-                None => return Ok(()),
+            if !run.complete((t, &mut y), (t1, i + 1 == n), &y1, h)? {
+                return Ok(());
             }
         }
         Ok(())
@@ -676,6 +725,7 @@ mod tests {
 
     #[test]
     fn controller_bounds_and_memory() {
+        assert_eq!(LN_FACOLD_MIN, 1e-4f64.ln());
         let mut c = Controller::new();
         // A tiny error lets the step grow by at most FAC2.
         assert_eq!(c.accepted(1.0, 0.0, f64::INFINITY), FAC2);
@@ -686,6 +736,30 @@ mod tests {
         assert_eq!(c.accepted(0.5, 1e-8, f64::INFINITY), 0.5);
         assert!(c.accepted(0.5, 1e-8, f64::INFINITY) > 0.5);
         assert_eq!(c.accepted(0.5, 1e-8, 0.25), 0.25);
+    }
+
+    /// The logarithmic form gives Hairer's step sizes (DOPRI5: fac = err^EXPO1/facold^β,
+    /// bounded to [1/FAC2, 1/FAC1] after division by SAFETY, h_new = h/fac) to rounding.
+    #[test]
+    fn controller_gives_hairers_step_sizes() {
+        let close = |ours: f64, hairer: f64| (ours - hairer).abs() <= 1e-14 * hairer;
+        let mut c = Controller::new();
+        let mut facold: f64 = 1e-4;
+        for err in [1e-12_f64, 3e-7, 0.01, 0.2, 0.5, 0.93, 1.0, 1e-3, 0.7, 1e-9] {
+            let fac = (err.powf(EXPO1) / facold.powf(BETA) / SAFETY).clamp(1.0 / FAC2, 1.0 / FAC1);
+            let ours = c.accepted(0.1, err * err, f64::INFINITY);
+            assert!(
+                close(ours, 0.1 / fac),
+                "err {err}: {ours} against {}",
+                0.1 / fac
+            );
+            facold = err.max(1e-4);
+        }
+        for err in [1.0001_f64, 2.0, 30.0, 1e4] {
+            let hairer = 0.1 / (err.powf(EXPO1) / SAFETY).min(1.0 / FAC1);
+            let ours = c.rejected(0.1, err * err);
+            assert!(close(ours, hairer), "err {err}: {ours} against {hairer}");
+        }
     }
 
     #[test]
