@@ -127,6 +127,10 @@ struct Blocks<'a> {
     scatters: &'a [Scatter],
     /// The outputs that have nonzeros (`Plans::jacobian_filled`, `Plans::second_filled`).
     filled: &'a [usize],
+    /// Those of the parameters' stage.
+    by_parameters: &'a [usize],
+    /// Whether the compiled code gives every one of `filled`.
+    compiled: bool,
 }
 
 impl Blocks<'_> {
@@ -152,6 +156,11 @@ impl Blocks<'_> {
     /// As [`Blocks::wanted`].
     #[inline(always)]
     unsafe fn stages(&self) -> Option<bool> {
+        if self.compiled {
+            // SAFETY: a pointer per output (this function's contract).
+            let wanted = |&k: &usize| !unsafe { *self.res.add(k) }.is_null();
+            return Some(self.by_parameters.iter().any(wanted));
+        }
         let mut parameters = false;
         // SAFETY: this function's contract.
         for (_, scatter) in unsafe { self.wanted() } {
@@ -425,15 +434,22 @@ pub unsafe fn sparse<M: Model>(
     if second && !unsafe { read_weights::<M>(arg, weights) } {
         return None;
     }
-    let (scatters, filled) = if second {
-        (&plans.second, &plans.second_filled)
+    let blocks = if second {
+        Blocks {
+            res,
+            scatters: &plans.second,
+            filled: &plans.second_filled,
+            by_parameters: &plans.second_by_parameters,
+            compiled: plans.second_compiled,
+        }
     } else {
-        (&plans.jacobian, &plans.jacobian_filled)
-    };
-    let blocks = Blocks {
-        res,
-        scatters,
-        filled,
+        Blocks {
+            res,
+            scatters: &plans.jacobian,
+            filled: &plans.jacobian_filled,
+            by_parameters: &plans.jacobian_by_parameters,
+            compiled: plans.jacobian_compiled,
+        }
     };
     // SAFETY: the caller's contract, which is `Blocks::stages`'s.
     let parameters = unsafe { blocks.stages() }?;

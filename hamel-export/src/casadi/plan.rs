@@ -265,6 +265,12 @@ pub struct Plans {
     /// nothing to write).
     pub jacobian_filled: Vec<usize>,
     pub second_filled: Vec<usize>,
+    /// Of those, the ones of the parameters' stage (a call computes that stage only if it
+    /// wants one of them), and whether the compiled code gives every one.
+    pub jacobian_by_parameters: Vec<usize>,
+    pub second_by_parameters: Vec<usize>,
+    pub jacobian_compiled: bool,
+    pub second_compiled: bool,
     /// For each input block, (column, component of the block).
     pub adjoint: Vec<Vec<(usize, usize)>>,
     /// `fwd<N>_f`'s products of the Jacobian with the directions.
@@ -466,6 +472,19 @@ impl Plans {
                 .collect()
         };
         let (jacobian_filled, second_filled) = (filled(&jacobian), filled(&second));
+        let by_parameters = |scatters: &[Scatter], filled: &[usize]| -> Vec<usize> {
+            filled
+                .iter()
+                .copied()
+                .filter(|&k| scatters[k].parameters)
+                .collect()
+        };
+        let compiled =
+            |scatters: &[Scatter], filled: &[usize]| filled.iter().all(|&k| scatters[k].compiled);
+        let jacobian_by_parameters = by_parameters(&jacobian, &jacobian_filled);
+        let second_by_parameters = by_parameters(&second, &second_filled);
+        let jacobian_compiled = compiled(&jacobian, &jacobian_filled);
+        let second_compiled = compiled(&second, &second_filled);
         let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (column, &z) in local.iter().enumerate() {
             let Some((block, within)) = block_of(primal, z) else {
@@ -488,6 +507,10 @@ impl Plans {
             second,
             jacobian_filled,
             second_filled,
+            jacobian_by_parameters,
+            second_by_parameters,
+            jacobian_compiled,
+            second_compiled,
             adjoint,
             products: Products::new(primal, structure),
         })
