@@ -186,6 +186,15 @@ hamel-models = {{ path = "{models}" }}
 
 # Not a member of hamel's workspace, though inside its directory.
 [workspace]
+
+# This crate's own code (where the model's derivative code is optimized: its functions are
+# generic and instantiated here) at opt-level 2, which leaves out LLVM's SLP vectorizer
+# (rustc runs it at opt-level 3 only): on straight-line code of this size it took 272 of the
+# 330 s of CPU of the bicycle's build (199 s on its second derivatives alone; rustc's
+# `-Z llvm-time-trace`), for a few per cent of instructions per call of the robot's functions
+# (`hamel-export/bench/instructions.sh`). Its dependencies keep the release profile.
+[profile.release.package.hamel-export-{model}]
+opt-level = 2
 "#,
         export = path("hamel-export"),
         models = path("hamel-models"),

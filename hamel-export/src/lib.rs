@@ -39,6 +39,8 @@ mod macros;
 pub mod model;
 pub mod passes;
 pub mod primal;
+#[doc(hidden)]
+pub mod units;
 
 pub use model::{Model, Sizes};
 pub use primal::Which;

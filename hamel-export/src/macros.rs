@@ -156,6 +156,54 @@ macro_rules! __model_compiled {
             then(&())
         }
 
+        fn value_of<const W: u8>(
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn jacobian_of<const W: u8>(
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _parameters: bool,
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn forward_of<const W: u8>(
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _direction: &[f64],
+            _parameters: bool,
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn adjoint_of<const W: u8>(
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _weights: &[f64],
+            _parameters: bool,
+            _out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
+        fn second_of<const W: u8>(
+            _prepared: &(),
+            _z: &[f64; <$marker>::LEN],
+            _weights: &[f64],
+            _parameters: bool,
+            _second: &mut [f64],
+            _jacobian: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            ::core::option::Option::None
+        }
+
         fn compiled_value(
             _which: $crate::Which,
             _prepared: &(),
@@ -266,17 +314,18 @@ macro_rules! __model_compiled {
             })
         }
 
+        // The compiled code of each family, called by `hamel_export::units` only (see there
+        // why): `match W` on the constant keeps one family's code in each instance.
         #[inline]
-        fn compiled_value(
-            which: $crate::Which,
+        fn value_of<const W: u8>(
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match which {
-                $crate::Which::Rhs => <$system>::__hamel_export_rhs::<()>(
+            ::core::option::Option::Some(match W {
+                $crate::units::RHS => <$system>::__hamel_export_rhs::<()>(
                     prepared,
                     p,
                     t,
@@ -284,7 +333,7 @@ macro_rules! __model_compiled {
                     u,
                     $crate::__private::array_mut(out)?,
                 ),
-                $crate::Which::Outputs => <$system>::__hamel_export_outputs::<()>(
+                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs::<()>(
                     prepared,
                     p,
                     t,
@@ -292,7 +341,7 @@ macro_rules! __model_compiled {
                     u,
                     $crate::__private::array_mut(out)?,
                 ),
-                $crate::Which::Lie => <$system>::__hamel_export_lie::<()>(
+                _ => <$system>::__hamel_export_lie::<()>(
                     prepared,
                     p,
                     t,
@@ -304,6 +353,197 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
+        fn jacobian_of<const W: u8>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            parameters: bool,
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            ::core::option::Option::Some(match W {
+                $crate::units::RHS => <$system>::__hamel_export_rhs_jacobian::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_jacobian::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                _ => <$system>::__hamel_export_lie_jacobian::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn forward_of<const W: u8>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            direction: &[f64],
+            parameters: bool,
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            ::core::option::Option::Some(match W {
+                $crate::units::RHS => <$system>::__hamel_export_rhs_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(direction)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(direction)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                _ => <$system>::__hamel_export_lie_forward::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(direction)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn adjoint_of<const W: u8>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            weights: &[f64],
+            parameters: bool,
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            ::core::option::Option::Some(match W {
+                $crate::units::RHS => <$system>::__hamel_export_rhs_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+                _ => <$system>::__hamel_export_lie_adjoint::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(out)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn second_of<const W: u8>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            weights: &[f64],
+            parameters: bool,
+            second: &mut [f64],
+            jacobian: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split(z);
+            let (x, u, p) = (&x, &u, &p);
+            ::core::option::Option::Some(match W {
+                $crate::units::RHS => <$system>::__hamel_export_rhs_second::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(second)?,
+                    $crate::__private::array_mut(jacobian)?,
+                ),
+                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_second::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(second)?,
+                    $crate::__private::array_mut(jacobian)?,
+                ),
+                _ => <$system>::__hamel_export_lie_second::<()>(
+                    prepared,
+                    p,
+                    t,
+                    x,
+                    u,
+                    $crate::__private::array(weights)?,
+                    parameters,
+                    $crate::__private::array_mut(second)?,
+                    $crate::__private::array_mut(jacobian)?,
+                ),
+            })
+        }
+
+        #[inline]
+        fn compiled_value(
+            which: $crate::Which,
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            out: &mut [f64],
+        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
+            use $crate::units::{LIE, OUTPUTS, RHS, value::call};
+            match which {
+                $crate::Which::Rhs => call::<Self, RHS>(prepared, z, out),
+                $crate::Which::Outputs => call::<Self, OUTPUTS>(prepared, z, out),
+                $crate::Which::Lie => call::<Self, LIE>(prepared, z, out),
+            }
+        }
+
+        #[inline]
         fn compiled_jacobian<R>(
             which: $crate::Which,
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
@@ -311,12 +551,15 @@ macro_rules! __model_compiled {
             parameters: bool,
             then: impl FnOnce(&[f64]) -> R,
         ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
             macro_rules! run {
-                ($f:ident, $table:ident) => {{
+                ($w:ident, $table:ident) => {{
                     let mut values = [0.0f64; <$system>::$table.len()];
-                    match <$system>::$f::<()>(prepared, p, t, x, u, parameters, &mut values) {
+                    match $crate::units::jacobian::call::<Self, { $crate::units::$w }>(
+                        prepared,
+                        z,
+                        parameters,
+                        &mut values,
+                    )? {
                         ::core::result::Result::Ok(true) => {
                             ::core::option::Option::Some(::core::result::Result::Ok(then(&values)))
                         }
@@ -328,18 +571,9 @@ macro_rules! __model_compiled {
                 }};
             }
             match which {
-                $crate::Which::Rhs => {
-                    run!(__hamel_export_rhs_jacobian, __HAMEL_EXPORT_RHS_JACOBIAN)
-                }
-                $crate::Which::Outputs => {
-                    run!(
-                        __hamel_export_outputs_jacobian,
-                        __HAMEL_EXPORT_OUTPUTS_JACOBIAN
-                    )
-                }
-                $crate::Which::Lie => {
-                    run!(__hamel_export_lie_jacobian, __HAMEL_EXPORT_LIE_JACOBIAN)
-                }
+                $crate::Which::Rhs => run!(RHS, __HAMEL_EXPORT_RHS_JACOBIAN),
+                $crate::Which::Outputs => run!(OUTPUTS, __HAMEL_EXPORT_OUTPUTS_JACOBIAN),
+                $crate::Which::Lie => run!(LIE, __HAMEL_EXPORT_LIE_JACOBIAN),
             }
         }
 
@@ -352,41 +586,14 @@ macro_rules! __model_compiled {
             parameters: bool,
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
-            let direction = $crate::__private::array(direction)?;
-            ::core::option::Option::Some(match which {
-                $crate::Which::Rhs => <$system>::__hamel_export_rhs_forward::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    direction,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-                $crate::Which::Outputs => <$system>::__hamel_export_outputs_forward::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    direction,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-                $crate::Which::Lie => <$system>::__hamel_export_lie_forward::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    direction,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-            })
+            use $crate::units::{LIE, OUTPUTS, RHS, forward::call};
+            match which {
+                $crate::Which::Rhs => call::<Self, RHS>(prepared, z, direction, parameters, out),
+                $crate::Which::Outputs => {
+                    call::<Self, OUTPUTS>(prepared, z, direction, parameters, out)
+                }
+                $crate::Which::Lie => call::<Self, LIE>(prepared, z, direction, parameters, out),
+            }
         }
 
         #[inline]
@@ -398,41 +605,14 @@ macro_rules! __model_compiled {
             parameters: bool,
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
-            let out = $crate::__private::array_mut(out)?;
-            ::core::option::Option::Some(match which {
-                $crate::Which::Rhs => <$system>::__hamel_export_rhs_adjoint::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    out,
-                ),
-                $crate::Which::Outputs => <$system>::__hamel_export_outputs_adjoint::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    out,
-                ),
-                $crate::Which::Lie => <$system>::__hamel_export_lie_adjoint::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    out,
-                ),
-            })
+            use $crate::units::{LIE, OUTPUTS, RHS, adjoint::call};
+            match which {
+                $crate::Which::Rhs => call::<Self, RHS>(prepared, z, weights, parameters, out),
+                $crate::Which::Outputs => {
+                    call::<Self, OUTPUTS>(prepared, z, weights, parameters, out)
+                }
+                $crate::Which::Lie => call::<Self, LIE>(prepared, z, weights, parameters, out),
+            }
         }
 
         #[inline]
@@ -444,24 +624,18 @@ macro_rules! __model_compiled {
             parameters: bool,
             then: impl FnOnce(&[f64], &[f64]) -> R,
         ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
             macro_rules! run {
-                ($f:ident, $second:ident, $jacobian:ident) => {{
+                ($w:ident, $second:ident, $jacobian:ident) => {{
                     let mut second = [0.0f64; <$system>::$second.len()];
                     let mut jacobian = [0.0f64; <$system>::$jacobian.len()];
-                    let weights = $crate::__private::array(weights)?;
-                    match <$system>::$f::<()>(
+                    match $crate::units::second::call::<Self, { $crate::units::$w }>(
                         prepared,
-                        p,
-                        t,
-                        x,
-                        u,
+                        z,
                         weights,
                         parameters,
                         &mut second,
                         &mut jacobian,
-                    ) {
+                    )? {
                         ::core::result::Result::Ok(true) => ::core::option::Option::Some(
                             ::core::result::Result::Ok(then(&second, &jacobian)),
                         ),
@@ -473,21 +647,17 @@ macro_rules! __model_compiled {
                 }};
             }
             match which {
-                $crate::Which::Rhs => run!(
-                    __hamel_export_rhs_second,
-                    __HAMEL_EXPORT_RHS_SECOND,
-                    __HAMEL_EXPORT_RHS_JACOBIAN
-                ),
+                $crate::Which::Rhs => {
+                    run!(RHS, __HAMEL_EXPORT_RHS_SECOND, __HAMEL_EXPORT_RHS_JACOBIAN)
+                }
                 $crate::Which::Outputs => run!(
-                    __hamel_export_outputs_second,
+                    OUTPUTS,
                     __HAMEL_EXPORT_OUTPUTS_SECOND,
                     __HAMEL_EXPORT_OUTPUTS_JACOBIAN
                 ),
-                $crate::Which::Lie => run!(
-                    __hamel_export_lie_second,
-                    __HAMEL_EXPORT_LIE_SECOND,
-                    __HAMEL_EXPORT_LIE_JACOBIAN
-                ),
+                $crate::Which::Lie => {
+                    run!(LIE, __HAMEL_EXPORT_LIE_SECOND, __HAMEL_EXPORT_LIE_JACOBIAN)
+                }
             }
         }
     };

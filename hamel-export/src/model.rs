@@ -82,6 +82,52 @@ pub trait Model: 'static {
     /// parameter block), computed once per parameter set and thread.
     fn with_prepared<R>(p: &[f64], then: impl FnOnce(&Self::Prepared) -> R) -> R;
 
+    /// The compiled code of family `W` ([`crate::units::RHS`], `OUTPUTS` or `LIE`), called
+    /// by [`crate::units`] only (where it is optimized), each `None` without compiled code
+    /// or when an array is too short: the values into `out`.
+    fn value_of<const W: u8>(
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// The Jacobian's entries into `out` (`Ok(false)`: that stage is not compiled).
+    fn jacobian_of<const W: u8>(
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<bool, Singularity>>;
+
+    /// The derivative along `direction` into `out`.
+    fn forward_of<const W: u8>(
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        direction: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// The adjoint derivative into `out`.
+    fn adjoint_of<const W: u8>(
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>>;
+
+    /// The weighted second derivatives' entries and the Jacobian's (`Ok(false)`: that stage
+    /// is not compiled).
+    fn second_of<const W: u8>(
+        prepared: &Self::Prepared,
+        z: &Self::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        second: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Option<Result<bool, Singularity>>;
+
     /// The values of `which` at z into `out`; `None` without compiled code.
     fn compiled_value(
         which: Which,

@@ -9,6 +9,7 @@ use crate::abi::{Failure, Status};
 use crate::hyper::Hyper;
 use crate::model::Model;
 use crate::primal::Which;
+use crate::units;
 use hamel_runtime::{HamelSystem, NamedValues, Scalar, Singularity};
 use num_dual::Dual64;
 
@@ -24,9 +25,9 @@ fn run<M: Model, S: Scalar>(
     }
     let mut out = M::array(S::from_f64(0.0));
     match which {
-        Which::Rhs => M::rhs(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
-        Which::Outputs => M::outputs(&zs, &mut out),
-        Which::Lie => M::lie(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
+        Which::Rhs => units::rhs::call::<M, S>(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
+        Which::Outputs => units::outputs::call::<M, S>(&zs, &mut out),
+        Which::Lie => units::lie::call::<M, S>(&zs, &mut out).map_err(|s| singular::<M>(s, z))?,
     }
     Ok(out)
 }

@@ -11,7 +11,7 @@
 
 use super::eval::{transpose_from, transpose_into};
 use super::plan::Scatter;
-use super::{Family, Function, Kind};
+use super::{Family, Kind};
 use crate::abi::{Failure, all_finite};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
@@ -123,34 +123,51 @@ unsafe fn dense_output<'a>(res: *const *mut f64, len: usize) -> Option<&'a mut [
 
 /// The sparse outputs of `jac_f` or `jac_adj1_f` and where the compiled code's entries go.
 struct Blocks<'a> {
-    function: &'a Function,
     res: *const *mut f64,
     scatters: &'a [Scatter],
+    /// The outputs that have nonzeros (`Plans::jacobian_filled`, `Plans::second_filled`).
+    filled: &'a [usize],
+    /// Those of the parameters' stage.
+    by_parameters: &'a [usize],
+    /// Whether the compiled code gives every one of `filled`.
+    compiled: bool,
 }
 
 impl Blocks<'_> {
-    /// Output `k`'s pointer and length if it is wanted (a null pointer or an empty pattern is
-    /// not).
+    /// The wanted outputs (a non-null pointer; an output without nonzeros is not looked at),
+    /// each with its scatter.
+    ///
+    /// # Safety
+    /// `res` is CasADi's non-null array of this function's outputs (a pointer per output).
     #[inline(always)]
-    fn wanted(&self, k: usize) -> Option<(*mut f64, usize)> {
-        // SAFETY: CasADi's array holds a pointer per output (`Blocks::write`'s contract).
-        let ptr = unsafe { *self.res.add(k) };
-        let nnz = self.function.outputs.get(k)?.0.pattern.nnz();
-        (!ptr.is_null() && nnz > 0).then_some((ptr, nnz))
+    unsafe fn wanted(&self) -> impl Iterator<Item = (*mut f64, &Scatter)> + '_ {
+        self.filled.iter().filter_map(|&k| {
+            // SAFETY: a pointer per output (this function's contract); `filled` holds
+            // indices of outputs.
+            let ptr = unsafe { *self.res.add(k) };
+            (!ptr.is_null()).then_some(ptr).zip(self.scatters.get(k))
+        })
     }
 
     /// Whether one of the wanted blocks is by p (the compiled code's second stage); `None`
     /// if the compiled code does not give one of them.
+    ///
+    /// # Safety
+    /// As [`Blocks::wanted`].
     #[inline(always)]
-    fn stages(&self) -> Option<bool> {
+    unsafe fn stages(&self) -> Option<bool> {
+        if self.compiled {
+            // SAFETY: a pointer per output (this function's contract).
+            let wanted = |&k: &usize| !unsafe { *self.res.add(k) }.is_null();
+            return Some(self.by_parameters.iter().any(wanted));
+        }
         let mut parameters = false;
-        for (k, scatter) in self.scatters.iter().enumerate() {
-            if self.wanted(k).is_some() {
-                if !scatter.compiled {
-                    return None;
-                }
-                parameters |= scatter.parameters;
+        // SAFETY: this function's contract.
+        for (_, scatter) in unsafe { self.wanted() } {
+            if !scatter.compiled {
+                return None;
             }
+            parameters |= scatter.parameters;
         }
         Some(parameters)
     }
@@ -162,12 +179,12 @@ impl Blocks<'_> {
     /// its port's nonzeros, writable.
     #[inline(always)]
     unsafe fn write(&self, second: &[f64], jacobian: &[f64]) {
-        for (k, scatter) in self.scatters.iter().enumerate() {
-            if let Some((ptr, nnz)) = self.wanted(k) {
-                // SAFETY: a wanted output points to its port's nonzeros (the contract).
-                let out = unsafe { core::slice::from_raw_parts_mut(ptr, nnz) };
-                scatter.write(out, second, jacobian);
-            }
+        // SAFETY: this function's contract.
+        for (ptr, scatter) in unsafe { self.wanted() } {
+            // SAFETY: a wanted output points to its port's nonzeros, `scatter.len` (the
+            // contract).
+            let out = unsafe { core::slice::from_raw_parts_mut(ptr, scatter.len) };
+            scatter.write(out, second, jacobian);
         }
     }
 }
@@ -239,6 +256,35 @@ pub unsafe fn rhs<M: Model>(
     Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
 }
 
+/// Seed block `k` (`N` columns of `len` values; null: zeros) into components
+/// `start..start + len` of `directions`; `false` if a value is not finite.
+///
+/// # Safety
+/// As [`seed`]; a non-null seed points to its block's `N` columns, dense.
+#[inline(always)]
+unsafe fn read_seeds<M: Model, const N: usize>(
+    arg: *const *const f64,
+    k: usize,
+    start: usize,
+    len: usize,
+    directions: &mut [[f64; N]],
+) -> bool {
+    // SAFETY: the caller's contract.
+    let block = unsafe { seed::<M>(arg, k) };
+    if len == 0 || block.is_null() {
+        return true;
+    }
+    // SAFETY: as above.
+    let columns = unsafe { core::slice::from_raw_parts(block, len * N) };
+    match directions.get_mut(start..start + len) {
+        Some(to) if all_finite(columns) => {
+            transpose_into(columns, to);
+            true
+        }
+        _ => false,
+    }
+}
+
 /// `fwd<N>_f` of the right-hand side (N > 1) when the call has the common shape (the
 /// point and the directions finite, none in p or t): the compiled Jacobian once, and its
 /// products with the `N` directions; `None` (having written nothing) to take the general
@@ -271,17 +317,14 @@ pub unsafe fn forwards<M: Model, const N: usize>(
         return None;
     }
     let mut directions = M::array([0.0f64; N]);
-    for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
-        // SAFETY: the caller's contract.
-        let block = unsafe { seed::<M>(arg, k) };
-        if len > 0 && !block.is_null() {
-            // SAFETY: as above.
-            let columns = unsafe { core::slice::from_raw_parts(block, len * N) };
-            if !all_finite(columns) {
-                return None;
-            }
-            transpose_into(columns, directions.as_mut().get_mut(start..start + len)?);
-        }
+    // The seeds in x and in u, one call each (not a loop over the two blocks: at the exported
+    // crate's opt-level 2 the loop is not unrolled, and the blocks' lengths are then not
+    // constants).
+    // SAFETY (both): the caller's contract.
+    if !unsafe { read_seeds::<M, N>(arg, 0, 0, s.nx, directions.as_mut()) }
+        || !unsafe { read_seeds::<M, N>(arg, 1, s.nx, s.nu, directions.as_mut()) }
+    {
+        return None;
     }
     let mut derivatives = M::array([0.0f64; N]);
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
@@ -391,16 +434,25 @@ pub unsafe fn sparse<M: Model>(
     if second && !unsafe { read_weights::<M>(arg, weights) } {
         return None;
     }
-    let blocks = Blocks {
-        function: family.function(kind),
-        res,
-        scatters: if second {
-            &plans.second
-        } else {
-            &plans.jacobian
-        },
+    let blocks = if second {
+        Blocks {
+            res,
+            scatters: &plans.second,
+            filled: &plans.second_filled,
+            by_parameters: &plans.second_by_parameters,
+            compiled: plans.second_compiled,
+        }
+    } else {
+        Blocks {
+            res,
+            scatters: &plans.jacobian,
+            filled: &plans.jacobian_filled,
+            by_parameters: &plans.jacobian_by_parameters,
+            compiled: plans.jacobian_compiled,
+        }
     };
-    let parameters = blocks.stages()?;
+    // SAFETY: the caller's contract, which is `Blocks::stages`'s.
+    let parameters = unsafe { blocks.stages() }?;
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         // SAFETY (both writes): the caller's contract, which is `Blocks::write`'s.
         if second {

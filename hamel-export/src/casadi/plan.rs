@@ -138,7 +138,7 @@ impl Structure {
     }
 }
 
-/// Where one output's nonzeros come from: pairs (entry of the compiled array, slot of the
+/// Where one output's nonzeros come from: pairs (entry of one compiled array, slot of the
 /// output), or the whole output copied from a range of entries.
 #[derive(Clone, Debug, Default)]
 pub struct Scatter {
@@ -146,55 +146,59 @@ pub struct Scatter {
     pub compiled: bool,
     /// Whether it is of the parameters' stage.
     pub parameters: bool,
-    /// From the second derivatives' array.
-    second: Vec<(u32, u32)>,
-    /// From the Jacobian's array.
-    jacobian: Vec<(u32, u32)>,
-    /// The output is `jacobian` entries `start..start + nnz` in order (a plain copy).
+    /// Whether the entries are the second derivatives' (a block of `jac_adj1_f` by two
+    /// inputs), not the Jacobian's: an output takes them from one array only.
+    from_second: bool,
+    /// (entry, slot) pairs.
+    pairs: Vec<(u32, u32)>,
+    /// The output is the array's entries `start..start + nnz` in order (a plain copy).
     copy: Option<usize>,
-    /// The lengths the pairs need: of the second derivatives' array, the Jacobian's and the
-    /// output (one more than the largest index of each).
-    needs: [usize; 3],
+    /// The lengths the pairs need: of the array and of the output (one more than the
+    /// largest index of each).
+    needs: [usize; 2],
     /// Whether the pairs write every slot of the output (then it needs no zeros first).
     covers: bool,
+    /// The output's nonzeros (its port's pattern's; set by [`Plans::new`]).
+    pub len: usize,
 }
 
 impl Scatter {
-    /// A scatter of the compiled code's entries, or of none (`Scatter::uncompiled`).
+    /// A scatter of the compiled code's entries (of the second derivatives' array or the
+    /// Jacobian's), or of none (`Scatter::uncompiled`).
     fn new(
         parameters: bool,
-        second: Vec<(usize, usize)>,
-        jacobian: Vec<(usize, usize)>,
+        from_second: bool,
+        pairs: Vec<(usize, usize)>,
         copy: Option<usize>,
     ) -> Scatter {
-        let most = |pairs: &[(usize, usize)], pick: fn(&(usize, usize)) -> usize| {
+        let most = |pick: fn(&(usize, usize)) -> usize| {
             pairs.iter().map(|p| pick(p) + 1).max().unwrap_or(0)
         };
-        let needs = [
-            most(&second, |p| p.0),
-            most(&jacobian, |p| p.0),
-            most(&second, |p| p.1).max(most(&jacobian, |p| p.1)),
-        ];
-        let mut slots: Vec<usize> = second.iter().chain(&jacobian).map(|p| p.1).collect();
+        let needs = [most(|p| p.0), most(|p| p.1)];
+        let mut slots: Vec<usize> = pairs.iter().map(|p| p.1).collect();
         slots.sort_unstable();
         slots.dedup();
         let covers = slots.iter().enumerate().all(|(k, &slot)| k == slot);
         // Indices of arrays the size of a model's derivatives: far below u32::MAX.
-        let narrow = |pairs: Vec<(usize, usize)>| -> Vec<(u32, u32)> {
-            pairs
-                .into_iter()
-                .filter_map(|(e, s)| Some((u32::try_from(e).ok()?, u32::try_from(s).ok()?)))
-                .collect()
-        };
+        let pairs = pairs
+            .into_iter()
+            .filter_map(|(e, s)| Some((u32::try_from(e).ok()?, u32::try_from(s).ok()?)))
+            .collect();
         Scatter {
             compiled: true,
             parameters,
-            second: narrow(second),
-            jacobian: narrow(jacobian),
+            from_second,
+            pairs,
             copy,
             needs,
-            covers: covers && slots.len() == needs[2],
+            covers: covers && slots.len() == needs[1],
+            len: 0,
         }
+    }
+
+    /// The scatter of an output with `len` nonzeros.
+    fn of_len(self, len: usize) -> Scatter {
+        Scatter { len, ..self }
     }
 
     /// An output the compiled code does not fill (computed by dual numbers).
@@ -208,25 +212,23 @@ impl Scatter {
     /// Write the output's nonzeros from the compiled arrays.
     #[inline]
     pub fn write(&self, out: &mut [f64], second: &[f64], jacobian: &[f64]) {
+        let from = if self.from_second { second } else { jacobian };
         if let Some(start) = self.copy {
-            if let Some(from) = jacobian.get(start..start + out.len()) {
+            if let Some(from) = from.get(start..start + out.len()) {
                 out.copy_from_slice(from);
                 return;
             }
         }
-        if !(self.covers && out.len() == self.needs[2]) {
+        let [entries, slots] = self.needs;
+        if !(self.covers && out.len() == slots) {
             out.fill(0.0);
         }
         // The lengths checked once for every pair (not pair by pair: this copy runs on every
         // call of `jac_adj1_f`, hundreds of entries, and cost as much as computing them).
-        let [ns, nj, no] = self.needs;
-        if second.len() >= ns && jacobian.len() >= nj && out.len() >= no {
+        if from.len() >= entries && out.len() >= slots {
             // SAFETY: `needs` exceeds every pair's entry and slot (`Scatter::new` computed it
             // from these pairs, which nothing changes after), and the slices are that long.
-            unsafe {
-                gather(out, second, &self.second);
-                gather(out, jacobian, &self.jacobian);
-            }
+            unsafe { gather(out, from, &self.pairs) };
         }
     }
 }
@@ -258,6 +260,17 @@ pub struct Plans {
     pub parameters: std::ops::Range<usize>,
     pub jacobian: Vec<Scatter>,
     pub second: Vec<Scatter>,
+    /// The outputs of `jac_f` and of `jac_adj1_f` that have nonzeros, in order: the only
+    /// ones a call looks at (the others, such as the blocks by the nominal output, have
+    /// nothing to write).
+    pub jacobian_filled: Vec<usize>,
+    pub second_filled: Vec<usize>,
+    /// Of those, the ones of the parameters' stage (a call computes that stage only if it
+    /// wants one of them), and whether the compiled code gives every one.
+    pub jacobian_by_parameters: Vec<usize>,
+    pub second_by_parameters: Vec<usize>,
+    pub jacobian_compiled: bool,
+    pub second_compiled: bool,
     /// For each input block, (column, component of the block).
     pub adjoint: Vec<Vec<(usize, usize)>>,
     /// `fwd<N>_f`'s products of the Jacobian with the directions.
@@ -347,11 +360,40 @@ impl Products {
                     derivatives.get_unchecked_mut(term.row as usize),
                 )
             };
-            for d in 0..N {
-                derivative[d] += entry * direction[d];
-            }
+            add_scaled(entry, direction, derivative);
         }
         true
+    }
+}
+
+/// y += a·x for `N` values, two at a time with SSE2 on x86-64 (which every x86-64 has): the
+/// exported crate is built at opt-level 2, without the SLP vectorizer that paired these
+/// products at opt-level 3 (`examples/export.rs` says why), and `fwd8_f` spent a third more
+/// instructions on them unpaired. The same products and sums as the plain loop, bit for bit.
+#[inline(always)]
+fn add_scaled<const N: usize>(a: f64, x: &[f64; N], y: &mut [f64; N]) {
+    #[cfg(target_arch = "x86_64")]
+    if N % 2 == 0 {
+        use core::arch::x86_64::{
+            _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd,
+        };
+        // SAFETY: SSE2 is part of x86-64.
+        let a = unsafe { _mm_set1_pd(a) };
+        for k in (0..N).step_by(2) {
+            // SAFETY: SSE2 as above; k + 1 < N (N even), so both values of each pair are in
+            // the arrays; unaligned loads and stores.
+            unsafe {
+                let (x, y) = (x.as_ptr().add(k), y.as_mut_ptr().add(k));
+                _mm_storeu_pd(
+                    y,
+                    _mm_add_pd(_mm_loadu_pd(y), _mm_mul_pd(a, _mm_loadu_pd(x))),
+                );
+            }
+        }
+        return;
+    }
+    for d in 0..N {
+        y[d] += a * x[d];
     }
 }
 
@@ -379,7 +421,7 @@ impl Plans {
                     .collect()
             })
             .collect();
-        let jacobian = functions[Kind::Jacobian as usize]
+        let jacobian: Vec<Scatter> = functions[Kind::Jacobian as usize]
             .outputs
             .iter()
             .map(|(port, content)| match *content {
@@ -388,8 +430,10 @@ impl Plans {
                 }
                 _ => Scatter::default(),
             })
+            .zip(&functions[Kind::Jacobian as usize].outputs)
+            .map(|(s, (port, _))| s.of_len(port.pattern.nnz()))
             .collect();
-        let second = functions[Kind::AdjointJacobian as usize]
+        let second: Vec<Scatter> = functions[Kind::AdjointJacobian as usize]
             .outputs
             .iter()
             .map(|(port, content)| match *content {
@@ -398,12 +442,12 @@ impl Plans {
                     match structure.second_entries(primal, parameters) {
                         Some(entries) => Scatter::new(
                             parameters,
+                            true,
                             entries
                                 .iter()
                                 .filter(|e| e.1 == i && e.3 == j)
                                 .filter_map(|e| Some((e.0, port.pattern.position(e.2, e.4)?)))
                                 .collect(),
-                            Vec::new(),
                             None,
                         ),
                         None => Scatter::uncompiled(parameters),
@@ -419,7 +463,28 @@ impl Plans {
                 }
                 _ => Scatter::default(),
             })
+            .zip(&functions[Kind::AdjointJacobian as usize].outputs)
+            .map(|(s, (port, _))| s.of_len(port.pattern.nnz()))
             .collect();
+        let filled = |scatters: &[Scatter]| -> Vec<usize> {
+            (0..scatters.len())
+                .filter(|&k| scatters[k].len > 0)
+                .collect()
+        };
+        let (jacobian_filled, second_filled) = (filled(&jacobian), filled(&second));
+        let by_parameters = |scatters: &[Scatter], filled: &[usize]| -> Vec<usize> {
+            filled
+                .iter()
+                .copied()
+                .filter(|&k| scatters[k].parameters)
+                .collect()
+        };
+        let compiled =
+            |scatters: &[Scatter], filled: &[usize]| filled.iter().all(|&k| scatters[k].compiled);
+        let jacobian_by_parameters = by_parameters(&jacobian, &jacobian_filled);
+        let second_by_parameters = by_parameters(&second, &second_filled);
+        let jacobian_compiled = compiled(&jacobian, &jacobian_filled);
+        let second_compiled = compiled(&second, &second_filled);
         let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (column, &z) in local.iter().enumerate() {
             let Some((block, within)) = block_of(primal, z) else {
@@ -440,6 +505,12 @@ impl Plans {
             parameters: first..last,
             jacobian,
             second,
+            jacobian_filled,
+            second_filled,
+            jacobian_by_parameters,
+            second_by_parameters,
+            jacobian_compiled,
+            second_compiled,
             adjoint,
             products: Products::new(primal, structure),
         })
@@ -470,5 +541,5 @@ fn jacobian_scatter(
             .enumerate()
             .all(|(k, &(e, s))| e == start + k && s == k)
     });
-    Scatter::new(parameters, Vec::new(), jacobian, copy)
+    Scatter::new(parameters, false, jacobian, copy)
 }

@@ -1,0 +1,136 @@
+//! Where the model's code is optimized: one function per kind of call, each in a module of
+//! its own and never inlined, which calls the model's code of one family (`RHS`, `OUTPUTS`,
+//! `LIE`) through [`Model`].
+//!
+//! Why: an exporting crate is mostly this code (straight-line, hundreds of thousands of
+//! instructions for the bicycle's second derivatives), and rustc splits a crate into
+//! codegen units by module, here by the module of the generic function an instance comes
+//! from. Inlined into the exported functions (all of which reach every family, chosen at run
+//! time), it was optimized once per caller, in one codegen unit, on one core: the bicycle's
+//! library took 6-7 min to build. Reached from these functions only, each piece is
+//! optimized once, and the pieces on as many cores as there are. A call costs a few
+//! instructions; the work inside is hundreds to thousands.
+
+use crate::model::Model;
+use hamel_runtime::{Scalar, Singularity};
+
+/// The right-hand side's family.
+pub const RHS: u8 = 0;
+/// The outputs' family.
+pub const OUTPUTS: u8 = 1;
+/// The Lie derivatives' family.
+pub const LIE: u8 = 2;
+
+/// The compiled values.
+pub mod value {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        M::value_of::<W>(prepared, z, out)
+    }
+}
+
+/// The compiled Jacobian.
+pub mod jacobian {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<bool, Singularity>> {
+        M::jacobian_of::<W>(prepared, z, parameters, out)
+    }
+}
+
+/// The compiled forward derivative.
+pub mod forward {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        direction: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        M::forward_of::<W>(prepared, z, direction, parameters, out)
+    }
+}
+
+/// The compiled adjoint derivative.
+pub mod adjoint {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        M::adjoint_of::<W>(prepared, z, weights, parameters, out)
+    }
+}
+
+/// The compiled second derivatives (and the Jacobian).
+pub mod second {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        second: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Option<Result<bool, Singularity>> {
+        M::second_of::<W>(prepared, z, weights, parameters, second, jacobian)
+    }
+}
+
+/// The right-hand side over any scalar (the dual-number passes).
+pub mod rhs {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, S: Scalar>(
+        z: &M::Array<S>,
+        out: &mut M::Array<S>,
+    ) -> Result<(), Singularity> {
+        M::rhs(z, out)
+    }
+}
+
+/// The outputs over any scalar.
+pub mod outputs {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, S: Scalar>(z: &M::Array<S>, out: &mut M::Array<S>) {
+        M::outputs(z, out)
+    }
+}
+
+/// The Lie derivatives over any scalar.
+pub mod lie {
+    use super::*;
+
+    #[inline(never)]
+    pub fn call<M: Model, S: Scalar>(
+        z: &M::Array<S>,
+        out: &mut M::Array<S>,
+    ) -> Result<(), Singularity> {
+        M::lie(z, out)
+    }
+}
