@@ -203,16 +203,18 @@ pub fn check_len(name: &str, given: usize, expected: usize) -> Result<(), Failur
 /// model's arithmetic).
 ///
 /// On x86-64, two values at a time with SSE2 (which every x86-64 has): v·0 is ±0 for a
-/// finite v and NaN for NaN and the infinities, so the sum of the products is zero exactly
-/// when every value is finite; three instructions per pair (the exported crates are built at
-/// opt-level 2, where nothing pairs the scalar check). Elsewhere, NaN and the infinities are
-/// the values whose exponent bits are all set.
+/// finite v and NaN for NaN and the infinities, so the bitwise or of the products is ±0
+/// exactly when every value is finite (a NaN's exponent bits are all set and its mantissa's
+/// are not all clear, which an or keeps); three instructions per pair, the products
+/// independent and the or one cycle each (the exported crates are built at opt-level 2,
+/// where nothing pairs the scalar check). Elsewhere, NaN and the infinities are the values
+/// whose exponent bits are all set.
 #[inline]
 pub fn all_finite(values: &[f64]) -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         use core::arch::x86_64::{
-            _mm_add_pd, _mm_cvtsd_f64, _mm_loadu_pd, _mm_mul_pd, _mm_setzero_pd, _mm_unpackhi_pd,
+            _mm_cvtsd_f64, _mm_loadu_pd, _mm_mul_pd, _mm_or_pd, _mm_setzero_pd, _mm_unpackhi_pd,
         };
         let pairs = values.chunks_exact(2);
         let last = pairs.remainder().first().map_or(0.0, |&v| v * 0.0);
@@ -220,12 +222,12 @@ pub fn all_finite(values: &[f64]) -> bool {
         // (unaligned).
         unsafe {
             let zero = _mm_setzero_pd();
-            let mut sum = zero;
+            let mut any = zero;
             for pair in pairs {
-                sum = _mm_add_pd(sum, _mm_mul_pd(_mm_loadu_pd(pair.as_ptr()), zero));
+                any = _mm_or_pd(any, _mm_mul_pd(_mm_loadu_pd(pair.as_ptr()), zero));
             }
-            let total = _mm_cvtsd_f64(sum) + _mm_cvtsd_f64(_mm_unpackhi_pd(sum, sum));
-            total + last == 0.0
+            let any = _mm_or_pd(any, _mm_unpackhi_pd(any, any));
+            _mm_cvtsd_f64(any) == 0.0 && last == 0.0
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
