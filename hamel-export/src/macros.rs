@@ -129,6 +129,19 @@ macro_rules! __lie_len {
         0
     };
 }
+/// One family's compiled function of `$system`, chosen by the constant `W`: the right-hand
+/// side's, the outputs' or the Lie derivatives' (the three take the same arguments).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __by_family {
+    ($w:expr, $system:ty, [$rhs:ident, $outputs:ident, $lie:ident], ($($arg:expr),* $(,)?)) => {
+        match $w {
+            $crate::units::RHS => <$system>::$rhs::<()>($($arg),*),
+            $crate::units::OUTPUTS => <$system>::$outputs::<()>($($arg),*),
+            _ => <$system>::$lie::<()>($($arg),*),
+        }
+    };
+}
 
 /// The compiled functions of [`crate::Model`], without the feature `compiled`: none (every
 /// derivative by dual numbers, no Lie derivatives).
@@ -324,32 +337,16 @@ macro_rules! __model_compiled {
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match W {
-                $crate::units::RHS => <$system>::__hamel_export_rhs::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array_mut(out)?,
-                ),
-                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array_mut(out)?,
-                ),
-                _ => <$system>::__hamel_export_lie::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array_mut(out)?,
-                ),
-            })
+            ::core::option::Option::Some($crate::__by_family!(
+                W,
+                $system,
+                [
+                    __hamel_export_rhs,
+                    __hamel_export_outputs,
+                    __hamel_export_lie
+                ],
+                (prepared, p, t, x, u, $crate::__private::array_mut(out)?,)
+            ))
         }
 
         #[inline]
@@ -361,8 +358,15 @@ macro_rules! __model_compiled {
         ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match W {
-                $crate::units::RHS => <$system>::__hamel_export_rhs_jacobian::<()>(
+            ::core::option::Option::Some($crate::__by_family!(
+                W,
+                $system,
+                [
+                    __hamel_export_rhs_jacobian,
+                    __hamel_export_outputs_jacobian,
+                    __hamel_export_lie_jacobian
+                ],
+                (
                     prepared,
                     p,
                     t,
@@ -370,26 +374,8 @@ macro_rules! __model_compiled {
                     u,
                     parameters,
                     $crate::__private::array_mut(out)?,
-                ),
-                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_jacobian::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-                _ => <$system>::__hamel_export_lie_jacobian::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-            })
+                )
+            ))
         }
 
         #[inline]
@@ -402,8 +388,15 @@ macro_rules! __model_compiled {
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match W {
-                $crate::units::RHS => <$system>::__hamel_export_rhs_forward::<()>(
+            ::core::option::Option::Some($crate::__by_family!(
+                W,
+                $system,
+                [
+                    __hamel_export_rhs_forward,
+                    __hamel_export_outputs_forward,
+                    __hamel_export_lie_forward
+                ],
+                (
                     prepared,
                     p,
                     t,
@@ -412,28 +405,8 @@ macro_rules! __model_compiled {
                     $crate::__private::array(direction)?,
                     parameters,
                     $crate::__private::array_mut(out)?,
-                ),
-                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_forward::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(direction)?,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-                _ => <$system>::__hamel_export_lie_forward::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(direction)?,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-            })
+                )
+            ))
         }
 
         #[inline]
@@ -446,8 +419,15 @@ macro_rules! __model_compiled {
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match W {
-                $crate::units::RHS => <$system>::__hamel_export_rhs_adjoint::<()>(
+            ::core::option::Option::Some($crate::__by_family!(
+                W,
+                $system,
+                [
+                    __hamel_export_rhs_adjoint,
+                    __hamel_export_outputs_adjoint,
+                    __hamel_export_lie_adjoint
+                ],
+                (
                     prepared,
                     p,
                     t,
@@ -456,28 +436,8 @@ macro_rules! __model_compiled {
                     $crate::__private::array(weights)?,
                     parameters,
                     $crate::__private::array_mut(out)?,
-                ),
-                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_adjoint::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-                _ => <$system>::__hamel_export_lie_adjoint::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                ),
-            })
+                )
+            ))
         }
 
         #[inline]
@@ -491,8 +451,15 @@ macro_rules! __model_compiled {
         ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split(z);
             let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some(match W {
-                $crate::units::RHS => <$system>::__hamel_export_rhs_second::<()>(
+            ::core::option::Option::Some($crate::__by_family!(
+                W,
+                $system,
+                [
+                    __hamel_export_rhs_second,
+                    __hamel_export_outputs_second,
+                    __hamel_export_lie_second
+                ],
+                (
                     prepared,
                     p,
                     t,
@@ -502,30 +469,8 @@ macro_rules! __model_compiled {
                     parameters,
                     $crate::__private::array_mut(second)?,
                     $crate::__private::array_mut(jacobian)?,
-                ),
-                $crate::units::OUTPUTS => <$system>::__hamel_export_outputs_second::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    $crate::__private::array_mut(second)?,
-                    $crate::__private::array_mut(jacobian)?,
-                ),
-                _ => <$system>::__hamel_export_lie_second::<()>(
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    $crate::__private::array_mut(second)?,
-                    $crate::__private::array_mut(jacobian)?,
-                ),
-            })
+                )
+            ))
         }
 
         #[inline]
