@@ -13,7 +13,12 @@ import time
 import pytest
 
 LONG_RUN = """
-import sys, time
+import signal, sys, time
+# Python raises KeyboardInterrupt on SIGINT only if the signal was not ignored when it
+# started, and a process started in the background of a non-interactive shell (a CI job run
+# with `&`) inherits SIGINT ignored: the handler is installed here, as an interactive session
+# has it.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import hamel
 robot = hamel.models.MobileRobot()
 x0 = robot.state(alpha=0.3, w4=0.5, w5=0.4)
