@@ -169,54 +169,6 @@ macro_rules! __model_compiled {
             then(&())
         }
 
-        fn value_of<const W: u8>(
-            _prepared: &(),
-            _z: &[f64; <$marker>::LEN],
-            _out: &mut [f64],
-        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            ::core::option::Option::None
-        }
-
-        fn jacobian_of<const W: u8>(
-            _prepared: &(),
-            _z: &[f64; <$marker>::LEN],
-            _parameters: bool,
-            _out: &mut [f64],
-        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
-            ::core::option::Option::None
-        }
-
-        fn forward_of<const W: u8>(
-            _prepared: &(),
-            _z: &[f64; <$marker>::LEN],
-            _direction: &[f64],
-            _parameters: bool,
-            _out: &mut [f64],
-        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            ::core::option::Option::None
-        }
-
-        fn adjoint_of<const W: u8>(
-            _prepared: &(),
-            _z: &[f64; <$marker>::LEN],
-            _weights: &[f64],
-            _parameters: bool,
-            _out: &mut [f64],
-        ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            ::core::option::Option::None
-        }
-
-        fn second_of<const W: u8>(
-            _prepared: &(),
-            _z: &[f64; <$marker>::LEN],
-            _weights: &[f64],
-            _parameters: bool,
-            _second: &mut [f64],
-            _jacobian: &mut [f64],
-        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
-            ::core::option::Option::None
-        }
-
         fn compiled_value(
             _which: $crate::Which,
             _prepared: &(),

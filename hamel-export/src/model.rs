@@ -84,49 +84,60 @@ pub trait Model: 'static {
 
     /// The compiled code of family `W` ([`crate::units::RHS`], `OUTPUTS` or `LIE`), called
     /// by [`crate::units`] only (where it is optimized), each `None` without compiled code
-    /// or when an array is too short: the values into `out`.
+    /// (these defaults; `model!` overrides them where the code is compiled) or when an array
+    /// is too short: the values into `out`.
     fn value_of<const W: u8>(
-        prepared: &Self::Prepared,
-        z: &Self::Array<f64>,
-        out: &mut [f64],
-    ) -> Option<Result<(), Singularity>>;
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        None
+    }
 
     /// The Jacobian's entries into `out` (`Ok(false)`: that stage is not compiled).
     fn jacobian_of<const W: u8>(
-        prepared: &Self::Prepared,
-        z: &Self::Array<f64>,
-        parameters: bool,
-        out: &mut [f64],
-    ) -> Option<Result<bool, Singularity>>;
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _parameters: bool,
+        _out: &mut [f64],
+    ) -> Option<Result<bool, Singularity>> {
+        None
+    }
 
     /// The derivative along `direction` into `out`.
     fn forward_of<const W: u8>(
-        prepared: &Self::Prepared,
-        z: &Self::Array<f64>,
-        direction: &[f64],
-        parameters: bool,
-        out: &mut [f64],
-    ) -> Option<Result<(), Singularity>>;
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _direction: &[f64],
+        _parameters: bool,
+        _out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        None
+    }
 
     /// The adjoint derivative into `out`.
     fn adjoint_of<const W: u8>(
-        prepared: &Self::Prepared,
-        z: &Self::Array<f64>,
-        weights: &[f64],
-        parameters: bool,
-        out: &mut [f64],
-    ) -> Option<Result<(), Singularity>>;
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _weights: &[f64],
+        _parameters: bool,
+        _out: &mut [f64],
+    ) -> Option<Result<(), Singularity>> {
+        None
+    }
 
     /// The weighted second derivatives' entries and the Jacobian's (`Ok(false)`: that stage
     /// is not compiled).
     fn second_of<const W: u8>(
-        prepared: &Self::Prepared,
-        z: &Self::Array<f64>,
-        weights: &[f64],
-        parameters: bool,
-        second: &mut [f64],
-        jacobian: &mut [f64],
-    ) -> Option<Result<bool, Singularity>>;
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _weights: &[f64],
+        _parameters: bool,
+        _second: &mut [f64],
+        _jacobian: &mut [f64],
+    ) -> Option<Result<bool, Singularity>> {
+        None
+    }
 
     /// The values of `which` at z into `out`; `None` without compiled code.
     fn compiled_value(
