@@ -5,12 +5,23 @@
 //! sized storage (`SMatrix`, `PermutationSequence<Const<N>>`), in one block allocated with
 //! the integration and reused by every factorization after it; above it the same steps run on
 //! nalgebra's dynamically sized storage, whose matrix a large n would not fit on a stack.
-//! Either way the factorization is nalgebra's: its partial-pivoting Gauss steps
-//! (`linalg::gauss_step`, `gauss_step_swap`, as `LU::new` takes them) and its triangular
-//! solves (as `LU::solve_mut`). nalgebra's `LU` type itself cannot be named for a statically
-//! sized matrix in code generic over the size: its `DimMin` bound holds for `Const<N>` only
-//! through typenum, that is for each literal N, not for every N at once.
+//! Either way the arithmetic is nalgebra's: the partial-pivoting Gauss steps of `LU::new`
+//! (`linalg::gauss_step`, `gauss_step_swap`) and the triangular solves of `LU::solve_mut`.
+//! nalgebra's `LU` type itself cannot be named for a statically sized matrix in code generic
+//! over the size: its `DimMin` bound holds for `Const<N>` only through typenum, that is for
+//! each literal N, not for every N at once.
 //!
+//! The Gauss steps skip what changes nothing. A stiff problem's Jacobian is mostly zeros
+//! (POLLU's 20 × 20 has 82 non-zero entries of 400), and the iteration matrices γ/h·I − J
+//! keep them. A Gauss step updates each column right of the pivot by its pivot-row entry
+//! times the multipliers, an `axpy`; where that entry is 0 the update adds ±0 to each entry,
+//! which changes nothing but the sign of a zero entry. So `Factors::eliminate` is
+//! nalgebra's step, its `axpy` and all, with the columns of a zero pivot-row entry left out:
+//! the factors (and so the solutions) are nalgebra's to the bit up to signs of zeros, wherever
+//! the skipped products are finite (an infinite multiplier times 0 would have made NaN; the
+//! Jacobians factored here are checked finite before). Fill-in under partial pivoting limits
+//! the gain: POLLU's factors hold about 260 non-zero entries.
+
 //! Which path a state takes is decided by its type ([`crate::Vector::Lu`]): the branch on N
 //! is a constant, so each state's code holds one path.
 
@@ -25,6 +36,13 @@ use nalgebra::{
 /// (an n × n complex matrix of 32² entries is 16 KiB, a size still comfortable on a thread's
 /// stack when the method forms its matrices; the catalogue's models have at most 20 states).
 pub const FIXED_LIMIT: usize = 32;
+
+/// The smallest n whose Gauss steps skip the updates by a zero pivot-row entry. Below, a step
+/// has at most two columns right of its pivot and nalgebra's own steps (unrolled by the
+/// compiler) cost less: skipping took 13 % more instructions in ROBER's and OREGO's dense LU
+/// and solves (n = 3), against 18 % fewer in POLLU's (n = 20) and 11 % in HIRES's (n = 8),
+/// with Radau5 (`benches/work_precision.rs`, under callgrind).
+const SKIP_FROM: usize = 4;
 
 /// A matrix entry: `f64`, or `Complex<f64>` for Radau5's complex system.
 pub trait Entry: ComplexField<RealField = f64> + Copy {}
@@ -88,9 +106,15 @@ where
             if piv != i {
                 self.p.append_permutation(i, piv);
                 self.lu.columns_range_mut(..i).swap_rows(i, piv);
-                gauss_step_swap(&mut self.lu, diag, i, piv);
+            }
+            if n < SKIP_FROM {
+                if piv != i {
+                    gauss_step_swap(&mut self.lu, diag, i, piv);
+                } else {
+                    gauss_step(&mut self.lu, diag, i);
+                }
             } else {
-                gauss_step(&mut self.lu, diag, i);
+                self.eliminate(diag, i, piv);
             }
         }
         (0..n)
@@ -98,7 +122,34 @@ where
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// `LU::solve_mut`'s steps on one column.
+    /// One Gauss step on column `i` with its pivot in row `piv` ≥ `i`: nalgebra's
+    /// `gauss_step_swap` (`gauss_step` for `piv == i`), the multipliers below the pivot
+    /// scaled by 1/`diag` and every column right of the pivot, rows swapped, less its
+    /// pivot-row entry times them, by the same `axpy`; but a column whose pivot-row entry is 0
+    /// is left as it is (the `axpy` would add ±0 to each of its entries).
+    fn eliminate(&mut self, diag: T, i: usize, piv: usize) {
+        let piv = piv - i;
+        let mut submatrix = self.lu.view_range_mut(i.., i..);
+        let (mut multipliers, mut right) = submatrix.columns_range_pair_mut(0, 1..);
+        multipliers.swap((0, 0), (piv, 0));
+        let mut multipliers = multipliers.rows_range_mut(1..);
+        multipliers *= T::one() / diag;
+        let (mut pivot_row, mut below) = right.rows_range_pair_mut(0, 1..);
+        for k in 0..pivot_row.ncols() {
+            if piv != 0 {
+                std::mem::swap(&mut pivot_row[k], &mut below[(piv - 1, k)]);
+            }
+            let entry = pivot_row[k];
+            if !entry.is_zero() {
+                below.column_mut(k).axpy(-entry, &multipliers, T::one());
+            }
+        }
+    }
+
+    /// `LU::solve_mut`'s steps on one column, nalgebra's triangular solves as they are (its
+    /// right-hand sides are dense: skipping the zero unknowns, and the zero ends of L's and
+    /// U's columns, cost more in tests than it saved, up to 1.6 times the solves'
+    /// instructions on POLLU's Rodas5P).
     fn solve_column<S: StorageMut<T, D, U1>>(&self, b: &mut Matrix<T, D, U1, S>) -> bool {
         self.p.permute_rows(b);
         let _ = self.lu.solve_lower_triangular_with_diag_mut(b, T::one());
@@ -207,6 +258,113 @@ mod tests {
             <Lu<f64, { FIXED_LIMIT + 1 }> as SquareLu<f64>>::new(),
             Lu::General(_)
         ));
+    }
+
+    /// `a` and `b` to the bit, but for the sign of a zero.
+    fn same_up_to_zero_signs(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || (a == 0.0 && b == 0.0)
+    }
+
+    /// A sparse matrix of the form γ·I − J (the iteration matrix of a stiff method): about
+    /// four non-zero entries a row, off-diagonal ones up to 40 times the diagonal's, so that
+    /// partial pivoting interchanges rows and fills in; with `-0.0` among its zeros.
+    fn sparse(n: usize) -> impl Fn(usize, usize) -> f64 + Copy {
+        move |r, c| {
+            let k = (r * 13 + c * 7 + r * c) % 17;
+            if r == c {
+                1.0 + 0.25 * r as f64
+            } else if k < 3 {
+                (k as f64 + 1.0) * if (r + c) % 2 == 0 { 13.0 } else { -7.5 }
+            } else if k == 3 && r + 1 < n {
+                -0.0
+            } else {
+                0.0
+            }
+        }
+    }
+
+    /// The skipped updates leave the factors and solutions nalgebra's, on a sparse matrix
+    /// with row interchanges, real and complex, solved for right-hand sides with zeros.
+    fn sparse_same_as_nalgebra<const N: usize>() {
+        let e = sparse(N);
+        let zeros = (0..N * N).filter(|&k| e(k % N, k / N) == 0.0).count();
+        assert!(zeros > N * N / 2, "{zeros} zeros of {}", N * N);
+        let mut ours = <Lu<f64, N> as SquareLu<f64>>::new();
+        ours.factor(|m| fill(m, N, e));
+        let reference = DMatrix::from_fn(N, N, e).lu();
+        // The packed factors and the order of the rows, on either path.
+        fn packed<D: Dim>(factors: &Factors<f64, D>) -> (Vec<f64>, nalgebra::DVector<f64>)
+        where
+            DefaultAllocator: Allocator<D, D> + Allocator<D>,
+        {
+            (
+                factors.lu.iter().copied().collect(),
+                order(&factors.p, factors.dim.value()),
+            )
+        }
+        fn order<D: Dim>(p: &PermutationSequence<D>, n: usize) -> nalgebra::DVector<f64>
+        where
+            DefaultAllocator: Allocator<D>,
+        {
+            let mut order = nalgebra::DVector::from_fn(n, |i, _| i as f64);
+            p.permute_rows(&mut order);
+            order
+        }
+        let (lu, rows) = match &ours {
+            Lu::Fixed(factors) => packed(factors),
+            Lu::General(factors) => packed(factors),
+        };
+        assert_eq!(rows, order(reference.p(), N));
+        let moved = rows.iter().enumerate().filter(|(i, r)| **r != *i as f64);
+        assert!(moved.count() > 2, "rows interchanged: {rows}");
+        for (a, b) in lu.iter().zip(reference.lu_internal().iter()) {
+            assert!(same_up_to_zero_signs(*a, *b), "{a:e} against {b:e}");
+        }
+        let mut rhs: Vec<Vec<f64>> = (0..N)
+            .map(|k| (0..N).map(|i| if i == k { 1.0 } else { 0.0 }).collect())
+            .collect();
+        rhs.push((0..N).map(|i| (i % 3) as f64 - 1.0).collect());
+        for b in rhs {
+            let mut x = b.clone();
+            assert!(ours.solve(&mut x));
+            let mut y = nalgebra::DVector::from_vec(b);
+            assert!(reference.solve_mut(&mut y));
+            for (a, b) in x.iter().zip(y.iter()) {
+                assert!(same_up_to_zero_signs(*a, *b), "{a:e} against {b:e}");
+            }
+        }
+
+        // The complex matrix (α + iβ)·I − J of Radau5, the same pattern.
+        let ec = |r: usize, c: usize| {
+            let v = e(r, c);
+            if r == c {
+                Complex::new(v, 0.7 + 0.1 * r as f64)
+            } else {
+                Complex::new(v, 0.0)
+            }
+        };
+        let mut ours = <Lu<Complex<f64>, N> as SquareLu<Complex<f64>>>::new();
+        ours.factor(|m| fill(m, N, ec));
+        let reference = DMatrix::from_fn(N, N, ec).lu();
+        let mut x: Vec<Complex<f64>> = (0..N)
+            .map(|i| Complex::new((i % 2) as f64, if i % 3 == 0 { -0.5 } else { 0.0 }))
+            .collect();
+        let mut y = nalgebra::DVector::from_vec(x.clone());
+        assert!(ours.solve(&mut x));
+        assert!(reference.solve_mut(&mut y));
+        for (a, b) in x.iter().zip(y.iter()) {
+            assert!(
+                same_up_to_zero_signs(a.re, b.re) && same_up_to_zero_signs(a.im, b.im),
+                "{a:e} against {b:e}"
+            );
+        }
+    }
+
+    #[test]
+    fn sparse_matrices_are_nalgebras_lu() {
+        sparse_same_as_nalgebra::<7>();
+        sparse_same_as_nalgebra::<20>();
+        sparse_same_as_nalgebra::<{ FIXED_LIMIT + 1 }>();
     }
 
     #[test]
