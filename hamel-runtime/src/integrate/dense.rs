@@ -39,7 +39,7 @@ pub const FIXED_LIMIT: usize = 32;
 
 /// The smallest n whose Gauss steps skip the updates by a zero pivot-row entry. Below, a step
 /// has at most two columns right of its pivot and nalgebra's own steps (unrolled by the
-/// compiler) cost less: skipping took 13 % more instructions in ROBER's and OREGO's dense LU
+/// compiler) cost less: skipping took 10–13 % more instructions in ROBER's and OREGO's dense LU
 /// and solves (n = 3), against 18 % fewer in POLLU's (n = 20) and 11 % in HIRES's (n = 8),
 /// with Radau5 (`benches/work_precision.rs`, under callgrind).
 const SKIP_FROM: usize = 4;
