@@ -16,7 +16,8 @@
 //! keep them. A Gauss step updates each column right of the pivot by its pivot-row entry
 //! times the multipliers, an `axpy`; where that entry is 0 the update adds ±0 to each entry,
 //! which changes nothing but the sign of a zero entry. So `Factors::eliminate` is
-//! nalgebra's step, its `axpy` and all, with the columns of a zero pivot-row entry left out:
+//! nalgebra's step, its `axpy` and all (for a complex entry the `axpy` without its products
+//! by 1 + 0i, see `subtract_multiple`), with the columns of a zero pivot-row entry left out:
 //! the factors (and so the solutions) are nalgebra's to the bit up to signs of zeros, wherever
 //! the skipped products are finite (an infinite multiplier times 0 would have made NaN; the
 //! Jacobians factored here are checked finite before). Fill-in under partial pivoting limits
@@ -45,10 +46,17 @@ pub const FIXED_LIMIT: usize = 32;
 const SKIP_FROM: usize = 4;
 
 /// A matrix entry: `f64`, or `Complex<f64>` for Radau5's complex system.
-pub trait Entry: ComplexField<RealField = f64> + Copy {}
+pub trait Entry: ComplexField<RealField = f64> + Copy {
+    /// Whether nalgebra's `axpy` pays for its factors 1 (see `subtract_multiple`).
+    const AXPY_MULTIPLIES_BY_ONE: bool;
+}
 
-impl Entry for f64 {}
-impl Entry for Complex<f64> {}
+impl Entry for f64 {
+    const AXPY_MULTIPLIES_BY_ONE: bool = false;
+}
+impl Entry for Complex<f64> {
+    const AXPY_MULTIPLIES_BY_ONE: bool = true;
+}
 
 /// An n × n matrix and its LU factors, for one size n (the state's).
 #[doc(hidden)]
@@ -141,19 +149,65 @@ where
             }
             let entry = pivot_row[k];
             if !entry.is_zero() {
-                below.column_mut(k).axpy(-entry, &multipliers, T::one());
+                subtract_multiple(&mut below.column_mut(k), entry, &multipliers);
             }
         }
     }
 
-    /// `LU::solve_mut`'s steps on one column, nalgebra's triangular solves as they are (its
+    /// `LU::solve_mut`'s steps on one column: nalgebra's triangular solves for `f64`, and for
+    /// a complex entry the same steps with [`subtract_multiple`] for their `axpy` (its
     /// right-hand sides are dense: skipping the zero unknowns, and the zero ends of L's and
     /// U's columns, cost more in tests than it saved, up to 1.6 times the solves'
     /// instructions on POLLU's Rodas5P).
     fn solve_column<S: StorageMut<T, D, U1>>(&self, b: &mut Matrix<T, D, U1, S>) -> bool {
         self.p.permute_rows(b);
-        let _ = self.lu.solve_lower_triangular_with_diag_mut(b, T::one());
-        self.lu.solve_upper_triangular_mut(b)
+        if !T::AXPY_MULTIPLIES_BY_ONE {
+            let _ = self.lu.solve_lower_triangular_with_diag_mut(b, T::one());
+            return self.lu.solve_upper_triangular_mut(b);
+        }
+        // L's diagonal is 1: `solve_lower_triangular_with_diag_mut` divides by it, a
+        // division by 1 + 0i that is exact for finite values but for the sign of a zero.
+        let n = self.dim.value();
+        for i in 0..n.saturating_sub(1) {
+            let x = b[i];
+            subtract_multiple(
+                &mut b.rows_range_mut(i + 1..),
+                x,
+                &self.lu.view_range(i + 1.., i),
+            );
+        }
+        // `solve_upper_triangular_mut`'s steps.
+        for i in (0..n).rev() {
+            let diag = self.lu[(i, i)];
+            if diag.is_zero() {
+                return false;
+            }
+            let x = b[i] / diag;
+            b[i] = x;
+            subtract_multiple(&mut b.rows_range_mut(..i), x, &self.lu.view_range(..i, i));
+        }
+        true
+    }
+}
+
+/// `y −= a·x`: nalgebra's `y.axpy(-a, x, 1)`, which computes `(−a)·x·1 + 1·y`, for `f64`
+/// (the compiler drops the factors 1, and the loop it compiles beats `zip_apply`'s); for a
+/// complex entry the same without the factors 1 + 0i, most of the cost of an entry's update
+/// (some 24 instructions), which change nothing but the sign of a zero for finite values.
+#[inline(always)]
+fn subtract_multiple<T: Entry, R: Dim, S, R2: Dim, S2>(
+    y: &mut Matrix<T, R, U1, S>,
+    a: T,
+    x: &Matrix<T, R2, U1, S2>,
+) where
+    S: StorageMut<T, R, U1>,
+    S2: nalgebra::Storage<T, R2, U1>,
+    nalgebra::constraint::ShapeConstraint: nalgebra::constraint::SameNumberOfRows<R, R2>,
+{
+    if T::AXPY_MULTIPLIES_BY_ONE {
+        y.zip_apply(x, |y, x| *y -= a * x);
+    } else {
+        y.axpy(-a, x, T::one());
     }
 }
 
