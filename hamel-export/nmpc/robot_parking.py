@@ -20,7 +20,7 @@ The same problem is solved three times, on three implementations of the same rig
   loaded as an external, as CasADi users deploy models.
 
     python robot_parking.py OUTDIR [--repeat 5] [--figure robot_parking.svg] [--json timings.json]
-                                   [--baseline OTHER_OUTDIR]
+                                   [--baseline OTHER_OUTDIR] [--constant-parameters]
 
 prints, for each, the solve's iterations, the wall time per solve and per IPOPT iteration
 (median of --repeat solves, interleaved), and the largest difference of the optimal states
@@ -51,9 +51,11 @@ TARGET = (1.0, 1.0, np.pi / 2)  # x, y (m), heading (rad)
 R, B = robot_sx.DEFAULTS[5], robot_sx.DEFAULTS[6]
 
 
-def step_function(f):
-    """One shooting interval of RK4 steps over the right-hand side `f(x, u, p)`."""
-    x, u, p = ca.MX.sym("x", 8), ca.MX.sym("u", 2), ca.MX.sym("p", 9)
+def step_function(f, parameters=None):
+    """One shooting interval of RK4 steps over the right-hand side `f(x, u, p)`: a function of
+    (x, u, p), or of (x, u) with `parameters` its constants."""
+    x, u = ca.MX.sym("x", 8), ca.MX.sym("u", 2)
+    p = ca.MX.sym("p", 9) if parameters is None else ca.DM(parameters)
     h = T / N / SUBSTEPS
     y = x
     for _ in range(SUBSTEPS):
@@ -62,17 +64,30 @@ def step_function(f):
         k3 = f(y + h / 2 * k2, u, p)
         k4 = f(y + h * k3, u, p)
         y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    if parameters is not None:
+        return ca.Function("interval", [x, u], [y])
     return ca.Function("interval", [x, u, p], [y])
 
 
-def problem(f):
-    """The parking problem over the right-hand side `f`; returns the Opti and its variables."""
-    step = step_function(f)
+def problem(f, constant_parameters=False):
+    """The parking problem over the right-hand side `f`; returns the Opti and its variables.
+
+    The parameters are an input of the shooting interval's function, given as constants
+    (CasADi then asks the model for every derivative by them too, `jac_adj1_`'s blocks by p
+    among them, which the NLP does not use), or with `constant_parameters` constants inside
+    it (CasADi asks for none)."""
+    p = ca.DM(robot_sx.DEFAULTS)
     opti = ca.Opti()
     X = opti.variable(8, N + 1)
     U = opti.variable(2, N)
-    p = ca.DM(robot_sx.DEFAULTS)
     opti.subject_to(X[:, 0] == 0)
+    if constant_parameters:
+        interval = step_function(f, robot_sx.DEFAULTS)
+
+        def step(x, u, _):
+            return interval(x, u)
+    else:
+        step = step_function(f)
     for k in range(N):
         opti.subject_to(X[:, k + 1] == step(X[:, k], U[:, k], p))
     heading = R / B * (X[3, N] - X[4, N])
@@ -97,13 +112,16 @@ def problem(f):
     return opti, X, U
 
 
-def solve(f):
-    """Solve once: (states, torques, iterations, seconds)."""
-    opti, X, U = problem(f)
+def solve(f, constant_parameters=False, stats=None):
+    """Solve once: (states, torques, iterations, seconds); IPOPT's statistics into `stats`
+    (a dict) if given."""
+    opti, X, U = problem(f, constant_parameters)
     start = time.perf_counter()
     sol = opti.solve()
     seconds = time.perf_counter() - start
     iterations = sol.stats()["iter_count"]
+    if stats is not None:
+        stats.update(sol.stats())
     return np.array(sol.value(X)), np.array(sol.value(U)), iterations, seconds
 
 
@@ -172,6 +190,9 @@ def main():
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--figure")
     parser.add_argument("--json")
+    parser.add_argument("--constant-parameters", action="store_true",
+                        help="the parameters constants inside the shooting interval's function "
+                        "(CasADi then asks for no derivative by them), not an input of it")
     parser.add_argument("--baseline", help="the OUTDIR of another build of hamel's library: "
                         "solved too (`hamel-b`), with CasADi's C given its fwd<N>_ (`sx-c-b`)")
     args = parser.parse_args()
@@ -193,7 +214,7 @@ def main():
         # Interleaved: one solve of each model per round.
         for _ in range(args.repeat):
             for name, f in models.items():
-                states, torques, iterations, seconds = solve(f)
+                states, torques, iterations, seconds = solve(f, args.constant_parameters)
                 runs[name].append(seconds)
                 results[name] = (states, torques, iterations)
     reference = results["hamel"][0]
@@ -219,9 +240,11 @@ def main():
     if args.baseline:
         pairs += [("sx-c-b", "hamel-b"), ("hamel-b", "hamel"), ("sx-c-b", "sx-c")]
     for other, base in pairs:
-        ratios = [a / b for a, b in zip(runs[other], runs[base])]
+        ratios = sorted(a / b for a, b in zip(runs[other], runs[base]))
+        p10, p90 = ratios[len(ratios) // 10], ratios[(9 * len(ratios)) // 10]
         print(f"solve time {other} / {base}: median {statistics.median(ratios):.2f} "
-              f"(range {min(ratios):.2f}-{max(ratios):.2f} over {len(ratios)} rounds)")
+              f"(p10-p90 {p10:.2f}-{p90:.2f}, range {ratios[0]:.2f}-{ratios[-1]:.2f} "
+              f"over {len(ratios)} rounds)")
     if args.figure:
         figure(args.figure, reference, results["hamel"][1])
     worst = max(report[name]["max_state_difference"] for name in models)

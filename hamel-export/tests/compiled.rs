@@ -75,11 +75,26 @@ fn dense(pattern: &Pattern, values: &[f64]) -> Vec<Vec<f64>> {
 
 /// Call `kind` of `family` with `args` (null for `None`); its outputs, all wanted.
 fn call<M: Model>(family: &Family, kind: Kind, args: &[Option<&[f64]>]) -> Vec<Vec<f64>> {
+    call_wanting::<M>(family, kind, args, |_| true)
+        .into_iter()
+        .map(Option::unwrap_or_default)
+        .collect()
+}
+
+/// Call `kind` of `family` with `args` (null for `None`), wanting the outputs `wanted` says
+/// (the others null, as CasADi passes what it does not need).
+fn call_wanting<M: Model>(
+    family: &Family,
+    kind: Kind,
+    args: &[Option<&[f64]>],
+    wanted: impl Fn(usize) -> bool,
+) -> Vec<Option<Vec<f64>>> {
     let f = family.function(kind);
-    let mut outs: Vec<Vec<f64>> = f
+    let mut outs: Vec<Option<Vec<f64>>> = f
         .outputs
         .iter()
-        .map(|(port, _)| vec![f64::NAN; port.pattern.nnz()])
+        .enumerate()
+        .map(|(k, (port, _))| wanted(k).then(|| vec![f64::NAN; port.pattern.nnz()]))
         .collect();
     let arg: Vec<*const f64> = (0..f.inputs.len())
         .map(|i| {
@@ -89,11 +104,41 @@ fn call<M: Model>(family: &Family, kind: Kind, args: &[Option<&[f64]>]) -> Vec<V
                 .map_or(core::ptr::null(), <[f64]>::as_ptr)
         })
         .collect();
-    let res: Vec<*mut f64> = outs.iter_mut().map(|o| o.as_mut_ptr()).collect();
-    // SAFETY: a pointer per port, each to as many values as its pattern has nonzeros.
+    let res: Vec<*mut f64> = outs
+        .iter_mut()
+        .map(|o| o.as_mut().map_or(core::ptr::null_mut(), |o| o.as_mut_ptr()))
+        .collect();
+    // SAFETY: a pointer per port, null or to as many values as its pattern has nonzeros.
     unsafe { hamel_export::casadi::eval::<M>(family, kind, arg.as_ptr(), res.as_ptr()) }
         .unwrap_or_else(|e| panic!("{kind:?}: {}", e.message));
     outs
+}
+
+/// The outputs of `kind` that do not involve the parameters, wanted alone (those by p null:
+/// the compiled code then skips its parameters' stage), equal the same outputs of a call
+/// that wants every one (`all`), bit for bit.
+fn without_parameters<M: Model>(
+    family: &Family,
+    kind: Kind,
+    args: &[Option<&[f64]>],
+    all: &[Vec<f64>],
+) {
+    let f = family.function(kind);
+    let p = family.primal.inputs.iter().position(|b| b.name == "p");
+    let by_p = |k: usize| {
+        let name = f.outputs[k].0.name();
+        p.is_some() && (name.ends_with("_p") || name.starts_with("jac_adj_p_"))
+    };
+    let some = call_wanting::<M>(family, kind, args, |k| !by_p(k));
+    for (k, out) in some.iter().enumerate() {
+        if let Some(out) = out {
+            let (a, b): (Vec<u64>, Vec<u64>) = (
+                out.iter().map(|v| v.to_bits()).collect(),
+                all[k].iter().map(|v| v.to_bits()).collect(),
+            );
+            assert_eq!(a, b, "{kind:?} {} without p", f.outputs[k].0.name());
+        }
+    }
 }
 
 /// The primal inputs' slices of z.
@@ -240,6 +285,7 @@ fn check<M: Model>(which: Which, seed: u64) {
             column.copy_from_slice(&out[..no]);
         }
         let jacobian = call::<M>(&family, Kind::Jacobian, &args);
+        without_parameters::<M>(&family, Kind::Jacobian, &args, &jacobian);
         let scale = columns
             .iter()
             .flatten()
@@ -312,6 +358,7 @@ fn check<M: Model>(which: Which, seed: u64) {
         }
         // The weighted second derivatives, every block, by hyper-dual numbers.
         let second = call::<M>(&family, Kind::AdjointJacobian, &adj_args);
+        without_parameters::<M>(&family, Kind::AdjointJacobian, &adj_args, &second);
         let f = family.function(Kind::AdjointJacobian);
         let nb = primal.inputs.len();
         for (i, bi) in primal.inputs.iter().enumerate() {

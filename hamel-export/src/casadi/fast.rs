@@ -10,7 +10,6 @@
 //! refuses it or computes it with the same compiled code.
 
 use super::eval::{transpose_from, transpose_into};
-use super::plan::Scatter;
 use super::{Family, Kind};
 use crate::abi::{Failure, all_finite};
 use crate::model::{Model, Sizes};
@@ -119,74 +118,6 @@ unsafe fn dense_output<'a>(res: *const *mut f64, len: usize) -> Option<&'a mut [
     let out = unsafe { *res };
     // SAFETY: non-null, `len` writable values (the caller's contract).
     (!out.is_null()).then(|| unsafe { core::slice::from_raw_parts_mut(out, len) })
-}
-
-/// The sparse outputs of `jac_f` or `jac_adj1_f` and where the compiled code's entries go.
-struct Blocks<'a> {
-    res: *const *mut f64,
-    scatters: &'a [Scatter],
-    /// The outputs that have nonzeros (`Plans::jacobian_filled`, `Plans::second_filled`).
-    filled: &'a [usize],
-    /// Those of the parameters' stage.
-    by_parameters: &'a [usize],
-    /// Whether the compiled code gives every one of `filled`.
-    compiled: bool,
-}
-
-impl Blocks<'_> {
-    /// The wanted outputs (a non-null pointer; an output without nonzeros is not looked at),
-    /// each with its scatter.
-    ///
-    /// # Safety
-    /// `res` is CasADi's non-null array of this function's outputs (a pointer per output).
-    #[inline(always)]
-    unsafe fn wanted(&self) -> impl Iterator<Item = (*mut f64, &Scatter)> + '_ {
-        self.filled.iter().filter_map(|&k| {
-            // SAFETY: a pointer per output (this function's contract); `filled` holds
-            // indices of outputs.
-            let ptr = unsafe { *self.res.add(k) };
-            (!ptr.is_null()).then_some(ptr).zip(self.scatters.get(k))
-        })
-    }
-
-    /// Whether one of the wanted blocks is by p (the compiled code's second stage); `None`
-    /// if the compiled code does not give one of them.
-    ///
-    /// # Safety
-    /// As [`Blocks::wanted`].
-    #[inline(always)]
-    unsafe fn stages(&self) -> Option<bool> {
-        if self.compiled {
-            // SAFETY: a pointer per output (this function's contract).
-            let wanted = |&k: &usize| !unsafe { *self.res.add(k) }.is_null();
-            return Some(self.by_parameters.iter().any(wanted));
-        }
-        let mut parameters = false;
-        // SAFETY: this function's contract.
-        for (_, scatter) in unsafe { self.wanted() } {
-            if !scatter.compiled {
-                return None;
-            }
-            parameters |= scatter.parameters;
-        }
-        Some(parameters)
-    }
-
-    /// Every wanted block from the compiled arrays.
-    ///
-    /// # Safety
-    /// `res` is CasADi's non-null array of this function's outputs, each null or pointing to
-    /// its port's nonzeros, writable.
-    #[inline(always)]
-    unsafe fn write(&self, second: &[f64], jacobian: &[f64]) {
-        // SAFETY: this function's contract.
-        for (ptr, scatter) in unsafe { self.wanted() } {
-            // SAFETY: a wanted output points to its port's nonzeros, `scatter.len` (the
-            // contract).
-            let out = unsafe { core::slice::from_raw_parts_mut(ptr, scatter.len) };
-            scatter.write(out, second, jacobian);
-        }
-    }
 }
 
 /// `f` or `fwd1_f` of the right-hand side when the call has the common shape; `None` (having
@@ -434,27 +365,16 @@ pub unsafe fn sparse<M: Model>(
     if second && !unsafe { read_weights::<M>(arg, weights) } {
         return None;
     }
-    let blocks = if second {
-        Blocks {
-            res,
-            scatters: &plans.second,
-            filled: &plans.second_filled,
-            by_parameters: &plans.second_by_parameters,
-            compiled: plans.second_compiled,
-        }
+    let placement = if second {
+        &plans.second_placement
     } else {
-        Blocks {
-            res,
-            scatters: &plans.jacobian,
-            filled: &plans.jacobian_filled,
-            by_parameters: &plans.jacobian_by_parameters,
-            compiled: plans.jacobian_compiled,
-        }
+        &plans.jacobian_placement
     };
-    // SAFETY: the caller's contract, which is `Blocks::stages`'s.
-    let parameters = unsafe { blocks.stages() }?;
+    // SAFETY: the caller's contract, which is `Placement::stages`'s.
+    let parameters = unsafe { placement.stages(res) }?;
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        // SAFETY (both writes): the caller's contract, which is `Blocks::write`'s.
+        // SAFETY (both writes): the caller's contract, and every wanted output is compiled
+        // (`stages` said so): `Placement::write`'s contract.
         if second {
             M::compiled_second(
                 Which::Rhs,
@@ -462,13 +382,18 @@ pub unsafe fn sparse<M: Model>(
                 &z,
                 weights,
                 parameters,
-                |h, j| unsafe { blocks.write(h, j) },
+                |h, j| unsafe { placement.write(res, h, j) },
             )
         } else {
             M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |j| unsafe {
-                blocks.write(&[], j)
+                placement.write(res, &[], j)
             })
         }
     });
-    Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
+    match written? {
+        Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
+        // The compiled arrays too short for the entries (they are not): the general path.
+        Ok(false) => None,
+        Ok(true) => Some(Ok(())),
+    }
 }

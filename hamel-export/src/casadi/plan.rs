@@ -246,6 +246,172 @@ unsafe fn gather(out: &mut [f64], from: &[f64], pairs: &[(u32, u32)]) {
     }
 }
 
+/// One output of a [`Placement`].
+#[derive(Clone, Debug)]
+struct Placed {
+    /// Its index among the function's outputs.
+    output: usize,
+    /// Whether the compiled code gives it, and whether it is of the parameters' stage.
+    compiled: bool,
+    parameters: bool,
+    /// Whether its entries are the second derivatives' (else the Jacobian's).
+    from_second: bool,
+    /// The output is `from[start..start + len]` (a plain copy).
+    copy: Option<usize>,
+    /// Zeros first: the pairs do not write every slot.
+    zero: bool,
+    /// Its pairs among [`Placement::pairs`].
+    pairs: std::ops::Range<usize>,
+    /// Its nonzeros.
+    len: usize,
+}
+
+/// The outputs of `jac_f` or `jac_adj1_f` that have nonzeros, with every entry's slot in one
+/// flat list: what a call of the fast path writes, the arrays' lengths checked once for the
+/// whole call. `jac_adj1_f` places hundreds of entries into a dozen outputs (259 into 11 for
+/// the paper's robot); checked output by output, as [`Scatter::write`] does for the general
+/// path, the bookkeeping cost a third as much as the copies.
+#[derive(Clone, Debug, Default)]
+pub struct Placement {
+    outputs: Vec<Placed>,
+    pairs: Vec<(u32, u32)>,
+    /// The lengths the compiled arrays need: the second derivatives', the Jacobian's (one
+    /// more than the largest entry a pair or a copy reads).
+    needs: [usize; 2],
+    /// Whether every output is compiled, and those of the parameters' stage.
+    compiled: bool,
+    by_parameters: Vec<usize>,
+}
+
+impl Placement {
+    /// The placement of `filled`, the outputs with nonzeros among `scatters`.
+    fn new(scatters: &[Scatter], filled: &[usize]) -> Placement {
+        let mut placement = Placement {
+            compiled: true,
+            ..Placement::default()
+        };
+        for &output in filled {
+            let Some(scatter) = scatters.get(output) else {
+                continue;
+            };
+            let which = usize::from(!scatter.from_second);
+            // A pair beyond the output (which `Scatter::write` would skip) is not placed: the
+            // output is then left to the general path.
+            let compiled = scatter.compiled && scatter.needs[1] <= scatter.len;
+            let copy = scatter.copy.filter(|_| compiled);
+            let need = match copy {
+                Some(start) => start + scatter.len,
+                None => scatter.needs[0],
+            };
+            if compiled {
+                placement.needs[which] = placement.needs[which].max(need);
+            }
+            let start = placement.pairs.len();
+            if compiled && copy.is_none() {
+                placement.pairs.extend(&scatter.pairs);
+            }
+            placement.compiled &= compiled;
+            if scatter.parameters {
+                placement.by_parameters.push(output);
+            }
+            placement.outputs.push(Placed {
+                output,
+                compiled,
+                parameters: scatter.parameters,
+                from_second: scatter.from_second,
+                copy,
+                zero: !(scatter.covers && scatter.len == scatter.needs[1]),
+                pairs: start..placement.pairs.len(),
+                len: scatter.len,
+            });
+        }
+        placement
+    }
+
+    /// Whether one of the wanted outputs is by p (the compiled code's second stage); `None`
+    /// if the compiled code does not give one of them.
+    ///
+    /// # Safety
+    /// `res` is CasADi's non-null array of this function's outputs (a pointer per output).
+    #[inline(always)]
+    pub unsafe fn stages(&self, res: *const *mut f64) -> Option<bool> {
+        // SAFETY: a pointer per output (this function's contract).
+        let wanted = |k: usize| !unsafe { *res.add(k) }.is_null();
+        if self.compiled {
+            return Some(self.by_parameters.iter().any(|&k| wanted(k)));
+        }
+        let mut parameters = false;
+        for placed in &self.outputs {
+            if wanted(placed.output) {
+                if !placed.compiled {
+                    return None;
+                }
+                parameters |= placed.parameters;
+            }
+        }
+        Some(parameters)
+    }
+
+    /// Every wanted output from the compiled arrays; `false` (having written nothing) if an
+    /// array is shorter than the entries need.
+    ///
+    /// # Safety
+    /// `res` is CasADi's non-null array of this function's outputs, each null or pointing to
+    /// its port's nonzeros, writable, and every wanted output is compiled
+    /// ([`Placement::stages`] said so).
+    #[inline(always)]
+    pub unsafe fn write(&self, res: *const *mut f64, second: &[f64], jacobian: &[f64]) -> bool {
+        if second.len() < self.needs[0] || jacobian.len() < self.needs[1] {
+            return false;
+        }
+        for placed in &self.outputs {
+            // SAFETY: a pointer per output (the contract).
+            let out = unsafe { *res.add(placed.output) };
+            if out.is_null() || !placed.compiled {
+                continue;
+            }
+            let from = if placed.from_second { second } else { jacobian };
+            // SAFETY (the copy, the zeros and the pairs): a wanted output has `placed.len`
+            // writable values (the contract); a compiled output's pairs write below its
+            // `needs[1]` ≤ `len` and read below its `needs[0]`, and a copy reads
+            // `start..start + len`, all within `self.needs`, which the arrays reach (checked
+            // above).
+            unsafe {
+                if let Some(start) = placed.copy {
+                    core::ptr::copy_nonoverlapping(from.as_ptr().add(start), out, placed.len);
+                    continue;
+                }
+                if placed.zero {
+                    core::ptr::write_bytes(out, 0, placed.len);
+                }
+                place(out, from, self.pairs.get_unchecked(placed.pairs.clone()));
+            }
+        }
+        true
+    }
+}
+
+/// out[slot] = from[entry] for each pair, four pairs a step: the exported crate's
+/// opt-level 2 does not unroll this loop through a raw pointer, and unrolled it takes about 5
+/// instructions a pair instead of 7.
+///
+/// # Safety
+/// Every pair's entry is below `from.len()` and its slot within the writable values at `out`.
+#[inline(always)]
+unsafe fn place(out: *mut f64, from: &[f64], pairs: &[(u32, u32)]) {
+    let mut fours = pairs.chunks_exact(4);
+    for four in &mut fours {
+        for &(e, slot) in four {
+            // SAFETY: within both (this function's contract).
+            unsafe { *out.add(slot as usize) = *from.get_unchecked(e as usize) };
+        }
+    }
+    for &(e, slot) in fours.remainder() {
+        // SAFETY: as above.
+        unsafe { *out.add(slot as usize) = *from.get_unchecked(e as usize) };
+    }
+}
+
 /// For `jac_f` and `jac_adj1_f`, each output's [`Scatter`]; for `adj1_f`, where each
 /// block's components are among the compiled code's columns.
 #[derive(Clone, Debug)]
@@ -271,6 +437,9 @@ pub struct Plans {
     pub second_by_parameters: Vec<usize>,
     pub jacobian_compiled: bool,
     pub second_compiled: bool,
+    /// The same outputs as one flat list each, for the fast path (`super::fast`).
+    pub jacobian_placement: Placement,
+    pub second_placement: Placement,
     /// For each input block, (column, component of the block).
     pub adjoint: Vec<Vec<(usize, usize)>>,
     /// `fwd<N>_f`'s products of the Jacobian with the directions.
@@ -485,6 +654,8 @@ impl Plans {
         let second_by_parameters = by_parameters(&second, &second_filled);
         let jacobian_compiled = compiled(&jacobian, &jacobian_filled);
         let second_compiled = compiled(&second, &second_filled);
+        let jacobian_placement = Placement::new(&jacobian, &jacobian_filled);
+        let second_placement = Placement::new(&second, &second_filled);
         let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (column, &z) in local.iter().enumerate() {
             let Some((block, within)) = block_of(primal, z) else {
@@ -511,6 +682,8 @@ impl Plans {
             second_by_parameters,
             jacobian_compiled,
             second_compiled,
+            jacobian_placement,
+            second_placement,
             adjoint,
             products: Products::new(primal, structure),
         })
