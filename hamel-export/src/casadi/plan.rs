@@ -284,16 +284,13 @@ pub struct Placement {
 }
 
 impl Placement {
-    /// The placement of `filled`, the outputs with nonzeros among `scatters`.
-    fn new(scatters: &[Scatter], filled: &[usize]) -> Placement {
+    /// The placement of the outputs with nonzeros among `scatters`.
+    fn new(scatters: &[Scatter]) -> Placement {
         let mut placement = Placement {
             compiled: true,
             ..Placement::default()
         };
-        for &output in filled {
-            let Some(scatter) = scatters.get(output) else {
-                continue;
-            };
+        for (output, scatter) in scatters.iter().enumerate().filter(|(_, s)| s.len > 0) {
             let which = usize::from(!scatter.from_second);
             // A pair beyond the output (which `Scatter::write` would skip) is not placed: the
             // output is then left to the general path.
@@ -426,18 +423,9 @@ pub struct Plans {
     pub parameters: std::ops::Range<usize>,
     pub jacobian: Vec<Scatter>,
     pub second: Vec<Scatter>,
-    /// The outputs of `jac_f` and of `jac_adj1_f` that have nonzeros, in order: the only
-    /// ones a call looks at (the others, such as the blocks by the nominal output, have
-    /// nothing to write).
-    pub jacobian_filled: Vec<usize>,
-    pub second_filled: Vec<usize>,
-    /// Of those, the ones of the parameters' stage (a call computes that stage only if it
-    /// wants one of them), and whether the compiled code gives every one.
-    pub jacobian_by_parameters: Vec<usize>,
-    pub second_by_parameters: Vec<usize>,
-    pub jacobian_compiled: bool,
-    pub second_compiled: bool,
-    /// The same outputs as one flat list each, for the fast path (`super::fast`).
+    /// The outputs of `jac_f` and of `jac_adj1_f` that have nonzeros (the only ones a call
+    /// looks at: the others, such as the blocks by the nominal output, have nothing to
+    /// write) as one flat list each, for the fast path (`super::fast`).
     pub jacobian_placement: Placement,
     pub second_placement: Placement,
     /// For each input block, (column, component of the block).
@@ -635,27 +623,8 @@ impl Plans {
             .zip(&functions[Kind::AdjointJacobian as usize].outputs)
             .map(|(s, (port, _))| s.of_len(port.pattern.nnz()))
             .collect();
-        let filled = |scatters: &[Scatter]| -> Vec<usize> {
-            (0..scatters.len())
-                .filter(|&k| scatters[k].len > 0)
-                .collect()
-        };
-        let (jacobian_filled, second_filled) = (filled(&jacobian), filled(&second));
-        let by_parameters = |scatters: &[Scatter], filled: &[usize]| -> Vec<usize> {
-            filled
-                .iter()
-                .copied()
-                .filter(|&k| scatters[k].parameters)
-                .collect()
-        };
-        let compiled =
-            |scatters: &[Scatter], filled: &[usize]| filled.iter().all(|&k| scatters[k].compiled);
-        let jacobian_by_parameters = by_parameters(&jacobian, &jacobian_filled);
-        let second_by_parameters = by_parameters(&second, &second_filled);
-        let jacobian_compiled = compiled(&jacobian, &jacobian_filled);
-        let second_compiled = compiled(&second, &second_filled);
-        let jacobian_placement = Placement::new(&jacobian, &jacobian_filled);
-        let second_placement = Placement::new(&second, &second_filled);
+        let jacobian_placement = Placement::new(&jacobian);
+        let second_placement = Placement::new(&second);
         let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (column, &z) in local.iter().enumerate() {
             let Some((block, within)) = block_of(primal, z) else {
@@ -676,12 +645,6 @@ impl Plans {
             parameters: first..last,
             jacobian,
             second,
-            jacobian_filled,
-            second_filled,
-            jacobian_by_parameters,
-            second_by_parameters,
-            jacobian_compiled,
-            second_compiled,
             jacobian_placement,
             second_placement,
             adjoint,

@@ -5,8 +5,9 @@
 //! sized storage (`SMatrix`, `PermutationSequence<Const<N>>`), in one block allocated with
 //! the integration and reused by every factorization after it; above it the same steps run on
 //! nalgebra's dynamically sized storage, whose matrix a large n would not fit on a stack.
-//! Either way the arithmetic is nalgebra's: the partial-pivoting Gauss steps of `LU::new`
-//! (`linalg::gauss_step`, `gauss_step_swap`) and the triangular solves of `LU::solve_mut`.
+//! Either way the steps are nalgebra's: the partial-pivoting Gauss steps of `LU::new`
+//! (`linalg::gauss_step`, `gauss_step_swap`) and the triangular solves of `LU::solve_mut`
+//! (for a complex entry taken one by one, see `subtract_multiple`).
 //! nalgebra's `LU` type itself cannot be named for a statically sized matrix in code generic
 //! over the size: its `DimMin` bound holds for `Const<N>` only through typenum, that is for
 //! each literal N, not for every N at once.
@@ -22,7 +23,7 @@
 //! the skipped products are finite (an infinite multiplier times 0 would have made NaN; the
 //! Jacobians factored here are checked finite before). Fill-in under partial pivoting limits
 //! the gain: POLLU's factors hold about 260 non-zero entries.
-
+//!
 //! Which path a state takes is decided by its type ([`crate::Vector::Lu`]): the branch on N
 //! is a constant, so each state's code holds one path.
 
