@@ -17,6 +17,22 @@
 //! got steps of 4.7·10⁻¹¹, 200 times y₂ itself: one entry of the Jacobian was off by 10⁻³
 //! relative, and y₁ at 4·10¹⁰ came out wrong by 2.6·10⁻³ of its value (scipy's `Radau`, by
 //! `num_jac`: 4·10⁻⁷).
+//!
+//! One exception, in the first Jacobian of a run, at the components at or below the threshold:
+//! there `num_jac`'s step is √ε·atol, with no history yet to correct it and no relation to the
+//! size at which f changes. An initial state often has components that are exactly zero: HIRES
+//! starts with six of its eight, and at atol = 10⁻¹⁰ their steps of 1.5·10⁻¹⁸ vanish in the
+//! rows where f is about 1.7: ∂f₁/∂y₂ = 0.43, ∂f₂/∂y₂ = −8.75 and ∂f₁/∂y₃ = 8.32 came out 0
+//! (scipy's own `num_jac` gives the same matrix). Its refinement does not see it: the
+//! column's largest difference lies in a row where f is zero, whose difference is exact. So
+//! such a column is tested against the largest |fᵢ| as well, and where its largest
+//! difference is below ε^0.875 of that, it is differenced again by Hairer's step (one more
+//! evaluation; the factor carried on stays `num_jac`'s). Radau5 converges on the lost matrix,
+//! but slowly enough in y₂ that the error its stopping test allows (up to RADAU5's Newton
+//! tolerance, far more than the iteration leaves on an exact Jacobian) is left at every step
+//! until the Jacobian is renewed (t ≈ 0.28); it stayed in the slow components to the end, and
+//! HIRES by differences came out 5 to 19 times less accurate than with the exact Jacobian at
+//! rtol 10⁻⁶…10⁻⁸ for nearly the same steps (`benches/work_precision`, `once HIRES`).
 
 use nalgebra::{DMatrix, DMatrixView};
 
@@ -35,6 +51,8 @@ const DIFF_BIG: f64 = 1.220703125e-4; // ε^0.25
 /// The smallest factor.
 const MIN_FACTOR: f64 = 1e3 * f64::EPSILON;
 const FACTOR_CHANGE: f64 = 10.0;
+/// The size below which Hairer's RADAU5 does not shrink a step, √(ε·max(10⁻⁵, |xⱼ|)).
+const HAIRER_FLOOR: f64 = 1e-5;
 
 /// The Jacobian of an integration: evaluated afresh when the method asks, by the ODE or by
 /// differences (whose per-column factors it carries from one evaluation to the next).
@@ -174,10 +192,13 @@ impl Jacobian {
         stats: &mut Stats,
     ) -> Result<(), Error> {
         let n = O::State::LEN;
-        if self.factors.len() != n {
+        let first = self.factors.len() != n;
+        if first {
             self.factors = vec![f64::EPSILON.sqrt(); n];
         }
         let (xs, fs) = (x.as_ref(), f0.as_ref());
+        // The rounding of the largest rate bounds what any column can resolve.
+        let largest_rate = fs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for j in 0..n {
             // Directed as ẋⱼ points.
             let direction = if fs[j] >= 0.0 { 1.0 } else { -1.0 };
@@ -208,6 +229,37 @@ impl Jacobian {
                 factor /= FACTOR_CHANGE;
             }
             self.factors[j] = factor.max(MIN_FACTOR);
+            let lost = column.largest < DIFF_REJECT * largest_rate;
+            if first && lost && xs[j].abs() <= self.threshold {
+                self.hairer_column(ode, t, x, f0, j, direction * step.abs(), stats)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Column j again by Hairer's step √(ε·max(10⁻⁵, |xⱼ|)), directed as ẋⱼ points, if it is
+    /// longer than `step` (module documentation).
+    #[allow(clippy::too_many_arguments)]
+    fn hairer_column<O: Ode>(
+        &mut self,
+        ode: &mut O,
+        t: f64,
+        x: &O::State,
+        f0: &O::State,
+        j: usize,
+        step: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Error> {
+        let n = O::State::LEN;
+        let xj = x.as_ref()[j];
+        let hairer = step.signum() * (f64::EPSILON * HAIRER_FLOOR.max(xj.abs())).sqrt();
+        let hairer = (xj + hairer) - xj;
+        if hairer.abs() <= step.abs() {
+            return Ok(());
+        }
+        let column = self.column(ode, t, x, f0, j, hairer, stats)?;
+        for (i, d) in column.difference.as_ref().iter().enumerate() {
+            self.rows[i * n + j] = d / hairer;
         }
         Ok(())
     }
@@ -378,6 +430,37 @@ mod tests {
         // f, the first column and its retry.
         assert_eq!(stats.evaluations, 3);
         assert!(jacobian.factors[0] > f64::EPSILON.sqrt());
+    }
+
+    /// HIRES's first rows at its initial state, where y₂ = y₃ = 0 and atol = 10⁻¹⁰: `num_jac`'s
+    /// steps of √ε·atol for them are lost in the rows where f ≈ 1.7 (∂f₁/∂y₂ and ∂f₂/∂y₂ came
+    /// out 0), unseen by its refinement (the largest difference is in the third row, where f
+    /// is zero). The first Jacobian differences those columns again by Hairer's steps.
+    #[test]
+    fn the_first_jacobian_at_zero_components_is_not_lost_in_rounding() {
+        struct Hires3;
+        impl Ode for Hires3 {
+            type State = [f64; 3];
+            fn rhs(&mut self, _: f64, y: &[f64; 3], f: &mut [f64; 3]) -> Result<(), Error> {
+                *f = [
+                    -1.71 * y[0] + 0.43 * y[1] + 8.32 * y[2] + 0.0007,
+                    1.71 * y[0] - 8.75 * y[1],
+                    8.32 * y[1] + 1.71 * y[2],
+                ];
+                Ok(())
+            }
+        }
+        let want = [-1.71, 0.43, 8.32, 1.71, -8.75, 0.0, 0.0, 8.32, 1.71];
+        let mut jacobian = Jacobian::new(3, 1e-10);
+        let mut stats = Stats::default();
+        jacobian
+            .evaluate(&mut Hires3, 0.0, &[1.0, 0.0, 0.0], None, &mut stats)
+            .unwrap();
+        for (k, (got, want)) in jacobian.rows.iter().zip(want).enumerate() {
+            assert!((got - want).abs() < 1e-5, "entry {k}: {got} against {want}");
+        }
+        // f, one evaluation per column, and the two lost columns again.
+        assert_eq!(stats.evaluations, 6);
     }
 
     #[test]
