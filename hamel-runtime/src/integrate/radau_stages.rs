@@ -213,7 +213,7 @@ impl<V: Vector> TransformedStages<V> {
                 w[2].as_mut()[p] += complex[p].im;
             }
             *z = transform(&tr.t, &w);
-            if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
+            if let Some(outcome) = convergence.settled(k, increment, &mut self.faccon) {
                 return Ok(outcome);
             }
         }
