@@ -97,24 +97,43 @@ pub(crate) struct Convergence {
     rate: f64,
     theta: f64,
     theta_old: f64,
+    /// Whether `faccon` still awaits RADAU5's relaxation `faccon^0.8` ([`Self::relax`]).
+    unrelaxed: bool,
 }
 
 impl Convergence {
     /// A new iteration; `faccon` is RADAU5's FACCON carried from the last step, which it
-    /// relaxes (`faccon^0.8`) as RADAU5 does.
+    /// relaxes (`faccon^0.8`) as RADAU5 does. The relaxed value counts only where the first
+    /// iteration's test reads it, or where the iteration ends before the second overwrites
+    /// it: its `powf` (some 125 instructions, a few per cent of a small system's step) waits
+    /// until then ([`Self::relax`]), and most steps never take it.
     pub fn new(criterion: Criterion, faccon: &mut f64) -> Self {
-        *faccon = faccon.max(f64::EPSILON).powf(0.8);
+        *faccon = faccon.max(f64::EPSILON);
         let max_iterations = match criterion {
             Criterion::Rounding => NEWTON_MAX_ITERATIONS,
             Criterion::Predicted { max_iterations, .. } => max_iterations,
         };
-        Convergence {
+        let mut convergence = Convergence {
             criterion,
             max_iterations,
             previous: f64::NAN,
             rate: 0.0,
             theta: 0.0,
             theta_old: 0.0,
+            unrelaxed: true,
+        };
+        // Only the predicted test at the first iteration can decide without it.
+        if !matches!(criterion, Criterion::Predicted { .. }) || max_iterations < 2 {
+            convergence.relax(faccon);
+        }
+        convergence
+    }
+
+    /// RADAU5's relaxation of FACCON, `faccon^0.8`, unless applied already.
+    fn relax(&mut self, faccon: &mut f64) {
+        if self.unrelaxed {
+            *faccon = faccon.powf(0.8);
+            self.unrelaxed = false;
         }
     }
 
@@ -142,6 +161,7 @@ impl Convergence {
     ) -> Option<Outcome> {
         // A stage where f is not finite, or a solve that overflowed.
         if !(solved && increment.is_finite()) {
+            self.relax(faccon);
             return Some(self.failed(k, f64::NAN, increment, 0.5));
         }
         self.theta = if k >= 2 {
@@ -164,9 +184,11 @@ impl Convergence {
                 self.theta_old = self.theta;
                 self.rate = smoothed;
                 if smoothed >= 0.99 {
+                    self.relax(faccon);
                     return Some(self.failed(k, smoothed, increment, 0.5));
                 }
                 *faccon = smoothed / (1.0 - smoothed);
+                self.unrelaxed = false;
                 // Hairer & Wanner's test (IV.8; scipy's `Radau` too): the iteration will not
                 // converge in the iterations left when θᵏᵐᵃˣ⁻ᵏ/(1 − θ)·‖ΔZ‖ > tolerance. The
                 // error left after them would be θ times that; asking for one factor θ more
@@ -190,7 +212,7 @@ impl Convergence {
     }
 
     /// After the k-th correction is applied: converged, hopeless, or (`None`) on.
-    pub fn settled(&mut self, k: usize, increment: f64, faccon: f64) -> Option<Outcome> {
+    pub fn settled(&mut self, k: usize, increment: f64, faccon: &mut f64) -> Option<Outcome> {
         let theta = self.theta;
         self.previous = increment.max(f64::MIN_POSITIVE);
         let converged = |rate| {
@@ -221,9 +243,20 @@ impl Convergence {
                 }
                 None
             }
-            Criterion::Predicted { tolerance, .. } => (faccon * increment <= tolerance)
-                .then_some(())
-                .and(converged(self.rate)),
+            Criterion::Predicted { tolerance, .. } => {
+                if self.unrelaxed {
+                    // faccon^0.8 ≥ min(faccon, 1): where that bound times the increment
+                    // exceeds the tolerance by more than any rounding, so does the relaxed
+                    // FACCON's, and the test fails without it.
+                    if faccon.min(1.0) * increment > tolerance * (1.0 + 1e-12) {
+                        return None;
+                    }
+                    self.relax(faccon);
+                }
+                (*faccon * increment <= tolerance)
+                    .then_some(())
+                    .and(converged(self.rate))
+            }
         }
     }
 
@@ -378,7 +411,7 @@ impl Newton {
                 return Ok(failed);
             }
             self.apply(z);
-            if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
+            if let Some(outcome) = convergence.settled(k, increment, &mut self.faccon) {
                 return Ok(outcome);
             }
         }
@@ -489,6 +522,45 @@ mod tests {
             .factor(&Linear, &tableau, (t, &y, h), &mut stats)
             .unwrap();
         assert_eq!((stats.jacobians, stats.factorizations), (1, 1));
+    }
+
+    /// The relaxation of FACCON left until needed changes neither the outcome nor the FACCON
+    /// carried to the next step: RADAU5's eager `faccon^0.8` gives the same, to the bit.
+    #[test]
+    fn a_late_relaxation_is_radau5s() {
+        let criterion = Criterion::Predicted {
+            tolerance: 0.03,
+            max_iterations: 7,
+        };
+        for f0 in [0.0, 1e-3, 0.2, 0.9999, 1.0, 3.0, 99.0] {
+            for inc1 in [1e-6, 0.01, 0.0375, 0.3, 5.0, f64::NAN] {
+                for inc2 in [1e-9, 0.002, 0.298, 4.9, f64::INFINITY] {
+                    // RADAU5's order of things, written out.
+                    let relaxed = f64::max(f0, f64::EPSILON).powf(0.8);
+                    let expected = if !inc1.is_finite() || relaxed * inc1 <= 0.03 {
+                        (relaxed, 1)
+                    } else if !inc2.is_finite() || inc2 / inc1 >= 0.99 {
+                        (relaxed, 2)
+                    } else {
+                        (inc2 / inc1 / (1.0 - inc2 / inc1), 2)
+                    };
+                    let mut faccon = f0;
+                    let mut convergence = Convergence::new(criterion, &mut faccon);
+                    let mut ended = None;
+                    for (k, inc) in [(1, inc1), (2, inc2)] {
+                        if convergence.judge(k, inc, true, &mut faccon).is_some()
+                            || convergence.settled(k, inc, &mut faccon).is_some()
+                        {
+                            ended = Some(k);
+                            break;
+                        }
+                    }
+                    let case = (f0, inc1, inc2);
+                    assert_eq!(faccon.to_bits(), expected.0.to_bits(), "{case:?}");
+                    assert_eq!(ended.unwrap_or(2).min(2), expected.1, "{case:?}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -267,6 +267,70 @@ impl Estimate {
     }
 }
 
+/// RADAU5's step quotient h/h_new after a step of error `err`: its standard controller,
+/// err^(1/4)/fac, and, after an accepted step that follows another, Gustafsson's predictive
+/// one, (h_acc/h)·(err²/err_acc)^(1/4)/SAFE, each clamped to [FACR, FACL] and the larger
+/// taken. Each costs a `powf` (some 125 instructions, a few per cent of a small system's
+/// step), taken only where the result needs it: which controller gives the larger quotient,
+/// and whether it surely keeps the step ([`Run::next_step`]), are read off their fourth
+/// powers, err/fac⁴ and (h_acc/h/SAFE)⁴·err²/err_acc, wherever those differ by more than
+/// any rounding of either side (a relative [`FOURTH_POWER_MARGIN`] against a few units of
+/// 10⁻¹⁶). What is computed is then what computing both gives, to the bit.
+struct Quotient {
+    err: f64,
+    fac: f64,
+    /// Gustafsson's h_acc/h and err²/err_acc, where his controller applies.
+    predictive: Option<(f64, f64)>,
+}
+
+/// The relative difference between fourth powers beyond which [`Quotient`] orders the
+/// quotients they stand for without computing them.
+const FOURTH_POWER_MARGIN: f64 = 1e-9;
+
+impl Quotient {
+    fn standard(&self) -> f64 {
+        FACR.max(FACL.min(self.err.powf(0.25) / self.fac))
+    }
+
+    /// The fourth power of the standard quotient before its clamps.
+    fn standard_fourth(&self) -> f64 {
+        self.err / self.fac.powi(4)
+    }
+
+    /// The quotient: the larger of the two controllers' (the standard one's alone without
+    /// Gustafsson's).
+    fn value(&self) -> f64 {
+        let Some((ratio, squared)) = self.predictive else {
+            return self.standard();
+        };
+        let predictive = || (ratio * squared.powf(0.25) / SAFE).clamp(FACR, FACL);
+        let (standard, gustafsson) = (self.standard_fourth(), (ratio / SAFE).powi(4) * squared);
+        // Both finite and normal numbers: their relative roundings are a few ulps.
+        let ordered = |a: f64, b: f64| a.is_finite() && b.is_finite() && a.min(b) > 1e-290;
+        if ordered(standard, gustafsson) {
+            // The clamps keep the order: the larger one before them is the larger after.
+            if standard > gustafsson * (1.0 + FOURTH_POWER_MARGIN) {
+                return self.standard();
+            }
+            if gustafsson > standard * (1.0 + FOURTH_POWER_MARGIN) {
+                return predictive();
+            }
+        }
+        self.standard().max(predictive())
+    }
+
+    /// Whether the quotient is surely above `q` (in (FACR, FACL)), whatever the rounding of
+    /// its `powf`s; `false` where that is not clear.
+    fn surely_above(&self, q: f64) -> bool {
+        let bound = q.powi(4) * (1.0 + FOURTH_POWER_MARGIN);
+        let above = |fourth: f64| fourth.is_finite() && fourth > bound;
+        above(self.standard_fourth())
+            || self
+                .predictive
+                .is_some_and(|(ratio, squared)| above((ratio / SAFE).powi(4) * squared))
+    }
+}
+
 /// One Radau5 integration.
 struct Run<'a, 't, O: Ode> {
     method: &'a Radau5,
@@ -453,13 +517,16 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             // RADAU5: a step that needed many iterations may not grow much.
             let nit = self.method.max_iterations as f64;
             let fac = SAFE.min(SAFE * (1.0 + 2.0 * nit) / (iterations as f64 + 2.0 * nit));
-            let mut quot = FACR.max(FACL.min(err.powf(0.25) / fac));
-            if err < 1.0 {
+            let quotient = Quotient {
+                err,
+                fac,
                 // Gustafsson's predictive controller, from the second accepted step on.
-                if let Some((h_acc, err_acc)) = self.accepted {
-                    let gus = (h_acc / h) * (err * err / err_acc).powf(0.25) / SAFE;
-                    quot = quot.max(gus.clamp(FACR, FACL));
-                }
+                predictive: match self.accepted {
+                    Some((h_acc, err_acc)) if err < 1.0 => Some((h_acc / h, err * err / err_acc)),
+                    _ => None,
+                },
+            };
+            if err < 1.0 {
                 self.accepted = Some((h, err.max(1e-2)));
                 self.failures.newton_in_a_row = 0;
                 self.failures.singular_in_a_row = 0;
@@ -469,7 +536,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                     Next::Continue => {}
                 }
                 let refresh = self.renew_jacobian(iterations);
-                last = self.next_step(h / quot, refresh);
+                last = self.next_step(&quotient, refresh);
                 self.jacobian.fresh = false;
                 if refresh {
                     self.evaluate_jacobian()?;
@@ -478,17 +545,32 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
                 self.stats.rejected += 1;
                 self.reject = true;
                 last = false;
-                self.h = if self.first { 0.1 * h } else { h / quot };
+                self.h = if self.first {
+                    0.1 * h
+                } else {
+                    h / quotient.value()
+                };
                 self.refresh_unless_fresh()?;
             }
         }
     }
 
-    /// Sets the step after an accepted one, RADAU5's proposal being `proposed`; whether it
-    /// is the last.
-    fn next_step(&mut self, proposed: f64, refresh: bool) -> bool {
+    /// Sets the step after an accepted one, RADAU5's proposal being h / `quotient`; whether
+    /// it is the last.
+    fn next_step(&mut self, quotient: &Quotient, refresh: bool) -> bool {
         let h = self.h;
-        let mut h_new = proposed.min(self.hmax);
+        // The step stays whatever the proposal when the Jacobian does, the quotient surely
+        // keeps h_new/h below QUOT2 (h_new ≤ h/quotient, its clamps only lower it) and a step
+        // of QUOT2·h would not reach the end: the branches below would keep it too.
+        if !refresh
+            && quotient.surely_above(1.0 / QUOT2)
+            && self.t + h * QUOT2 * (1.0 + FOURTH_POWER_MARGIN) < self.t_end
+        {
+            self.reject = false;
+            self.first = false;
+            return false;
+        }
+        let mut h_new = (h / quotient.value()).min(self.hmax);
         if self.reject {
             h_new = h_new.min(h);
         }
@@ -788,6 +870,48 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The quotient with its `powf`s taken only where needed is RADAU5's to the bit, and a
+    /// quotient said to be surely above a bound is.
+    #[test]
+    fn the_step_quotient_is_radau5s() {
+        let eager = |q: &Quotient| {
+            let mut quot = FACR.max(FACL.min(q.err.powf(0.25) / q.fac));
+            if let Some((ratio, squared)) = q.predictive {
+                quot = quot.max((ratio * squared.powf(0.25) / SAFE).clamp(FACR, FACL));
+            }
+            quot
+        };
+        let mut checked = 0;
+        for err in [1e-10f64, 3.7e-6, 0.004, 0.2, 0.5, 0.97, 1.0, 1.3, 40.0, 1e6] {
+            for fac in [0.9f64, 0.9 * 15.0 / 17.0, 0.9 * 15.0 / 22.0] {
+                // Ratios that put Gustafsson's quotient near the standard one, to a few ulps.
+                let tie = SAFE * (err / fac.powi(4) / (err * err / 0.01)).powf(0.25);
+                let mut ratios = vec![0.01, 0.3, 1.0, 2.5, 8.0, tie];
+                for k in 1..4 {
+                    ratios.push(tie * (1.0 + k as f64 * f64::EPSILON));
+                    ratios.push(tie * (1.0 - k as f64 * f64::EPSILON));
+                }
+                for ratio in ratios {
+                    for predictive in [None, Some((ratio, err * err / 0.01))] {
+                        let q = Quotient {
+                            err,
+                            fac,
+                            predictive,
+                        };
+                        assert_eq!(q.value().to_bits(), eager(&q).to_bits(), "{err} {ratio}");
+                        for bound in [1.0 / QUOT2, 1.0, 0.3] {
+                            if q.surely_above(bound) {
+                                assert!(eager(&q) > bound, "{err} {fac} {ratio} {bound}");
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 100, "{checked}");
+    }
 
     #[test]
     fn the_estimate_constants_are_radau5s() {

@@ -14,7 +14,7 @@
 use nalgebra::{Complex, DMatrix, Matrix3};
 
 use super::collocation::Tableau;
-use super::dense::SquareLu;
+use super::dense::{SQUARE_FLOOR, SQUARE_MARGIN, SquareLu};
 use super::newton::{Convergence, Criterion, Outcome, stage_slopes};
 use super::singular::{SUSPICIOUS_PIVOT, growing_mode, method_eigenvalues, relative_pivot};
 use super::{Ode, Stats};
@@ -118,6 +118,9 @@ pub(crate) struct TransformedStages<V: Vector> {
     complex_rhs: Vec<Complex<f64>>,
     /// RADAU5's FACCON, carried from step to step.
     faccon: f64,
+    /// The eigenvalues of the tableau's A, for the singularity test: computed (a Schur
+    /// decomposition) at the first suspicious pivot, then kept.
+    method_eigenvalues: Option<Vec<Complex<f64>>>,
 }
 
 impl<V: Vector> TransformedStages<V> {
@@ -132,6 +135,7 @@ impl<V: Vector> TransformedStages<V> {
             real_rhs: V::zeros(),
             complex_rhs: vec![Complex::new(0.0, 0.0); n],
             faccon: 1.0,
+            method_eigenvalues: None,
         }
     }
 
@@ -164,7 +168,10 @@ impl<V: Vector> TransformedStages<V> {
         let suspicious = relative_pivot(real.smallest, real.largest) <= SUSPICIOUS_PIVOT
             || relative_pivot(complex.smallest, complex.largest) <= SUSPICIOUS_PIVOT;
         if suspicious {
-            if let Some(mode) = growing_mode(jacobian, h, &method_eigenvalues(&tableau.a)) {
+            let mus = self
+                .method_eigenvalues
+                .get_or_insert_with(|| method_eigenvalues(&tableau.a));
+            if let Some(mode) = growing_mode(jacobian, h, mus) {
                 return Some(mode);
             }
         }
@@ -206,7 +213,7 @@ impl<V: Vector> TransformedStages<V> {
                 w[2].as_mut()[p] += complex[p].im;
             }
             *z = transform(&tr.t, &w);
-            if let Some(outcome) = convergence.settled(k, increment, self.faccon) {
+            if let Some(outcome) = convergence.settled(k, increment, &mut self.faccon) {
                 return Ok(outcome);
             }
         }
@@ -234,13 +241,14 @@ impl<V: Vector> TransformedStages<V> {
     /// RADAU5's norm of a correction: √(mean((ΔWᵢ / scale)²)) over the three stages and the
     /// controlled components.
     fn scaled_norm(&self, scale: &V) -> f64 {
-        let (real, complex, scale) = (self.real_rhs.as_ref(), &self.complex_rhs, scale.as_ref());
         let len = self.controlled;
-        let sum: f64 = (0..len)
-            .map(|p| {
-                let s = scale[p];
-                (real[p] / s).powi(2) + (complex[p].re / s).powi(2) + (complex[p].im / s).powi(2)
-            })
+        // Slices of the controlled length zipped: no index checks in the loop.
+        let (real, complex) = (&self.real_rhs.as_ref()[..len], &self.complex_rhs[..len]);
+        let sum: f64 = real
+            .iter()
+            .zip(complex)
+            .zip(&scale.as_ref()[..len])
+            .map(|((r, c), s)| (r / s).powi(2) + (c.re / s).powi(2) + (c.im / s).powi(2))
             .sum();
         (sum / (3 * len) as f64).sqrt()
     }
@@ -256,7 +264,8 @@ struct Pivots {
 /// read column by column (its storage order). Off the diagonal both hold −J, written as
 /// `0.0 - j` and `zero - j` (not −j: the sign of a zero, as the matrices were always formed),
 /// the complex entries with a zero imaginary part, whose modulus is |j| exactly: only the n
-/// diagonal entries of the complex matrix need a modulus of their own for the largest entry.
+/// diagonal entries of the complex matrix need a modulus of their own for the largest entry,
+/// and of those only the ones whose squared modulus is within 10⁻¹² of the largest one's.
 fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
     real: &mut R,
     complex: &mut C,
@@ -265,7 +274,7 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
     s: Complex<f64>,
 ) -> (Pivots, Pivots) {
     let zero = Complex::new(0.0, 0.0);
-    let (mut off_diagonal, mut real_diagonal, mut complex_diagonal) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
     let n = jacobian.nrows();
     let js = jacobian.as_slice();
     // Column by column (the storage order of both), as slices: no index checks. The complex
@@ -298,9 +307,20 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
                 *v = zero - j;
             }
             column[c] = s - js[c];
-            complex_diagonal = larger(complex_diagonal, column[c].norm());
+            diagonal_square = larger(diagonal_square, column[c].norm_sqr());
         }
     });
+    // The largest modulus of the complex diagonal, a `hypot` taken only of the entries that
+    // can be the largest (as `dense::smallest_modulus` takes the smallest pivot's).
+    let diagonal = || (0..n).map(|c| s - jacobian[(c, c)]);
+    let complex_diagonal = if diagonal_square.is_finite() && diagonal_square > SQUARE_FLOOR {
+        let bound = diagonal_square * (1.0 - SQUARE_MARGIN);
+        diagonal()
+            .filter(|d| d.norm_sqr() >= bound)
+            .fold(0.0, |m, d| larger(m, d.norm()))
+    } else {
+        diagonal().fold(0.0, |m, d| larger(m, d.norm()))
+    };
     (
         Pivots {
             smallest: real_smallest,
