@@ -633,8 +633,9 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// on the test set by differences (`benches/work_precision`, `once PROBLEM "hamel Radau5
     /// (differences)"`, against scipy's `Radau` by differences at equal error, rtol
     /// 10⁻³…10⁻¹⁰): the largest ratio of evaluations falls on ROBER from 1.32 to 1.17, stays
-    /// 1.40 on HIRES (one point), and 1.06–1.09 on VDPOL and OREGO; the factorizations fall by
-    /// 10–40 %; Robertson's y₁ at 4·10¹⁰ comes out 1.2·10⁻⁵ off (was 1.5·10⁻⁵) in 1916
+    /// 1.40 on HIRES (one point; 0.96 since the first Jacobian's columns lost in rounding are
+    /// differenced again, `differences.rs`), and 1.06–1.09 on VDPOL and OREGO; the
+    /// factorizations fall by 10–40 %; Robertson's y₁ at 4·10¹⁰ comes out 1.2·10⁻⁵ off (was 1.5·10⁻⁵) in 1916
     /// evaluations (was 2105; 2.2·10⁻⁵ in 1888 since a failed iteration on a fresh Jacobian
     /// halves the step). With the exact Jacobian RADAU5's rule stays: there a Jacobian
     /// costs no evaluation, and scipy's rule took ROBER at 10⁻¹⁰ from 0.60 to 0.99 of scipy's
