@@ -257,22 +257,35 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     {
         return None;
     }
+    if !plans.products.compiled(false) {
+        return None;
+    }
     let mut derivatives = M::array([0.0f64; N]);
+    // `jac_f`'s outputs one after the other in a scratch buffer, then their products.
+    let mut jacobian = M::scratch();
+    let jacobian = jacobian.as_mut();
+    let base = jacobian.as_mut_ptr().cast::<f64>();
+    // SAFETY: the buffer is longer than the outputs (`Plans::new` made no products
+    // otherwise, which `compiled` checked).
+    let to = unsafe { plans.stacked(base) };
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        M::compiled_jacobian(Which::Rhs, prepared, &z, false, |j| {
-            plans
-                .products
-                .add(false, j, directions.as_ref(), derivatives.as_mut())
-        })
+        // SAFETY: each output's slots lie within its part of the buffer.
+        unsafe { M::compiled_jacobian(Which::Rhs, prepared, &z, false, &to) }
     });
     match written? {
         Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
-        // The arrays too short for the products (they are not): the general path.
         Ok(false) => None,
-        Ok(true) => {
-            transpose_from(derivatives.as_ref(), out);
-            Some(Ok(()))
+        // SAFETY: the compiled code filled every output by x, u and t, all the terms read
+        // without p.
+        Ok(true) => unsafe {
+            plans
+                .products
+                .add(false, jacobian, directions.as_ref(), derivatives.as_mut())
         }
+        .then(|| {
+            transpose_from(derivatives.as_ref(), out);
+            Ok(())
+        }),
     }
 }
 
@@ -340,7 +353,8 @@ pub unsafe fn adjoint<M: Model>(
 
 /// `jac_f` (the blocks by x, u, t and, when wanted, by p) or `jac_adj1_f` (the weighted
 /// second derivatives and the transposed Jacobian blocks) of the right-hand side, when every
-/// wanted block is compiled code's; `None` (having written nothing) to take the general path.
+/// wanted block is filled by the compiled code, which writes each entry straight into its
+/// place; `None` (having written nothing) to take the general path.
 ///
 /// # Safety
 /// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
@@ -365,34 +379,31 @@ pub unsafe fn sparse<M: Model>(
     if second && !unsafe { read_weights::<M>(arg, weights) } {
         return None;
     }
-    let placement = if second {
-        &plans.second_placement
+    let direct = if second {
+        &plans.second
     } else {
-        &plans.jacobian_placement
+        &plans.jacobian
     };
-    // SAFETY: the caller's contract, which is `Placement::stages`'s.
-    let parameters = unsafe { placement.stages(res) }?;
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let given = |k: usize| unsafe { *res.add(k) };
+    let parameters = direct.stages(|k| !given(k).is_null())?;
+    let mut scratch = M::scratch();
+    let to = direct.destinations(given, scratch.as_mut());
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        // SAFETY (both writes): the caller's contract, and every wanted output is compiled
-        // (`stages` said so): `Placement::write`'s contract.
-        if second {
-            M::compiled_second(
-                Which::Rhs,
-                prepared,
-                &z,
-                weights,
-                parameters,
-                |h, j| unsafe { placement.write(res, h, j) },
-            )
-        } else {
-            M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |j| unsafe {
-                placement.write(res, &[], j)
-            })
+        // SAFETY: every destination is a wanted output the compiled code fills (its
+        // slots are its nonzeros: `Plans::new` checked the layout against its pattern) or
+        // the scratch buffer, which holds any output.
+        unsafe {
+            if second {
+                M::compiled_second(Which::Rhs, prepared, &z, weights, parameters, &to)
+            } else {
+                M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, &to)
+            }
         }
     });
     match written? {
         Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
-        // The compiled arrays too short for the entries (they are not): the general path.
+        // A stage asked for not compiled (the plans say it is): the general path.
         Ok(false) => None,
         Ok(true) => Some(Ok(())),
     }
