@@ -319,10 +319,17 @@ macro_rules! __model_compiled {
             let Ok(p) = <&[f64; <$marker>::NP]>::try_from(p) else {
                 return then(&prepare(&[0.0; <$marker>::NP]));
             };
-            CACHE.with(|cache| match cache.try_borrow_mut() {
+            // This thread's cache by its address: `LocalKey::with` around the whole call
+            // was not inlined (a call with a frame of its own and the result copied, on
+            // every call of every function); around the address it is.
+            let cache = CACHE.with(|cache| -> *const ::core::cell::RefCell<Cache> { cache });
+            // SAFETY: this thread's value, which lives as long as the thread, on which this
+            // call runs; shared only as the `RefCell` (whose borrow is checked below).
+            let cache = unsafe { &*cache };
+            match cache.try_borrow_mut() {
                 ::core::result::Result::Ok(mut cache) => then(cache.get(p, prepare)),
                 ::core::result::Result::Err(_) => then(&prepare(p)),
-            })
+            }
         }
 
         // The compiled code of each family, called by `hamel_export::units` only (see there
