@@ -15,6 +15,7 @@ use crate::abi::{Failure, all_finite};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
 use crate::primal::Which;
+use core::mem::MaybeUninit;
 
 /// The point (x, u, p and t) into `z`, read with the model's sizes; `false` if a block is
 /// null or a value not finite (the general path takes the call: zeros, or the refusal).
@@ -247,20 +248,27 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     if !unsafe { fixed_parameters::<M>(arg, N) } {
         return None;
     }
-    let mut directions = M::array([0.0f64; N]);
+    // Only the components the products read, and the derivatives of ẋ, set to zeros (not
+    // the arrays' whole length: that was a sixth of `fwd8_f`'s instructions).
+    let mut directions = M::array(MaybeUninit::<[f64; N]>::uninit());
+    let directions = zeroed(
+        directions.as_mut(),
+        plans.products.columns(false).max(s.p()),
+    );
     // The seeds in x and in u, one call each (not a loop over the two blocks: at the exported
     // crate's opt-level 2 the loop is not unrolled, and the blocks' lengths are then not
     // constants).
     // SAFETY (both): the caller's contract.
-    if !unsafe { read_seeds::<M, N>(arg, 0, 0, s.nx, directions.as_mut()) }
-        || !unsafe { read_seeds::<M, N>(arg, 1, s.nx, s.nu, directions.as_mut()) }
+    if !unsafe { read_seeds::<M, N>(arg, 0, 0, s.nx, directions) }
+        || !unsafe { read_seeds::<M, N>(arg, 1, s.nx, s.nu, directions) }
     {
         return None;
     }
     if !plans.products.compiled(false) {
         return None;
     }
-    let mut derivatives = M::array([0.0f64; N]);
+    let mut derivatives = M::array(MaybeUninit::<[f64; N]>::uninit());
+    let derivatives = zeroed(derivatives.as_mut(), s.nx);
     // `jac_f`'s outputs one after the other in a scratch buffer, then their products.
     let mut jacobian = M::scratch();
     let jacobian = jacobian.as_mut();
@@ -277,16 +285,25 @@ pub unsafe fn forwards<M: Model, const N: usize>(
         Ok(false) => None,
         // SAFETY: the compiled code filled every output by x, u and t, all the terms read
         // without p.
-        Ok(true) => unsafe {
-            plans
-                .products
-                .add(false, jacobian, directions.as_ref(), derivatives.as_mut())
+        Ok(true) => {
+            unsafe { plans.products.add(false, jacobian, directions, derivatives) }.then(|| {
+                transpose_from(derivatives, out);
+                Ok(())
+            })
         }
-        .then(|| {
-            transpose_from(derivatives.as_ref(), out);
-            Ok(())
-        }),
     }
+}
+
+/// The first `len` of `rows` (at most all), set to zeros.
+#[inline(always)]
+fn zeroed<const N: usize>(rows: &mut [MaybeUninit<[f64; N]>], len: usize) -> &mut [[f64; N]] {
+    let len = len.min(rows.len());
+    let rows = &mut rows[..len];
+    for row in rows.iter_mut() {
+        row.write([0.0; N]);
+    }
+    // SAFETY: every one of these rows was written just above.
+    unsafe { &mut *(core::ptr::from_mut(rows) as *mut [[f64; N]]) }
 }
 
 /// `adj1_f` of the right-hand side: (∂ẋ/∂x)ᵀλ, (∂ẋ/∂u)ᵀλ, (∂ẋ/∂p)ᵀλ (and ∂ẋ/∂t·λ) from the

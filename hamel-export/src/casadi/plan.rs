@@ -156,6 +156,9 @@ pub struct Direct {
     agree: bool,
     /// The outputs of the stage by p.
     pub by_parameters: Vec<usize>,
+    /// The outputs the compiled code fills that have nonzeros (the only ones a call gives
+    /// their array: the others get nothing).
+    filled: Vec<usize>,
 }
 
 impl Direct {
@@ -208,6 +211,9 @@ impl Direct {
             .collect();
         Direct {
             agree,
+            filled: (0..outputs.len().min(DISCARD))
+                .filter(|&k| outputs[k].is_some() && nnz[k] > 0)
+                .collect(),
             all: outputs.iter().all(Option::is_some),
             by_parameters: (0..outputs.len())
                 .filter(|&k| outputs[k] == Some(true) && nnz[k] > 0)
@@ -251,10 +257,12 @@ impl Direct {
     ) -> Destinations {
         let scratch = scratch.as_mut_ptr().cast::<f64>();
         let mut to = [scratch; DISCARD + 1];
-        for (k, stage) in self.outputs.iter().enumerate().take(DISCARD) {
+        for &k in &self.filled {
             let out = given(k);
-            if stage.is_some() && !out.is_null() {
-                to[k] = out;
+            if !out.is_null() {
+                if let Some(to) = to.get_mut(k) {
+                    *to = out;
+                }
             }
         }
         to
@@ -305,8 +313,9 @@ pub struct Products {
     /// no products of those).
     compiled: [bool; 2],
     /// The lengths the terms need: of the Jacobian's array, the derivatives and the
-    /// directions (one more than the largest entry, row and column).
-    needs: [usize; 3],
+    /// directions (one more than the largest entry, row and column); those by x, u and t,
+    /// then all of them.
+    needs: [[usize; 3]; 2],
 }
 
 impl Products {
@@ -339,9 +348,16 @@ impl Products {
         let mut all = terms(false);
         let states = all.len();
         all.extend(terms(true));
-        let most =
-            |pick: fn(&Term) -> u32| all.iter().map(|t| pick(t) as usize + 1).max().unwrap_or(0);
-        let needs = [most(|t| t.entry), most(|t| t.row), most(|t| t.column)];
+        let needs = [&all[..states], &all[..]].map(|terms| {
+            let most = |pick: fn(&Term) -> u32| {
+                terms
+                    .iter()
+                    .map(|t| pick(t) as usize + 1)
+                    .max()
+                    .unwrap_or(0)
+            };
+            [most(|t| t.entry), most(|t| t.row), most(|t| t.column)]
+        });
         let compiled = [false, true].map(|parameters| {
             direct.agree
                 && function.outputs.iter().enumerate().all(|(k, (port, c))| {
@@ -356,6 +372,13 @@ impl Products {
             compiled,
             needs,
         }
+    }
+
+    /// How many components of the directions the products by x, u and t (and by p, if
+    /// `parameters`) read: those a call must give.
+    #[inline(always)]
+    pub fn columns(&self, parameters: bool) -> usize {
+        self.needs[usize::from(parameters)][2]
     }
 
     /// Whether the products by x, u and t (and by p, if `parameters`) are compiled: else the
@@ -381,7 +404,7 @@ impl Products {
         directions: &[[f64; N]],
         derivatives: &mut [[f64; N]],
     ) -> bool {
-        let [entries, rows, columns] = self.needs;
+        let [entries, rows, columns] = self.needs[usize::from(parameters)];
         if jacobian.len() < entries
             || derivatives.len() < rows
             || directions.len() < columns
