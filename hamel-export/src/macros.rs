@@ -296,7 +296,9 @@ macro_rules! __model_compiled {
             })
         }
 
-        #[inline]
+        // Always inlined: a few instructions (the cache's check; the new set's values are
+        // out of line) that every call of every function makes.
+        #[inline(always)]
         fn with_prepared<R>(
             p: &[f64],
             then: impl FnOnce(&[f64; <$system>::__HAMEL_EXPORT_PREPARED]) -> R,

@@ -284,7 +284,8 @@ impl<M: Model> Run<'_, M> {
                 core::ptr::null_mut()
             }
         };
-        let to = direct.destinations(given, scratch.as_mut());
+        let mut to = [core::ptr::null_mut(); crate::layout::DISCARD + 1];
+        direct.destinations(&mut to, given, scratch.as_mut());
         match call(&to, parameters) {
             Some(Ok(true)) => {
                 for (d, &w) in done.iter_mut().zip(&wanted) {

@@ -390,12 +390,19 @@ pub unsafe fn sparse<M: Model>(
         return None;
     }
     let second = kind == Kind::AdjointJacobian;
-    let mut weights = M::array(0.0f64);
-    let weights = &mut weights.as_mut()[..s.nx];
-    // SAFETY: the caller's contract.
-    if second && !unsafe { read_weights::<M>(arg, weights) } {
-        return None;
-    }
+    // The weights of `jac_adj1_f` only (none for `jac_f`).
+    let mut array;
+    let weights: &[f64] = if second {
+        array = M::array(0.0f64);
+        let weights = &mut array.as_mut()[..s.nx];
+        // SAFETY: the caller's contract.
+        if !unsafe { read_weights::<M>(arg, weights) } {
+            return None;
+        }
+        weights
+    } else {
+        &[]
+    };
     let direct = if second {
         &plans.second
     } else {
@@ -405,7 +412,8 @@ pub unsafe fn sparse<M: Model>(
     let given = |k: usize| unsafe { *res.add(k) };
     let parameters = direct.stages(|k| !given(k).is_null())?;
     let mut scratch = M::scratch();
-    let to = direct.destinations(given, scratch.as_mut());
+    let mut to = [core::ptr::null_mut(); crate::layout::DISCARD + 1];
+    direct.destinations(&mut to, given, scratch.as_mut());
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         // SAFETY: every destination is a wanted output the compiled code fills (its
         // slots are its nonzeros: `Plans::new` checked the layout against its pattern) or
