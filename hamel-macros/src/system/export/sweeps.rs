@@ -159,12 +159,13 @@ pub fn derivatives(
                     operations(g, &all.iter().map(|e| e.2).collect::<Vec<_>>())
                 })
             };
-            let chosen = match (added(&rows), added(&only)) {
+            // Only where the first way fits its budget: the stages compiled stay those the
+            // budgets chose, the code only smaller.
+            let rows = rows.filter(|e| within(g, e, jacobian_p, budget));
+            match (added(&rows), added(&only)) {
                 (Some(a), Some(b)) if b < a => only,
-                (None, Some(_)) => only,
                 _ => rows,
-            };
-            chosen.filter(|e| within(g, e, jacobian_p, budget))
+            }
         }
         _ => None,
     };
