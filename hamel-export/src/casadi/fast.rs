@@ -11,7 +11,7 @@
 
 use super::eval::{transpose_from, transpose_into};
 use super::{Family, Kind};
-use crate::abi::{Failure, all_finite};
+use crate::abi::{Failure, all_finite, all_zero};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
 use crate::primal::Which;
@@ -101,9 +101,7 @@ unsafe fn fixed_parameters<M: Model>(arg: *const *const f64, n: usize) -> bool {
         let block = unsafe { seed::<M>(arg, k) };
         block.is_null()
             // SAFETY: a non-null seed points to its block's values, dense.
-            || unsafe { core::slice::from_raw_parts(block, len) }
-                .iter()
-                .all(|&v| v == 0.0)
+            || all_zero(unsafe { core::slice::from_raw_parts(block, len) })
     };
     zero(2, Sizes::of::<M>().np * n) && (!M::TIME_DEPENDENT || zero(3, n))
 }
