@@ -34,11 +34,20 @@ impl<const NP: usize, const K: usize> Cache<NP, K> {
                 .zip(parameters)
                 .all(|(a, b)| a.to_bits() == b.to_bits());
         if !same {
-            self.prepared = prepare(parameters);
-            self.parameters = *parameters;
-            self.valid = true;
+            self.refresh(parameters, prepare);
         }
         &self.prepared
+    }
+
+    /// The values of a new parameter set: out of line and cold, so that the check above
+    /// (every call of every function) is a few instructions in its caller, without the
+    /// stack frame of the prepared values' copy.
+    #[cold]
+    #[inline(never)]
+    fn refresh(&mut self, parameters: &[f64; NP], prepare: impl FnOnce(&[f64; NP]) -> [f64; K]) {
+        self.prepared = prepare(parameters);
+        self.parameters = *parameters;
+        self.valid = true;
     }
 }
 

@@ -35,6 +35,7 @@ pub mod casadi;
 pub mod fmi2;
 pub mod header;
 pub mod hyper;
+pub mod layout;
 mod macros;
 pub mod model;
 pub mod passes;

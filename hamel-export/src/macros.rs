@@ -65,6 +65,34 @@ macro_rules! model {
             }
         }
 
+        $crate::__model_layout!($marker => $system);
+
+        impl $marker {
+            /// x and u from z as they are (no copies), the parameters the generated code
+            /// reads, and t: the compiled code's arguments (used with the feature `compiled`).
+            #[allow(dead_code)]
+            #[inline(always)]
+            fn split_f64(
+                z: &[f64; <$marker>::LEN],
+            ) -> (
+                &[f64; <$marker>::NX],
+                &[f64; <$marker>::NU],
+                [f64; <$system>::__HAMEL_PARAMETRIC_NAMES.len()],
+                f64,
+            ) {
+                // The lengths are constants within z's (`LEN` is at least z's): never the
+                // zeros.
+                let x = z.first_chunk().unwrap_or(&[0.0; <$marker>::NX]);
+                let u = z[<$marker>::NX..]
+                    .first_chunk()
+                    .unwrap_or(&[0.0; <$marker>::NU]);
+                let p = ::core::array::from_fn(|i| {
+                    z[<$marker>::NX + <$marker>::NU + <$marker>::READ[i]]
+                });
+                (x, u, p, z[<$marker>::Z - 1])
+            }
+        }
+
         impl $crate::Model for $marker {
             type System = $system;
             type Array<S: ::core::marker::Copy> = [S; <$marker>::LEN];
@@ -153,7 +181,13 @@ macro_rules! __by_family {
 macro_rules! __model_compiled {
     ($marker:ident => $system:ty) => {
         type Prepared = ();
+        type Scratch = [::core::mem::MaybeUninit<f64>; 0];
         const LIE: usize = 0;
+
+        #[inline(always)]
+        fn scratch() -> [::core::mem::MaybeUninit<f64>; 0] {
+            []
+        }
 
         fn lie<S: $crate::__private::Scalar>(
             _z: &[S; <$marker>::LEN],
@@ -180,13 +214,13 @@ macro_rules! __model_compiled {
             ::core::option::Option::None
         }
 
-        fn compiled_jacobian<R>(
+        unsafe fn compiled_jacobian(
             _which: $crate::Which,
             _prepared: &(),
             _z: &[f64; <$marker>::LEN],
             _parameters: bool,
-            _then: impl FnOnce(&[f64]) -> R,
-        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            _to: &$crate::layout::Destinations,
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
             ::core::option::Option::None
         }
 
@@ -212,14 +246,14 @@ macro_rules! __model_compiled {
             ::core::option::Option::None
         }
 
-        fn compiled_second<R>(
+        unsafe fn compiled_second(
             _which: $crate::Which,
             _prepared: &(),
             _z: &[f64; <$marker>::LEN],
             _weights: &[f64],
             _parameters: bool,
-            _then: impl FnOnce(&[f64], &[f64]) -> R,
-        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
+            _to: &$crate::layout::Destinations,
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
             ::core::option::Option::None
         }
     };
@@ -234,7 +268,13 @@ macro_rules! __model_compiled {
 macro_rules! __model_compiled {
     ($marker:ident => $system:ty) => {
         type Prepared = [f64; <$system>::__HAMEL_EXPORT_PREPARED];
+        type Scratch = [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH];
         const LIE: usize = <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len();
+
+        #[inline(always)]
+        fn scratch() -> [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH] {
+            [::core::mem::MaybeUninit::uninit(); <$marker>::SCRATCH]
+        }
 
         #[inline]
         fn lie<S: $crate::__private::Scalar>(
@@ -250,13 +290,15 @@ macro_rules! __model_compiled {
 
         fn tables(which: $crate::Which) -> ::core::option::Option<$crate::model::Tables> {
             ::core::option::Option::Some(match which {
-                $crate::Which::Rhs => $crate::__tables!($system, RHS),
-                $crate::Which::Outputs => $crate::__tables!($system, OUTPUTS),
-                $crate::Which::Lie => $crate::__tables!($system, LIE),
+                $crate::Which::Rhs => $crate::__tables!($marker, $system, RHS),
+                $crate::Which::Outputs => $crate::__tables!($marker, $system, OUTPUTS),
+                $crate::Which::Lie => $crate::__tables!($marker, $system, LIE),
             })
         }
 
-        #[inline]
+        // Always inlined: a few instructions (the cache's check; the new set's values are
+        // out of line) that every call of every function makes.
+        #[inline(always)]
         fn with_prepared<R>(
             p: &[f64],
             then: impl FnOnce(&[f64; <$system>::__HAMEL_EXPORT_PREPARED]) -> R,
@@ -267,18 +309,29 @@ macro_rules! __model_compiled {
                 static CACHE: ::core::cell::RefCell<Cache> =
                     const { ::core::cell::RefCell::new(Cache::EMPTY) };
             }
-            let prepare = |p: &[f64; <$marker>::NP]| {
+            // Out of line and cold: inlined, its code (hundreds of instructions) made the
+            // cache's check a call with a large stack frame on every call of every function.
+            #[cold]
+            #[inline(never)]
+            fn prepare(p: &[f64; <$marker>::NP]) -> [f64; <$system>::__HAMEL_EXPORT_PREPARED] {
                 let read: [f64; <$system>::__HAMEL_PARAMETRIC_NAMES.len()] =
                     ::core::array::from_fn(|i| p[<$marker>::READ[i]]);
                 <$system>::__hamel_export_prepare::<()>(&read)
-            };
+            }
             let Ok(p) = <&[f64; <$marker>::NP]>::try_from(p) else {
                 return then(&prepare(&[0.0; <$marker>::NP]));
             };
-            CACHE.with(|cache| match cache.try_borrow_mut() {
+            // This thread's cache by its address: `LocalKey::with` around the whole call
+            // was not inlined (a call with a frame of its own and the result copied, on
+            // every call of every function); around the address it is.
+            let cache = CACHE.with(|cache| -> *const ::core::cell::RefCell<Cache> { cache });
+            // SAFETY: this thread's value, which lives as long as the thread, on which this
+            // call runs; shared only as the `RefCell` (whose borrow is checked below).
+            let cache = unsafe { &*cache };
+            match cache.try_borrow_mut() {
                 ::core::result::Result::Ok(mut cache) => then(cache.get(p, prepare)),
                 ::core::result::Result::Err(_) => then(&prepare(p)),
-            })
+            }
         }
 
         // The compiled code of each family, called by `hamel_export::units` only (see there
@@ -289,8 +342,8 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
             ::core::option::Option::Some($crate::__by_family!(
                 W,
                 $system,
@@ -304,32 +357,35 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
-        fn jacobian_of<const W: u8>(
+        unsafe fn jacobian_of<const W: u8>(
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
             parameters: bool,
-            out: &mut [f64],
+            to: &$crate::layout::Destinations,
         ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some($crate::__by_family!(
-                W,
-                $system,
-                [
-                    __hamel_export_rhs_jacobian,
-                    __hamel_export_outputs_jacobian,
-                    __hamel_export_lie_jacobian
-                ],
-                (
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    parameters,
-                    $crate::__private::array_mut(out)?,
-                )
-            ))
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
+            // Each entry straight into its output: `k` and the slot are constants once the
+            // compiled code is inlined here.
+            macro_rules! run {
+                ($f:ident, $slots:ident) => {{
+                    let put = &mut |k: usize, v: f64| {
+                        let (output, slot) = <$marker>::$slots[k];
+                        // SAFETY: `to[output]` has room for `slot` (the caller's contract).
+                        unsafe { *to[output].add(slot) = v };
+                    };
+                    ::core::option::Option::Some(<$system>::$f::<(), _>(
+                        prepared, p, t, x, u, parameters, put,
+                    ))
+                }};
+            }
+            match W {
+                $crate::units::RHS => run!(__hamel_export_rhs_jacobian, RHS_JACOBIAN),
+                $crate::units::OUTPUTS => {
+                    run!(__hamel_export_outputs_jacobian, OUTPUTS_JACOBIAN)
+                }
+                _ => run!(__hamel_export_lie_jacobian, LIE_JACOBIAN),
+            }
         }
 
         #[inline]
@@ -340,8 +396,8 @@ macro_rules! __model_compiled {
             parameters: bool,
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
             ::core::option::Option::Some($crate::__by_family!(
                 W,
                 $system,
@@ -371,8 +427,8 @@ macro_rules! __model_compiled {
             parameters: bool,
             out: &mut [f64],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
             ::core::option::Option::Some($crate::__by_family!(
                 W,
                 $system,
@@ -395,36 +451,57 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
-        fn second_of<const W: u8>(
+        unsafe fn second_of<const W: u8>(
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            second: &mut [f64],
-            jacobian: &mut [f64],
+            to: &$crate::layout::Destinations,
         ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
-            let (x, u, p, t) = <$marker>::split(z);
-            let (x, u, p) = (&x, &u, &p);
-            ::core::option::Option::Some($crate::__by_family!(
-                W,
-                $system,
-                [
-                    __hamel_export_rhs_second,
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
+            // The second derivatives' entries (two places each off the diagonal), then the
+            // Jacobian's (its transposed blocks), each straight into its output.
+            macro_rules! run {
+                ($f:ident, $second:ident, $transposed:ident) => {{
+                    let put = &mut |k: usize, v: f64| {
+                        if k < <$marker>::$second.len() {
+                            let [(o, s), (r, t)] = <$marker>::$second[k];
+                            // SAFETY: `to[o]` and `to[r]` have room for `s` and `t` (the
+                            // caller's contract).
+                            unsafe {
+                                *to[o].add(s) = v;
+                                *to[r].add(t) = v;
+                            }
+                        } else {
+                            let (o, s) = <$marker>::$transposed[k - <$marker>::$second.len()];
+                            // SAFETY: as above.
+                            unsafe { *to[o].add(s) = v };
+                        }
+                    };
+                    ::core::option::Option::Some(<$system>::$f::<(), _>(
+                        prepared,
+                        p,
+                        t,
+                        x,
+                        u,
+                        $crate::__private::array(weights)?,
+                        parameters,
+                        put,
+                    ))
+                }};
+            }
+            match W {
+                $crate::units::RHS => {
+                    run!(__hamel_export_rhs_second, RHS_SECOND, RHS_TRANSPOSED)
+                }
+                $crate::units::OUTPUTS => run!(
                     __hamel_export_outputs_second,
-                    __hamel_export_lie_second
-                ],
-                (
-                    prepared,
-                    p,
-                    t,
-                    x,
-                    u,
-                    $crate::__private::array(weights)?,
-                    parameters,
-                    $crate::__private::array_mut(second)?,
-                    $crate::__private::array_mut(jacobian)?,
-                )
-            ))
+                    OUTPUTS_SECOND,
+                    OUTPUTS_TRANSPOSED
+                ),
+                _ => run!(__hamel_export_lie_second, LIE_SECOND, LIE_TRANSPOSED),
+            }
         }
 
         #[inline]
@@ -443,36 +520,21 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
-        fn compiled_jacobian<R>(
+        unsafe fn compiled_jacobian(
             which: $crate::Which,
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
             parameters: bool,
-            then: impl FnOnce(&[f64]) -> R,
-        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
-            macro_rules! run {
-                ($w:ident, $table:ident) => {{
-                    let mut values = [0.0f64; <$system>::$table.len()];
-                    match $crate::units::jacobian::call::<Self, { $crate::units::$w }>(
-                        prepared,
-                        z,
-                        parameters,
-                        &mut values,
-                    )? {
-                        ::core::result::Result::Ok(true) => {
-                            ::core::option::Option::Some(::core::result::Result::Ok(then(&values)))
-                        }
-                        ::core::result::Result::Ok(false) => ::core::option::Option::None,
-                        ::core::result::Result::Err(e) => {
-                            ::core::option::Option::Some(::core::result::Result::Err(e))
-                        }
-                    }
-                }};
-            }
-            match which {
-                $crate::Which::Rhs => run!(RHS, __HAMEL_EXPORT_RHS_JACOBIAN),
-                $crate::Which::Outputs => run!(OUTPUTS, __HAMEL_EXPORT_OUTPUTS_JACOBIAN),
-                $crate::Which::Lie => run!(LIE, __HAMEL_EXPORT_LIE_JACOBIAN),
+            to: &$crate::layout::Destinations,
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            use $crate::units::{LIE, OUTPUTS, RHS, jacobian::call};
+            // SAFETY: the caller's contract, which is `call`'s.
+            unsafe {
+                match which {
+                    $crate::Which::Rhs => call::<Self, RHS>(prepared, z, parameters, to),
+                    $crate::Which::Outputs => call::<Self, OUTPUTS>(prepared, z, parameters, to),
+                    $crate::Which::Lie => call::<Self, LIE>(prepared, z, parameters, to),
+                }
             }
         }
 
@@ -515,47 +577,23 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
-        fn compiled_second<R>(
+        unsafe fn compiled_second(
             which: $crate::Which,
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            then: impl FnOnce(&[f64], &[f64]) -> R,
-        ) -> ::core::option::Option<::core::result::Result<R, $crate::__private::Singularity>> {
-            macro_rules! run {
-                ($w:ident, $second:ident, $jacobian:ident) => {{
-                    let mut second = [0.0f64; <$system>::$second.len()];
-                    let mut jacobian = [0.0f64; <$system>::$jacobian.len()];
-                    match $crate::units::second::call::<Self, { $crate::units::$w }>(
-                        prepared,
-                        z,
-                        weights,
-                        parameters,
-                        &mut second,
-                        &mut jacobian,
-                    )? {
-                        ::core::result::Result::Ok(true) => ::core::option::Option::Some(
-                            ::core::result::Result::Ok(then(&second, &jacobian)),
-                        ),
-                        ::core::result::Result::Ok(false) => ::core::option::Option::None,
-                        ::core::result::Result::Err(e) => {
-                            ::core::option::Option::Some(::core::result::Result::Err(e))
-                        }
+            to: &$crate::layout::Destinations,
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            use $crate::units::{LIE, OUTPUTS, RHS, second::call};
+            // SAFETY: the caller's contract, which is `call`'s.
+            unsafe {
+                match which {
+                    $crate::Which::Rhs => call::<Self, RHS>(prepared, z, weights, parameters, to),
+                    $crate::Which::Outputs => {
+                        call::<Self, OUTPUTS>(prepared, z, weights, parameters, to)
                     }
-                }};
-            }
-            match which {
-                $crate::Which::Rhs => {
-                    run!(RHS, __HAMEL_EXPORT_RHS_SECOND, __HAMEL_EXPORT_RHS_JACOBIAN)
-                }
-                $crate::Which::Outputs => run!(
-                    OUTPUTS,
-                    __HAMEL_EXPORT_OUTPUTS_SECOND,
-                    __HAMEL_EXPORT_OUTPUTS_JACOBIAN
-                ),
-                $crate::Which::Lie => {
-                    run!(LIE, __HAMEL_EXPORT_LIE_SECOND, __HAMEL_EXPORT_LIE_JACOBIAN)
+                    $crate::Which::Lie => call::<Self, LIE>(prepared, z, weights, parameters, to),
                 }
             }
         }
@@ -567,20 +605,24 @@ macro_rules! __model_compiled {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __tables {
-    ($system:ty, RHS) => {
-        $crate::__tables!(@ $system, __HAMEL_EXPORT_RHS_DEPENDS, __HAMEL_EXPORT_RHS_JACOBIAN,
-            __HAMEL_EXPORT_RHS_SECOND, __HAMEL_EXPORT_RHS_COMPILED, __HAMEL_EXPORT_RHS_STATES)
+    ($marker:ident, $system:ty, RHS) => {
+        $crate::__tables!(@ $marker, $system, __HAMEL_EXPORT_RHS_DEPENDS, __HAMEL_EXPORT_RHS_JACOBIAN,
+            __HAMEL_EXPORT_RHS_SECOND, __HAMEL_EXPORT_RHS_COMPILED, __HAMEL_EXPORT_RHS_STATES,
+            RHS_JACOBIAN, RHS_SECOND, RHS_TRANSPOSED)
     };
-    ($system:ty, OUTPUTS) => {
-        $crate::__tables!(@ $system, __HAMEL_EXPORT_OUTPUTS_DEPENDS,
+    ($marker:ident, $system:ty, OUTPUTS) => {
+        $crate::__tables!(@ $marker, $system, __HAMEL_EXPORT_OUTPUTS_DEPENDS,
             __HAMEL_EXPORT_OUTPUTS_JACOBIAN, __HAMEL_EXPORT_OUTPUTS_SECOND,
-            __HAMEL_EXPORT_OUTPUTS_COMPILED, __HAMEL_EXPORT_OUTPUTS_STATES)
+            __HAMEL_EXPORT_OUTPUTS_COMPILED, __HAMEL_EXPORT_OUTPUTS_STATES,
+            OUTPUTS_JACOBIAN, OUTPUTS_SECOND, OUTPUTS_TRANSPOSED)
     };
-    ($system:ty, LIE) => {
-        $crate::__tables!(@ $system, __HAMEL_EXPORT_LIE_DEPENDS, __HAMEL_EXPORT_LIE_JACOBIAN,
-            __HAMEL_EXPORT_LIE_SECOND, __HAMEL_EXPORT_LIE_COMPILED, __HAMEL_EXPORT_LIE_STATES)
+    ($marker:ident, $system:ty, LIE) => {
+        $crate::__tables!(@ $marker, $system, __HAMEL_EXPORT_LIE_DEPENDS, __HAMEL_EXPORT_LIE_JACOBIAN,
+            __HAMEL_EXPORT_LIE_SECOND, __HAMEL_EXPORT_LIE_COMPILED, __HAMEL_EXPORT_LIE_STATES,
+            LIE_JACOBIAN, LIE_SECOND, LIE_TRANSPOSED)
     };
-    (@ $system:ty, $depends:ident, $jacobian:ident, $second:ident, $compiled:ident, $states:ident) => {
+    (@ $marker:ident, $system:ty, $depends:ident, $jacobian:ident, $second:ident, $compiled:ident,
+        $states:ident, $jacobian_slots:ident, $second_slots:ident, $transposed_slots:ident) => {
         $crate::model::Tables {
             outputs: <$system>::$depends.len(),
             jacobian: <$system>::$jacobian,
@@ -588,8 +630,72 @@ macro_rules! __tables {
             compiled: <$system>::$compiled,
             states: <$system>::$states,
             depends: <$system>::$depends,
+            layout: $crate::layout::Layout {
+                jacobian: &<$marker>::$jacobian_slots,
+                second: &<$marker>::$second_slots,
+                transposed: &<$marker>::$transposed_slots,
+            },
         }
     };
+}
+
+/// The places of the compiled code's entries in CasADi's outputs ([`crate::layout`]), as
+/// constants of the marker type, with the scratch buffer's length.
+#[cfg(feature = "compiled")]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __model_layout {
+    ($marker:ident => $system:ty) => {
+        impl $marker {
+            /// The compiled code's columns as the right-hand side's blocks (x, u, p, t) and
+            /// as those of the outputs and the Lie derivatives (x, p, t).
+            const WITH_U: $crate::layout::Columns = $crate::layout::Columns {
+                nx: <$marker>::NX,
+                nu: <$marker>::NU,
+                read: &<$marker>::READ,
+                with_u: true,
+                time: <$system>::__HAMEL_RHS_TIME,
+            };
+            const WITHOUT_U: $crate::layout::Columns = $crate::layout::Columns {
+                with_u: false,
+                ..<$marker>::WITH_U
+            };
+            $crate::__model_layout!(@ $marker, $system, WITH_U, RHS_JACOBIAN, RHS_SECOND,
+                RHS_TRANSPOSED, __HAMEL_EXPORT_RHS_JACOBIAN, __HAMEL_EXPORT_RHS_SECOND);
+            $crate::__model_layout!(@ $marker, $system, WITHOUT_U, OUTPUTS_JACOBIAN,
+                OUTPUTS_SECOND, OUTPUTS_TRANSPOSED, __HAMEL_EXPORT_OUTPUTS_JACOBIAN,
+                __HAMEL_EXPORT_OUTPUTS_SECOND);
+            $crate::__model_layout!(@ $marker, $system, WITHOUT_U, LIE_JACOBIAN, LIE_SECOND,
+                LIE_TRANSPOSED, __HAMEL_EXPORT_LIE_JACOBIAN, __HAMEL_EXPORT_LIE_SECOND);
+            /// The longest output a table can fill: the scratch buffer's length.
+            const SCRATCH: usize = $crate::__private::max(
+                2 * <$system>::__HAMEL_EXPORT_RHS_SECOND.len()
+                    + <$system>::__HAMEL_EXPORT_RHS_JACOBIAN.len(),
+                $crate::__private::max(
+                    2 * <$system>::__HAMEL_EXPORT_OUTPUTS_SECOND.len()
+                        + <$system>::__HAMEL_EXPORT_OUTPUTS_JACOBIAN.len(),
+                    2 * <$system>::__HAMEL_EXPORT_LIE_SECOND.len()
+                        + <$system>::__HAMEL_EXPORT_LIE_JACOBIAN.len(),
+                ),
+            ) + 1;
+        }
+    };
+    (@ $marker:ident, $system:ty, $columns:ident, $jacobian:ident, $second:ident,
+        $transposed:ident, $jacobian_table:ident, $second_table:ident) => {
+        const $jacobian: [$crate::layout::Slot; <$system>::$jacobian_table.len()] =
+            $crate::layout::jacobian(<$system>::$jacobian_table, <$marker>::$columns);
+        const $second: [[$crate::layout::Slot; 2]; <$system>::$second_table.len()] =
+            $crate::layout::second(<$system>::$second_table, <$marker>::$columns);
+        const $transposed: [$crate::layout::Slot; <$system>::$jacobian_table.len()] =
+            $crate::layout::transposed(<$system>::$jacobian_table, <$marker>::$columns);
+    };
+}
+
+#[cfg(not(feature = "compiled"))]
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __model_layout {
+    ($marker:ident => $system:ty) => {};
 }
 
 /// `c_api!(Marker, "name")`: the plain C functions of a model: `name_rhs`, `name_outputs`,

@@ -5,6 +5,7 @@
 //! [`crate::model!`] (from the items `#[hamel_system]` generates), on a marker type of the
 //! exporting crate.
 
+use crate::layout::{Destinations, Layout};
 use crate::primal::Which;
 use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
 
@@ -26,6 +27,8 @@ pub struct Tables {
     pub states: [usize; 2],
     /// For each output component, the columns it depends on.
     pub depends: &'static [&'static [usize]],
+    /// Where the compiled code puts each entry in CasADi's output blocks.
+    pub layout: Layout,
 }
 
 /// The functions of a model, over any [`Scalar`], on the flat argument vector
@@ -40,6 +43,9 @@ pub trait Model: 'static {
     /// The values of the compiled code that depend on the parameters alone (`()` without
     /// compiled code).
     type Prepared: 'static;
+    /// A buffer for the outputs CasADi does not ask for, which the compiled code writes
+    /// all the same: at least as long as any output of `jac_f` and `jac_adj1_f`.
+    type Scratch: AsMut<[core::mem::MaybeUninit<f64>]>;
 
     /// Whether the right-hand side depends on the time explicitly (then the exported
     /// functions take it as their last argument).
@@ -64,6 +70,9 @@ pub trait Model: 'static {
 
     /// An array every entry `fill`.
     fn array<S: Copy>(fill: S) -> Self::Array<S>;
+
+    /// A scratch buffer, not initialized.
+    fn scratch() -> Self::Scratch;
 
     /// ẋ = F(t, x, u; p) into `dx` (its first `nx` entries), from z.
     fn rhs<S: Scalar>(z: &Self::Array<S>, dx: &mut Self::Array<S>) -> Result<(), Singularity>;
@@ -94,12 +103,17 @@ pub trait Model: 'static {
         None
     }
 
-    /// The Jacobian's entries into `out` (`Ok(false)`: that stage is not compiled).
-    fn jacobian_of<const W: u8>(
+    /// The Jacobian's entries, each into its place in `jac_f`'s outputs (`Layout::jacobian`)
+    /// through `to` (`Ok(false)`, nothing written: that stage is not compiled).
+    ///
+    /// # Safety
+    /// Each pointer of `to` points to writable values for every slot `Layout::jacobian`
+    /// gives its output (the stages asked for).
+    unsafe fn jacobian_of<const W: u8>(
         _prepared: &Self::Prepared,
         _z: &Self::Array<f64>,
         _parameters: bool,
-        _out: &mut [f64],
+        _to: &Destinations,
     ) -> Option<Result<bool, Singularity>> {
         None
     }
@@ -126,15 +140,18 @@ pub trait Model: 'static {
         None
     }
 
-    /// The weighted second derivatives' entries and the Jacobian's (`Ok(false)`: that stage
-    /// is not compiled).
-    fn second_of<const W: u8>(
+    /// The weighted second derivatives' entries and the Jacobian's, each into its places in
+    /// `jac_adj1_f`'s outputs (`Layout::second`, `Layout::transposed`) through `to`
+    /// (`Ok(false)`, nothing written: that stage is not compiled).
+    ///
+    /// # Safety
+    /// As [`Model::jacobian_of`], for the slots of `Layout::second` and `Layout::transposed`.
+    unsafe fn second_of<const W: u8>(
         _prepared: &Self::Prepared,
         _z: &Self::Array<f64>,
         _weights: &[f64],
         _parameters: bool,
-        _second: &mut [f64],
-        _jacobian: &mut [f64],
+        _to: &Destinations,
     ) -> Option<Result<bool, Singularity>> {
         None
     }
@@ -147,15 +164,19 @@ pub trait Model: 'static {
         out: &mut [f64],
     ) -> Option<Result<(), Singularity>>;
 
-    /// `then` with the Jacobian's entries (`Tables::jacobian`; by the parameters only if
-    /// `parameters`); `None` where the stages asked for are not compiled.
-    fn compiled_jacobian<R>(
+    /// The Jacobian's entries (by the parameters only if `parameters`) into `jac_f`'s outputs
+    /// through `to`: `Ok(true)`; `Ok(false)` (nothing written) where a stage asked for is not
+    /// compiled; `None` without compiled code.
+    ///
+    /// # Safety
+    /// As [`Model::jacobian_of`].
+    unsafe fn compiled_jacobian(
         which: Which,
         prepared: &Self::Prepared,
         z: &Self::Array<f64>,
         parameters: bool,
-        then: impl FnOnce(&[f64]) -> R,
-    ) -> Option<Result<R, Singularity>>;
+        to: &Destinations,
+    ) -> Option<Result<bool, Singularity>>;
 
     /// The derivative along `direction` (over the local columns) into `out`; with the
     /// parameters' part only if `parameters`.
@@ -179,16 +200,19 @@ pub trait Model: 'static {
         out: &mut [f64],
     ) -> Option<Result<(), Singularity>>;
 
-    /// `then` with the weighted second derivatives' entries and the Jacobian's
-    /// (`Tables::second`, `Tables::jacobian`); `None` where not compiled.
-    fn compiled_second<R>(
+    /// The weighted second derivatives and the transposed Jacobian into `jac_adj1_f`'s
+    /// outputs through `to`, as [`Model::compiled_jacobian`].
+    ///
+    /// # Safety
+    /// As [`Model::second_of`].
+    unsafe fn compiled_second(
         which: Which,
         prepared: &Self::Prepared,
         z: &Self::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        then: impl FnOnce(&[f64], &[f64]) -> R,
-    ) -> Option<Result<R, Singularity>>;
+        to: &Destinations,
+    ) -> Option<Result<bool, Singularity>>;
 }
 
 /// The sizes of z's parts.

@@ -11,6 +11,7 @@
 //! optimized once, and the pieces on as many cores as there are. A call costs a few
 //! instructions; the work inside is hundreds to thousands.
 
+use crate::layout::Destinations;
 use crate::model::Model;
 use hamel_runtime::{Scalar, Singularity};
 
@@ -39,14 +40,17 @@ pub mod value {
 pub mod jacobian {
     use super::*;
 
+    /// # Safety
+    /// As [`Model::jacobian_of`].
     #[inline(never)]
-    pub fn call<M: Model, const W: u8>(
+    pub unsafe fn call<M: Model, const W: u8>(
         prepared: &M::Prepared,
         z: &M::Array<f64>,
         parameters: bool,
-        out: &mut [f64],
+        to: &Destinations,
     ) -> Option<Result<bool, Singularity>> {
-        M::jacobian_of::<W>(prepared, z, parameters, out)
+        // SAFETY: the caller's contract.
+        unsafe { M::jacobian_of::<W>(prepared, z, parameters, to) }
     }
 }
 
@@ -86,16 +90,18 @@ pub mod adjoint {
 pub mod second {
     use super::*;
 
+    /// # Safety
+    /// As [`Model::second_of`].
     #[inline(never)]
-    pub fn call<M: Model, const W: u8>(
+    pub unsafe fn call<M: Model, const W: u8>(
         prepared: &M::Prepared,
         z: &M::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        second: &mut [f64],
-        jacobian: &mut [f64],
+        to: &Destinations,
     ) -> Option<Result<bool, Singularity>> {
-        M::second_of::<W>(prepared, z, weights, parameters, second, jacobian)
+        // SAFETY: the caller's contract.
+        unsafe { M::second_of::<W>(prepared, z, weights, parameters, to) }
     }
 }
 

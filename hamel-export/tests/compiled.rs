@@ -242,6 +242,15 @@ fn own_rhs<M: Model>(z: &[f64], out: &mut [f64]) {
 /// Every function of `which` against the passes at a few random points.
 fn check<M: Model>(which: Which, seed: u64) {
     let family = Family::new::<M>(which);
+    // The places the library was compiled with (`hamel_export::layout`) are the outputs'
+    // patterns': else every block would be left to the dual numbers.
+    if let Some(plans) = &family.plans {
+        assert!(plans.jacobian.agrees(), "{which:?}: jac_ layout disagrees");
+        assert!(
+            plans.second.agrees(),
+            "{which:?}: jac_adj1_ layout disagrees"
+        );
+    }
     let primal = &family.primal;
     let (no, nz) = (primal.output.1, Sizes::of::<M>().z());
     if no == 0 {

@@ -6,12 +6,14 @@
 //! it without the feature) is computed by dual-number passes, only for the directions a
 //! wanted output needs and the generated code's graph says can be nonzero.
 
+use super::plan::Direct;
 use super::{Content, Family, Function, Kind, fast};
 use crate::abi::{Failure, Status, all_finite, check_finite, slice, slice_mut};
+use crate::layout::Destinations;
 use crate::model::Model;
 use crate::passes::{self, singular};
 use crate::primal::{Block, Primal, Which};
-use hamel_runtime::{HamelSystem, Parameters};
+use hamel_runtime::{HamelSystem, Parameters, Singularity};
 
 /// Evaluate `kind` of `family` for CasADi: 0 on success; otherwise the failure.
 ///
@@ -227,42 +229,73 @@ impl<M: Model> Run<'_, M> {
         }
     }
 
-    /// `jac_f`: the wanted blocks, from the compiled code where their stage is compiled.
+    /// `jac_f`: the wanted blocks, from the compiled code where it fills them, the others
+    /// by dual numbers.
     fn jacobian(&self, outputs: &mut Outputs) -> Result<(), Failure> {
-        let nb = self.primal().inputs.len();
-        let mut done = [false; 4];
+        let mut done = [false; MAX_OUTPUTS];
         if let Some(plans) = &self.family.plans {
-            let wanted = |outputs: &Outputs, parameters: bool| {
-                (0..nb).any(|k| {
-                    let s = &plans.jacobian[k];
-                    outputs.wanted(k) && s.compiled && s.parameters == parameters
-                })
-            };
-            let (states, parameters) = (wanted(outputs, false), wanted(outputs, true));
-            if states || parameters {
-                let written = M::compiled_jacobian(
-                    self.primal().which,
-                    self.prepared,
-                    self.z,
-                    parameters,
-                    |values| -> Result<(), Failure> {
-                        for (k, scatter) in plans.jacobian.iter().enumerate().take(nb) {
-                            if scatter.compiled && (parameters || !scatter.parameters) {
-                                if let Some(out) = outputs.get(k)? {
-                                    scatter.write(out, &[], values);
-                                }
-                                done[k] = true;
-                            }
-                        }
-                        Ok(())
-                    },
-                );
-                if let Some(result) = written {
-                    result.map_err(|e| self.singular(e))??;
-                }
-            }
+            self.direct(
+                &plans.jacobian,
+                outputs,
+                &mut done,
+                |to, parameters| unsafe {
+                    M::compiled_jacobian(self.primal().which, self.prepared, self.z, parameters, to)
+                },
+            )?;
         }
         jacobian_by_passes::<M>(self.primal(), self.z.as_ref(), outputs, &done)
+    }
+
+    /// The wanted outputs `direct` says the compiled code fills, by `call` (with the
+    /// destinations and whether the stage by p is asked for), marked `done`.
+    ///
+    /// `call` must be the compiled code of the function `direct` describes, which writes
+    /// into the destinations only (`Model::compiled_jacobian`'s or `compiled_second`'s
+    /// contract, which the destinations made here fulfil).
+    fn direct(
+        &self,
+        direct: &Direct,
+        outputs: &mut Outputs,
+        done: &mut [bool; MAX_OUTPUTS],
+        call: impl FnOnce(&Destinations, bool) -> Option<Result<bool, Singularity>>,
+    ) -> Result<(), Failure> {
+        let n = outputs.f.outputs.len().min(MAX_OUTPUTS);
+        let mut wanted = [false; MAX_OUTPUTS];
+        for (k, w) in wanted.iter_mut().enumerate().take(n) {
+            *w = outputs.wanted(k) && direct.outputs.get(k).copied().flatten().is_some();
+        }
+        // Their stages: the one by p only if one of them is by p.
+        let Some(parameters) = direct.stages(|k| wanted.get(k) == Some(&true)) else {
+            return Ok(());
+        };
+        if !wanted.contains(&true) {
+            return Ok(());
+        }
+        // Each wanted output's array, checked as the general path checks any output.
+        for k in (0..n).filter(|&k| wanted[k]) {
+            outputs.get(k)?;
+        }
+        let mut scratch = M::scratch();
+        let given = |k: usize| {
+            if wanted.get(k) == Some(&true) {
+                // SAFETY: CasADi's array holds a pointer per output (the contract of `eval`).
+                unsafe { *outputs.res.add(k) }
+            } else {
+                core::ptr::null_mut()
+            }
+        };
+        let mut to = [core::ptr::null_mut(); crate::layout::DISCARD + 1];
+        direct.destinations(&mut to, given, scratch.as_mut());
+        match call(&to, parameters) {
+            Some(Ok(true)) => {
+                for (d, &w) in done.iter_mut().zip(&wanted) {
+                    *d |= w;
+                }
+                Ok(())
+            }
+            Some(Err(e)) => Err(self.singular(e)),
+            Some(Ok(false)) | None => Ok(()),
+        }
     }
 
     /// `fwd<n>_f`: `n` forward derivatives, along the directions given block by block (a
@@ -332,19 +365,34 @@ impl<M: Model> Run<'_, M> {
             transpose_into(seed, to);
             parameters |= block.name == "p" && seed.iter().any(|&v| v != 0.0);
         }
+        if !plans.products.compiled(parameters) {
+            return None;
+        }
         let mut derivatives = M::array([0.0f64; N]);
-        let written = M::compiled_jacobian(primal.which, self.prepared, self.z, parameters, |j| {
-            plans
-                .products
-                .add(parameters, j, directions.as_ref(), derivatives.as_mut())
-        })?;
+        let mut jacobian = M::scratch();
+        let jacobian = jacobian.as_mut();
+        // SAFETY: the buffer is longer than `jac_f`'s outputs one after the other (`Plans`
+        // made no products otherwise, which `compiled` checked).
+        let to = unsafe { plans.stacked(jacobian.as_mut_ptr().cast::<f64>()) };
+        // SAFETY: each output's slots lie within its part of the buffer.
+        let written =
+            unsafe { M::compiled_jacobian(primal.which, self.prepared, self.z, parameters, &to) }?;
         match written {
             Err(e) => Some(Err(self.singular(e))),
             Ok(false) => None,
-            Ok(true) => {
-                transpose_from(derivatives.as_ref(), out);
-                Some(Ok(()))
+            // SAFETY: the compiled code filled every output the products read.
+            Ok(true) => unsafe {
+                plans.products.add(
+                    parameters,
+                    jacobian,
+                    directions.as_ref(),
+                    derivatives.as_mut(),
+                )
             }
+            .then(|| {
+                transpose_from(derivatives.as_ref(), out);
+                Ok(())
+            }),
         }
     }
 
@@ -418,37 +466,16 @@ impl<M: Model> Run<'_, M> {
     fn adjoint_jacobian(&self, weights: &[f64], outputs: &mut Outputs) -> Result<(), Failure> {
         let mut done = [false; MAX_OUTPUTS];
         if let Some(plans) = &self.family.plans {
-            let wanted = |outputs: &Outputs, parameters: bool| {
-                plans
-                    .second
-                    .iter()
-                    .enumerate()
-                    .any(|(k, s)| outputs.wanted(k) && s.compiled && s.parameters == parameters)
-            };
-            let (states, parameters) = (wanted(outputs, false), wanted(outputs, true));
-            if states || parameters {
-                let written = M::compiled_second(
+            self.direct(&plans.second, outputs, &mut done, |to, parameters| unsafe {
+                M::compiled_second(
                     self.primal().which,
                     self.prepared,
                     self.z,
                     weights,
                     parameters,
-                    |second, jacobian| -> Result<(), Failure> {
-                        for (k, scatter) in plans.second.iter().enumerate() {
-                            if scatter.compiled && (parameters || !scatter.parameters) {
-                                if let Some(out) = outputs.get(k)? {
-                                    scatter.write(out, second, jacobian);
-                                }
-                                done[k] = true;
-                            }
-                        }
-                        Ok(())
-                    },
-                );
-                if let Some(result) = written {
-                    result.map_err(|e| self.singular(e))??;
-                }
-            }
+                    to,
+                )
+            })?;
         }
         second_by_passes::<M>(self.primal(), self.z.as_ref(), weights, outputs, &done)
     }

@@ -11,10 +11,11 @@
 
 use super::eval::{transpose_from, transpose_into};
 use super::{Family, Kind};
-use crate::abi::{Failure, all_finite};
+use crate::abi::{Failure, all_finite, all_zero};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
 use crate::primal::Which;
+use core::mem::MaybeUninit;
 
 /// The point (x, u, p and t) into `z`, read with the model's sizes; `false` if a block is
 /// null or a value not finite (the general path takes the call: zeros, or the refusal).
@@ -100,9 +101,7 @@ unsafe fn fixed_parameters<M: Model>(arg: *const *const f64, n: usize) -> bool {
         let block = unsafe { seed::<M>(arg, k) };
         block.is_null()
             // SAFETY: a non-null seed points to its block's values, dense.
-            || unsafe { core::slice::from_raw_parts(block, len) }
-                .iter()
-                .all(|&v| v == 0.0)
+            || all_zero(unsafe { core::slice::from_raw_parts(block, len) })
     };
     zero(2, Sizes::of::<M>().np * n) && (!M::TIME_DEPENDENT || zero(3, n))
 }
@@ -247,33 +246,62 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     if !unsafe { fixed_parameters::<M>(arg, N) } {
         return None;
     }
-    let mut directions = M::array([0.0f64; N]);
+    // Only the components the products read, and the derivatives of ẋ, set to zeros (not
+    // the arrays' whole length: that was a sixth of `fwd8_f`'s instructions).
+    let mut directions = M::array(MaybeUninit::<[f64; N]>::uninit());
+    let directions = zeroed(
+        directions.as_mut(),
+        plans.products.columns(false).max(s.p()),
+    );
     // The seeds in x and in u, one call each (not a loop over the two blocks: at the exported
     // crate's opt-level 2 the loop is not unrolled, and the blocks' lengths are then not
     // constants).
     // SAFETY (both): the caller's contract.
-    if !unsafe { read_seeds::<M, N>(arg, 0, 0, s.nx, directions.as_mut()) }
-        || !unsafe { read_seeds::<M, N>(arg, 1, s.nx, s.nu, directions.as_mut()) }
+    if !unsafe { read_seeds::<M, N>(arg, 0, 0, s.nx, directions) }
+        || !unsafe { read_seeds::<M, N>(arg, 1, s.nx, s.nu, directions) }
     {
         return None;
     }
-    let mut derivatives = M::array([0.0f64; N]);
+    if !plans.products.compiled(false) {
+        return None;
+    }
+    let mut derivatives = M::array(MaybeUninit::<[f64; N]>::uninit());
+    let derivatives = zeroed(derivatives.as_mut(), s.nx);
+    // `jac_f`'s outputs one after the other in a scratch buffer, then their products.
+    let mut jacobian = M::scratch();
+    let jacobian = jacobian.as_mut();
+    let base = jacobian.as_mut_ptr().cast::<f64>();
+    // SAFETY: the buffer is longer than the outputs (`Plans::new` made no products
+    // otherwise, which `compiled` checked).
+    let to = unsafe { plans.stacked(base) };
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        M::compiled_jacobian(Which::Rhs, prepared, &z, false, |j| {
-            plans
-                .products
-                .add(false, j, directions.as_ref(), derivatives.as_mut())
-        })
+        // SAFETY: each output's slots lie within its part of the buffer.
+        unsafe { M::compiled_jacobian(Which::Rhs, prepared, &z, false, &to) }
     });
     match written? {
         Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
-        // The arrays too short for the products (they are not): the general path.
         Ok(false) => None,
+        // SAFETY: the compiled code filled every output by x, u and t, all the terms read
+        // without p.
         Ok(true) => {
-            transpose_from(derivatives.as_ref(), out);
-            Some(Ok(()))
+            unsafe { plans.products.add(false, jacobian, directions, derivatives) }.then(|| {
+                transpose_from(derivatives, out);
+                Ok(())
+            })
         }
     }
+}
+
+/// The first `len` of `rows` (at most all), set to zeros.
+#[inline(always)]
+fn zeroed<const N: usize>(rows: &mut [MaybeUninit<[f64; N]>], len: usize) -> &mut [[f64; N]] {
+    let len = len.min(rows.len());
+    let rows = &mut rows[..len];
+    for row in rows.iter_mut() {
+        row.write([0.0; N]);
+    }
+    // SAFETY: every one of these rows was written just above.
+    unsafe { &mut *(core::ptr::from_mut(rows) as *mut [[f64; N]]) }
 }
 
 /// `adj1_f` of the right-hand side: (∂ẋ/∂x)ᵀλ, (∂ẋ/∂u)ᵀλ, (∂ẋ/∂p)ᵀλ (and ∂ẋ/∂t·λ) from the
@@ -340,7 +368,8 @@ pub unsafe fn adjoint<M: Model>(
 
 /// `jac_f` (the blocks by x, u, t and, when wanted, by p) or `jac_adj1_f` (the weighted
 /// second derivatives and the transposed Jacobian blocks) of the right-hand side, when every
-/// wanted block is compiled code's; `None` (having written nothing) to take the general path.
+/// wanted block is filled by the compiled code, which writes each entry straight into its
+/// place; `None` (having written nothing) to take the general path.
 ///
 /// # Safety
 /// As [`super::eval`]: `arg` and `res` are non-null CasADi arrays for this function.
@@ -359,40 +388,45 @@ pub unsafe fn sparse<M: Model>(
         return None;
     }
     let second = kind == Kind::AdjointJacobian;
-    let mut weights = M::array(0.0f64);
-    let weights = &mut weights.as_mut()[..s.nx];
-    // SAFETY: the caller's contract.
-    if second && !unsafe { read_weights::<M>(arg, weights) } {
-        return None;
-    }
-    let placement = if second {
-        &plans.second_placement
+    // The weights of `jac_adj1_f` only (none for `jac_f`).
+    let mut array;
+    let weights: &[f64] = if second {
+        array = M::array(0.0f64);
+        let weights = &mut array.as_mut()[..s.nx];
+        // SAFETY: the caller's contract.
+        if !unsafe { read_weights::<M>(arg, weights) } {
+            return None;
+        }
+        weights
     } else {
-        &plans.jacobian_placement
+        &[]
     };
-    // SAFETY: the caller's contract, which is `Placement::stages`'s.
-    let parameters = unsafe { placement.stages(res) }?;
+    let direct = if second {
+        &plans.second
+    } else {
+        &plans.jacobian
+    };
+    // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
+    let given = |k: usize| unsafe { *res.add(k) };
+    let parameters = direct.stages(|k| !given(k).is_null())?;
+    let mut scratch = M::scratch();
+    let mut to = [core::ptr::null_mut(); crate::layout::DISCARD + 1];
+    direct.destinations(&mut to, given, scratch.as_mut());
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        // SAFETY (both writes): the caller's contract, and every wanted output is compiled
-        // (`stages` said so): `Placement::write`'s contract.
-        if second {
-            M::compiled_second(
-                Which::Rhs,
-                prepared,
-                &z,
-                weights,
-                parameters,
-                |h, j| unsafe { placement.write(res, h, j) },
-            )
-        } else {
-            M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, |j| unsafe {
-                placement.write(res, &[], j)
-            })
+        // SAFETY: every destination is a wanted output the compiled code fills (its
+        // slots are its nonzeros: `Plans::new` checked the layout against its pattern) or
+        // the scratch buffer, which holds any output.
+        unsafe {
+            if second {
+                M::compiled_second(Which::Rhs, prepared, &z, weights, parameters, &to)
+            } else {
+                M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, &to)
+            }
         }
     });
     match written? {
         Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
-        // The compiled arrays too short for the entries (they are not): the general path.
+        // A stage asked for not compiled (the plans say it is): the general path.
         Ok(false) => None,
         Ok(true) => Some(Ok(())),
     }

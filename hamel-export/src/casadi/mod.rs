@@ -12,7 +12,8 @@
 //! [`Family`] describes the eight; [`eval`] evaluates one. The symbols themselves are written
 //! by [`crate::casadi!`]. With compiled code (feature `compiled`), the sparsity of each
 //! derivative block is the compiled code's own (the entries that are not a constant zero on
-//! the model's graph), and [`plan`] says where each computed entry goes.
+//! the model's graph), and [`plan`] says which outputs the compiled code fills (it writes
+//! each entry straight into its place, [`crate::layout`]).
 
 mod eval;
 mod fast;
@@ -162,7 +163,8 @@ impl Family {
         let primal = Primal::new::<M>(which);
         let structure = Structure::new::<M>(&primal);
         let functions = Kind::ALL.map(|kind| function(&primal, &structure, kind));
-        let plans = Plans::new(&primal, &structure, &functions);
+        let scratch = M::scratch().as_mut().len();
+        let plans = Plans::new(&primal, &structure, &functions, scratch);
         Family {
             primal,
             functions,

@@ -5,12 +5,16 @@
 //! it reads, t), in two stages: by x, u and t, and by the parameters. A block whose stage is
 //! compiled has exactly those entries as its sparsity; any other block has the entries the
 //! dependency tables allow (a superset), computed by dual numbers. [`Structure`] gives each
-//! block's pattern, [`Plans`] the copy from the compiled arrays into CasADi's outputs.
+//! block's pattern; [`Plans`] checks that the compiled code's places of its entries
+//! ([`crate::layout`], computed when the library compiled) are those of the patterns, and
+//! says which outputs the compiled code fills.
 
 use super::sparsity::Pattern;
 use super::{Content, Function, Kind};
+use crate::layout::{DISCARD, Destinations, Slot};
 use crate::model::{Model, Tables, local_columns};
 use crate::primal::Primal;
+use core::mem::MaybeUninit;
 use std::collections::HashSet;
 
 /// A compiled second derivative's entry placed in the blocks: (index in the compiled array,
@@ -138,279 +142,159 @@ impl Structure {
     }
 }
 
-/// Where one output's nonzeros come from: pairs (entry of one compiled array, slot of the
-/// output), or the whole output copied from a range of entries.
+/// Which outputs of `jac_f` or `jac_adj1_f` the compiled code fills, each straight into
+/// CasADi's array through [`Destinations`].
 #[derive(Clone, Debug, Default)]
-pub struct Scatter {
-    /// The output is filled by the compiled code (its stage is compiled).
-    pub compiled: bool,
-    /// Whether it is of the parameters' stage.
-    pub parameters: bool,
-    /// Whether the entries are the second derivatives' (a block of `jac_adj1_f` by two
-    /// inputs), not the Jacobian's: an output takes them from one array only.
-    from_second: bool,
-    /// (entry, slot) pairs.
-    pairs: Vec<(u32, u32)>,
-    /// The output is the array's entries `start..start + nnz` in order (a plain copy).
-    copy: Option<usize>,
-    /// The lengths the pairs need: of the array and of the output (one more than the
-    /// largest index of each).
-    needs: [usize; 2],
-    /// Whether the pairs write every slot of the output (then it needs no zeros first).
-    covers: bool,
-    /// The output's nonzeros (its port's pattern's; set by [`Plans::new`]).
-    pub len: usize,
+pub struct Direct {
+    /// For each output: `Some(parameters)` if the compiled code fills it (in the stage by p
+    /// if `parameters`); `None` if not (it has no compiled stage, or the layout disagreed
+    /// with a pattern: then no output is filled so).
+    pub outputs: Vec<Option<bool>>,
+    /// Whether every output with nonzeros is filled by the compiled code.
+    pub all: bool,
+    /// Whether the layout agrees with the patterns: if not, no call of the compiled code.
+    agree: bool,
+    /// The outputs of the stage by p.
+    pub by_parameters: Vec<usize>,
+    /// The outputs the compiled code fills that have nonzeros (the only ones a call gives
+    /// their array: the others get nothing).
+    filled: Vec<usize>,
 }
 
-impl Scatter {
-    /// A scatter of the compiled code's entries (of the second derivatives' array or the
-    /// Jacobian's), or of none (`Scatter::uncompiled`).
+impl Direct {
+    /// `expected`: for each entry the compiled code puts (its index in the layout's table),
+    /// its places as the patterns give them (`None`: an entry this function never puts);
+    /// `layout` the places the library was compiled with; `stage` for each output, its
+    /// stage if compiled; `nnz` each output's nonzeros; `scratch` the scratch buffer's
+    /// length. Any disagreement, and no output is filled by the compiled code (a place
+    /// could be beyond its output).
     fn new(
-        parameters: bool,
-        from_second: bool,
-        pairs: Vec<(usize, usize)>,
-        copy: Option<usize>,
-    ) -> Scatter {
-        let most = |pick: fn(&(usize, usize)) -> usize| {
-            pairs.iter().map(|p| pick(p) + 1).max().unwrap_or(0)
-        };
-        let needs = [most(|p| p.0), most(|p| p.1)];
-        let mut slots: Vec<usize> = pairs.iter().map(|p| p.1).collect();
-        slots.sort_unstable();
-        slots.dedup();
-        let covers = slots.iter().enumerate().all(|(k, &slot)| k == slot);
-        // Indices of arrays the size of a model's derivatives: far below u32::MAX.
-        let pairs = pairs
-            .into_iter()
-            .filter_map(|(e, s)| Some((u32::try_from(e).ok()?, u32::try_from(s).ok()?)))
-            .collect();
-        Scatter {
-            compiled: true,
-            parameters,
-            from_second,
-            pairs,
-            copy,
-            needs,
-            covers: covers && slots.len() == needs[1],
-            len: 0,
-        }
-    }
-
-    /// The scatter of an output with `len` nonzeros.
-    fn of_len(self, len: usize) -> Scatter {
-        Scatter { len, ..self }
-    }
-
-    /// An output the compiled code does not fill (computed by dual numbers).
-    fn uncompiled(parameters: bool) -> Scatter {
-        Scatter {
-            parameters,
-            ..Scatter::default()
-        }
-    }
-
-    /// Write the output's nonzeros from the compiled arrays.
-    #[inline]
-    pub fn write(&self, out: &mut [f64], second: &[f64], jacobian: &[f64]) {
-        let from = if self.from_second { second } else { jacobian };
-        if let Some(start) = self.copy {
-            if let Some(from) = from.get(start..start + out.len()) {
-                out.copy_from_slice(from);
-                return;
+        expected: &[(usize, Option<[Slot; 2]>)],
+        layout: &[[Slot; 2]],
+        stage: &[Option<bool>],
+        nnz: &[usize],
+        scratch: usize,
+    ) -> Direct {
+        let mut filled = vec![0usize; nnz.len()];
+        let mut seen = vec![false; layout.len()];
+        let mut agree = true;
+        for &(e, places) in expected {
+            match seen.get_mut(e) {
+                Some(seen) if !*seen => *seen = true,
+                _ => agree = false,
             }
-        }
-        let [entries, slots] = self.needs;
-        if !(self.covers && out.len() == slots) {
-            out.fill(0.0);
-        }
-        // The lengths checked once for every pair (not pair by pair: this copy runs on every
-        // call of `jac_adj1_f`, hundreds of entries, and cost as much as computing them).
-        if from.len() >= entries && out.len() >= slots {
-            // SAFETY: `needs` exceeds every pair's entry and slot (`Scatter::new` computed it
-            // from these pairs, which nothing changes after), and the slices are that long.
-            unsafe { gather(out, from, &self.pairs) };
-        }
-    }
-}
-
-/// out[slot] = from[entry] for each pair.
-///
-/// # Safety
-/// Every pair's entry is below `from.len()` and its slot below `out.len()` (what
-/// `Scatter::needs` records of its own pairs, checked by `Scatter::write`).
-#[inline(always)]
-unsafe fn gather(out: &mut [f64], from: &[f64], pairs: &[(u32, u32)]) {
-    for &(e, slot) in pairs {
-        // SAFETY: within both slices (this function's contract).
-        unsafe { *out.get_unchecked_mut(slot as usize) = *from.get_unchecked(e as usize) };
-    }
-}
-
-/// One output of a [`Placement`].
-#[derive(Clone, Debug)]
-struct Placed {
-    /// Its index among the function's outputs.
-    output: usize,
-    /// Whether the compiled code gives it, and whether it is of the parameters' stage.
-    compiled: bool,
-    parameters: bool,
-    /// Whether its entries are the second derivatives' (else the Jacobian's).
-    from_second: bool,
-    /// The output is `from[start..start + len]` (a plain copy).
-    copy: Option<usize>,
-    /// Zeros first: the pairs do not write every slot.
-    zero: bool,
-    /// Its pairs among [`Placement::pairs`].
-    pairs: std::ops::Range<usize>,
-    /// Its nonzeros.
-    len: usize,
-}
-
-/// The outputs of `jac_f` or `jac_adj1_f` that have nonzeros, with every entry's slot in one
-/// flat list: what a call of the fast path writes, the arrays' lengths checked once for the
-/// whole call. `jac_adj1_f` places hundreds of entries into a dozen outputs (259 into 11 for
-/// the paper's robot); checked output by output, as [`Scatter::write`] does for the general
-/// path, the bookkeeping cost a third as much as the copies.
-#[derive(Clone, Debug, Default)]
-pub struct Placement {
-    outputs: Vec<Placed>,
-    pairs: Vec<(u32, u32)>,
-    /// The lengths the compiled arrays need: the second derivatives', the Jacobian's (one
-    /// more than the largest entry a pair or a copy reads).
-    needs: [usize; 2],
-    /// Whether every output is compiled, and those of the parameters' stage.
-    compiled: bool,
-    by_parameters: Vec<usize>,
-}
-
-impl Placement {
-    /// The placement of the outputs with nonzeros among `scatters`.
-    fn new(scatters: &[Scatter]) -> Placement {
-        let mut placement = Placement {
-            compiled: true,
-            ..Placement::default()
-        };
-        for (output, scatter) in scatters.iter().enumerate().filter(|(_, s)| s.len > 0) {
-            let which = usize::from(!scatter.from_second);
-            // A pair beyond the output (which `Scatter::write` would skip) is not placed: the
-            // output is then left to the general path.
-            let compiled = scatter.compiled && scatter.needs[1] <= scatter.len;
-            let copy = scatter.copy.filter(|_| compiled);
-            let need = match copy {
-                Some(start) => start + scatter.len,
-                None => scatter.needs[0],
+            let Some(places) = places else {
+                continue;
             };
-            if compiled {
-                placement.needs[which] = placement.needs[which].max(need);
+            agree &= layout.get(e) == Some(&places);
+            for (output, _) in places {
+                if let Some(f) = filled.get_mut(output) {
+                    *f += 1;
+                }
             }
-            let start = placement.pairs.len();
-            if compiled && copy.is_none() {
-                placement.pairs.extend(&scatter.pairs);
-            }
-            placement.compiled &= compiled;
-            if scatter.parameters {
-                placement.by_parameters.push(output);
-            }
-            placement.outputs.push(Placed {
-                output,
-                compiled,
-                parameters: scatter.parameters,
-                from_second: scatter.from_second,
-                copy,
-                zero: !(scatter.covers && scatter.len == scatter.needs[1]),
-                pairs: start..placement.pairs.len(),
-                len: scatter.len,
-            });
         }
-        placement
+        // An entry the patterns have no place for goes nowhere; an output the code writes
+        // fits the scratch buffer (where it goes when CasADi does not ask for it).
+        agree &= layout
+            .iter()
+            .zip(&seen)
+            .all(|(places, &seen)| seen || places.iter().all(|p| p.0 == DISCARD));
+        agree &=
+            (0..nnz.len()).all(|k| filled[k] <= nnz[k] && (filled[k] == 0 || nnz[k] <= scratch));
+        let outputs: Vec<Option<bool>> = (0..nnz.len())
+            .map(|k| match stage[k] {
+                _ if !agree => None,
+                _ if nnz[k] == 0 => Some(false),
+                Some(parameters) if filled[k] == nnz[k] => Some(parameters),
+                _ => None,
+            })
+            .collect();
+        Direct {
+            agree,
+            filled: (0..outputs.len().min(DISCARD))
+                .filter(|&k| outputs[k].is_some() && nnz[k] > 0)
+                .collect(),
+            all: outputs.iter().all(Option::is_some),
+            by_parameters: (0..outputs.len())
+                .filter(|&k| outputs[k] == Some(true) && nnz[k] > 0)
+                .collect(),
+            outputs,
+        }
     }
 
-    /// Whether one of the wanted outputs is by p (the compiled code's second stage); `None`
-    /// if the compiled code does not give one of them.
-    ///
-    /// # Safety
-    /// `res` is CasADi's non-null array of this function's outputs (a pointer per output).
+    /// Whether the compiled layout agrees with the outputs' patterns (when not, the
+    /// compiled code is never called for this function).
+    pub fn agrees(&self) -> bool {
+        self.agree
+    }
+
+    /// For the wanted outputs (`wanted(k)`): whether each is filled by the compiled code
+    /// (`None` if one is not), and whether one is of the stage by p.
     #[inline(always)]
-    pub unsafe fn stages(&self, res: *const *mut f64) -> Option<bool> {
-        // SAFETY: a pointer per output (this function's contract).
-        let wanted = |k: usize| !unsafe { *res.add(k) }.is_null();
-        if self.compiled {
+    pub fn stages(&self, wanted: impl Fn(usize) -> bool) -> Option<bool> {
+        if !self.agree {
+            return None;
+        }
+        if self.all {
             return Some(self.by_parameters.iter().any(|&k| wanted(k)));
         }
         let mut parameters = false;
-        for placed in &self.outputs {
-            if wanted(placed.output) {
-                if !placed.compiled {
-                    return None;
-                }
-                parameters |= placed.parameters;
+        for (k, stage) in self.outputs.iter().enumerate() {
+            if wanted(k) {
+                parameters |= (*stage)?;
             }
         }
         Some(parameters)
     }
 
-    /// Every wanted output from the compiled arrays; `false` (having written nothing) if an
-    /// array is shorter than the entries need.
-    ///
-    /// # Safety
-    /// `res` is CasADi's non-null array of this function's outputs, each null or pointing to
-    /// its port's nonzeros, writable, and every wanted output is compiled
-    /// ([`Placement::stages`] said so).
+    /// The destinations of a call: output k's array if `wanted(k)` gives it and the compiled
+    /// code fills it, else `scratch`.
     #[inline(always)]
-    pub unsafe fn write(&self, res: *const *mut f64, second: &[f64], jacobian: &[f64]) -> bool {
-        if second.len() < self.needs[0] || jacobian.len() < self.needs[1] {
-            return false;
-        }
-        for placed in &self.outputs {
-            // SAFETY: a pointer per output (the contract).
-            let out = unsafe { *res.add(placed.output) };
-            if out.is_null() || !placed.compiled {
-                continue;
-            }
-            let from = if placed.from_second { second } else { jacobian };
-            // SAFETY (the copy, the zeros and the pairs): a wanted output has `placed.len`
-            // writable values (the contract); a compiled output's pairs write below its
-            // `needs[1]` ≤ `len` and read below its `needs[0]`, and a copy reads
-            // `start..start + len`, all within `self.needs`, which the arrays reach (checked
-            // above).
-            unsafe {
-                if let Some(start) = placed.copy {
-                    core::ptr::copy_nonoverlapping(from.as_ptr().add(start), out, placed.len);
-                    continue;
+    pub fn destinations(
+        &self,
+        to: &mut Destinations,
+        given: impl Fn(usize) -> *mut f64,
+        scratch: &mut [MaybeUninit<f64>],
+    ) {
+        // Filled in place (returned, the array was copied: a `memcpy` a call).
+        let scratch = scratch.as_mut_ptr().cast::<f64>();
+        fill(to, scratch);
+        for &k in &self.filled {
+            let out = given(k);
+            if !out.is_null() {
+                if let Some(to) = to.get_mut(k) {
+                    *to = out;
                 }
-                if placed.zero {
-                    core::ptr::write_bytes(out, 0, placed.len);
-                }
-                place(out, from, self.pairs.get_unchecked(placed.pairs.clone()));
             }
         }
-        true
     }
 }
 
-/// out[slot] = from[entry] for each pair, four pairs a step: the exported crate's
-/// opt-level 2 does not unroll this loop through a raw pointer, and unrolled it takes about 5
-/// instructions a pair instead of 7.
-///
-/// # Safety
-/// Every pair's entry is below `from.len()` and its slot within the writable values at `out`.
+/// Every destination `to`: two a store with SSE2 on x86-64 (the exported crate's opt-level
+/// 2 stores them one by one), a dozen instructions fewer in every call of `jac_f` and
+/// `jac_adj1_f`.
 #[inline(always)]
-unsafe fn place(out: *mut f64, from: &[f64], pairs: &[(u32, u32)]) {
-    let mut fours = pairs.chunks_exact(4);
-    for four in &mut fours {
-        for &(e, slot) in four {
-            // SAFETY: within both (this function's contract).
-            unsafe { *out.add(slot as usize) = *from.get_unchecked(e as usize) };
+fn fill(destinations: &mut Destinations, to: *mut f64) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::{__m128i, _mm_set1_epi64x, _mm_storeu_si128};
+        // SAFETY: SSE2 is part of x86-64; a pointer is 64 bits there.
+        let pair = unsafe { _mm_set1_epi64x(to as i64) };
+        let mut pairs = destinations.chunks_exact_mut(2);
+        for two in &mut pairs {
+            // SAFETY: SSE2 as above; an unaligned store of two pointers, both in the array.
+            unsafe { _mm_storeu_si128(two.as_mut_ptr().cast::<__m128i>(), pair) };
+        }
+        for one in pairs.into_remainder() {
+            *one = to;
         }
     }
-    for &(e, slot) in fours.remainder() {
-        // SAFETY: as above.
-        unsafe { *out.add(slot as usize) = *from.get_unchecked(e as usize) };
-    }
+    #[cfg(not(target_arch = "x86_64"))]
+    destinations.fill(to);
 }
 
-/// For `jac_f` and `jac_adj1_f`, each output's [`Scatter`]; for `adj1_f`, where each
-/// block's components are among the compiled code's columns.
+/// For `jac_f` and `jac_adj1_f`, the outputs the compiled code fills; for `adj1_f`, where
+/// each block's components are among the compiled code's columns.
 #[derive(Clone, Debug)]
 pub struct Plans {
     /// The compiled code's columns as indices into z.
@@ -421,17 +305,16 @@ pub struct Plans {
     pub runs: Vec<(usize, usize, usize, usize)>,
     /// Which of them are parameters.
     pub parameters: std::ops::Range<usize>,
-    pub jacobian: Vec<Scatter>,
-    pub second: Vec<Scatter>,
-    /// The outputs of `jac_f` and of `jac_adj1_f` that have nonzeros (the only ones a call
-    /// looks at: the others, such as the blocks by the nominal output, have nothing to
-    /// write) as one flat list each, for the fast path (`super::fast`).
-    pub jacobian_placement: Placement,
-    pub second_placement: Placement,
+    pub jacobian: Direct,
+    pub second: Direct,
     /// For each input block, (column, component of the block).
     pub adjoint: Vec<Vec<(usize, usize)>>,
     /// `fwd<N>_f`'s products of the Jacobian with the directions.
     pub products: Products,
+    /// Where each of `jac_f`'s outputs starts in one array holding them all (for the
+    /// products), and the end of the last.
+    pub offsets: Vec<usize>,
+    pub end: usize,
 }
 
 /// A Jacobian entry as a term of forward derivatives: derivative[row] += J[entry] ·
@@ -443,62 +326,114 @@ struct Term {
     column: u32,
 }
 
-/// `fwd<N>_f` as products of the compiled Jacobian with the directions: its entries by x, u
-/// and t, then those by p.
+/// `fwd<N>_f` as products of the compiled Jacobian (`jac_f`'s outputs one after the other,
+/// [`Plans::offsets`]) with the directions: its entries by x, u and t, then those by p.
 #[derive(Clone, Debug, Default)]
 pub struct Products {
     terms: Vec<Term>,
     /// How many of `terms` are by x, u and t.
     states: usize,
+    /// Whether the compiled code fills every block by x, u and t, and every block by p (else
+    /// no products of those).
+    compiled: [bool; 2],
     /// The lengths the terms need: of the Jacobian's array, the derivatives and the
-    /// directions (one more than the largest entry, row and column).
-    needs: [usize; 3],
+    /// directions (one more than the largest entry, row and column); those by x, u and t,
+    /// then all of them.
+    needs: [[usize; 3]; 2],
 }
 
 impl Products {
-    fn new(primal: &Primal, structure: &Structure) -> Products {
+    fn new(primal: &Primal, function: &Function, direct: &Direct, offsets: &[usize]) -> Products {
         // Indices of arrays the size of a model's derivatives: far below u32::MAX.
         let narrow = |v: usize| u32::try_from(v).ok();
         let terms = |parameters: bool| -> Vec<Term> {
-            structure
-                .jacobian_entries(primal, parameters)
-                .unwrap_or_default()
-                .into_iter()
-                .filter_map(|(e, r, k, w)| {
-                    Some(Term {
-                        entry: narrow(e)?,
-                        row: narrow(r)?,
-                        column: narrow(primal.inputs.get(k)?.offset + w)?,
-                    })
-                })
-                .collect()
+            let mut terms = Vec::new();
+            for (k, (port, content)) in function.outputs.iter().enumerate() {
+                let Content::Jacobian(i) = *content else {
+                    continue;
+                };
+                if direct.outputs.get(k) != Some(&Some(parameters)) {
+                    continue;
+                }
+                let (block, pattern) = (&primal.inputs[i], &port.pattern);
+                for c in 0..pattern.ncol {
+                    for slot in pattern.column(c) {
+                        let term = Term {
+                            entry: narrow(offsets[k] + slot).unwrap_or(u32::MAX),
+                            row: narrow(pattern.row(slot)).unwrap_or(u32::MAX),
+                            column: narrow(block.offset + c).unwrap_or(u32::MAX),
+                        };
+                        terms.push(term);
+                    }
+                }
+            }
+            terms
         };
         let mut all = terms(false);
         let states = all.len();
         all.extend(terms(true));
-        let most =
-            |pick: fn(&Term) -> u32| all.iter().map(|t| pick(t) as usize + 1).max().unwrap_or(0);
-        let needs = [most(|t| t.entry), most(|t| t.row), most(|t| t.column)];
+        let needs = [&all[..states], &all[..]].map(|terms| {
+            let most = |pick: fn(&Term) -> u32| {
+                terms
+                    .iter()
+                    .map(|t| pick(t) as usize + 1)
+                    .max()
+                    .unwrap_or(0)
+            };
+            [most(|t| t.entry), most(|t| t.row), most(|t| t.column)]
+        });
+        let compiled = [false, true].map(|parameters| {
+            direct.agree
+                && function.outputs.iter().enumerate().all(|(k, (port, c))| {
+                    !matches!(c, Content::Jacobian(i) if is_parameters(primal, *i) == parameters)
+                        || port.pattern.nnz() == 0
+                        || direct.outputs.get(k) == Some(&Some(parameters))
+                })
+        });
         Products {
             terms: all,
             states,
+            compiled,
             needs,
         }
     }
 
+    /// How many components of the directions the products by x, u and t (and by p, if
+    /// `parameters`) read: those a call must give.
+    #[inline(always)]
+    pub fn columns(&self, parameters: bool) -> usize {
+        self.needs[usize::from(parameters)][2]
+    }
+
+    /// Whether the products by x, u and t (and by p, if `parameters`) are compiled: else the
+    /// compiled Jacobian must not be called for them.
+    #[inline(always)]
+    pub fn compiled(&self, parameters: bool) -> bool {
+        self.compiled[0] && (!parameters || self.compiled[1])
+    }
+
     /// derivatives += J · directions, `N` directions at once (each component of z holds its
     /// `N` values side by side); by p only if `parameters`. `false` (having added nothing)
-    /// if an array is shorter than the terms need.
+    /// if an array is shorter than the terms need, or those products are not compiled.
+    ///
+    /// # Safety
+    /// Every entry of `jacobian` a term reads (those by p only if `parameters`) is
+    /// initialized: the compiled code filled `jac_f`'s outputs into it (at
+    /// [`Plans::offsets`]).
     #[inline(always)]
-    pub fn add<const N: usize>(
+    pub unsafe fn add<const N: usize>(
         &self,
         parameters: bool,
-        jacobian: &[f64],
+        jacobian: &[MaybeUninit<f64>],
         directions: &[[f64; N]],
         derivatives: &mut [[f64; N]],
     ) -> bool {
-        let [entries, rows, columns] = self.needs;
-        if jacobian.len() < entries || derivatives.len() < rows || directions.len() < columns {
+        let [entries, rows, columns] = self.needs[usize::from(parameters)];
+        if jacobian.len() < entries
+            || derivatives.len() < rows
+            || directions.len() < columns
+            || !self.compiled(parameters)
+        {
             return false;
         }
         let terms = if parameters {
@@ -509,10 +444,10 @@ impl Products {
         for term in terms {
             // SAFETY: `needs` exceeds every term's entry, row and column (`Products::new`
             // computed it from these terms, which nothing changes after), and the arrays are
-            // that long (checked above).
+            // that long (checked above); the entry is initialized (the contract).
             let (entry, direction, derivative) = unsafe {
                 (
-                    *jacobian.get_unchecked(term.entry as usize),
+                    jacobian.get_unchecked(term.entry as usize).assume_init(),
                     directions.get_unchecked(term.column as usize),
                     derivatives.get_unchecked_mut(term.row as usize),
                 )
@@ -555,8 +490,13 @@ fn add_scaled<const N: usize>(a: f64, x: &[f64; N], y: &mut [f64; N]) {
 }
 
 impl Plans {
-    pub fn new(primal: &Primal, structure: &Structure, functions: &[Function; 8]) -> Option<Plans> {
-        let (_, local) = structure.compiled.as_ref()?;
+    pub fn new(
+        primal: &Primal,
+        structure: &Structure,
+        functions: &[Function; 8],
+        scratch: usize,
+    ) -> Option<Plans> {
+        let (tables, local) = structure.compiled.as_ref()?;
         let s = &primal.sizes;
         let first = local
             .iter()
@@ -578,53 +518,28 @@ impl Plans {
                     .collect()
             })
             .collect();
-        let jacobian: Vec<Scatter> = functions[Kind::Jacobian as usize]
-            .outputs
-            .iter()
-            .map(|(port, content)| match *content {
-                Content::Jacobian(i) => {
-                    jacobian_scatter(primal, structure, i, |r, w| port.pattern.position(r, w))
-                }
-                _ => Scatter::default(),
-            })
-            .zip(&functions[Kind::Jacobian as usize].outputs)
-            .map(|(s, (port, _))| s.of_len(port.pattern.nnz()))
-            .collect();
-        let second: Vec<Scatter> = functions[Kind::AdjointJacobian as usize]
-            .outputs
-            .iter()
-            .map(|(port, content)| match *content {
-                Content::Second(i, j) => {
-                    let parameters = is_parameters(primal, i) || is_parameters(primal, j);
-                    match structure.second_entries(primal, parameters) {
-                        Some(entries) => Scatter::new(
-                            parameters,
-                            true,
-                            entries
-                                .iter()
-                                .filter(|e| e.1 == i && e.3 == j)
-                                .filter_map(|e| Some((e.0, port.pattern.position(e.2, e.4)?)))
-                                .collect(),
-                            None,
-                        ),
-                        None => Scatter::uncompiled(parameters),
-                    }
-                }
-                Content::Transposed(i) => {
-                    let mut s =
-                        jacobian_scatter(primal, structure, i, |r, w| port.pattern.position(w, r));
-                    s.copy = None;
-                    // The second derivatives' stage computes the Jacobian too.
-                    s.compiled &= structure.stage(1, s.parameters).is_some();
-                    s
-                }
-                _ => Scatter::default(),
-            })
-            .zip(&functions[Kind::AdjointJacobian as usize].outputs)
-            .map(|(s, (port, _))| s.of_len(port.pattern.nnz()))
-            .collect();
-        let jacobian_placement = Placement::new(&jacobian);
-        let second_placement = Placement::new(&second);
+        let jacobian_function = &functions[Kind::Jacobian as usize];
+        let jacobian = jacobian_direct(primal, structure, tables, jacobian_function, scratch);
+        let second = second_direct(
+            primal,
+            structure,
+            tables,
+            &functions[Kind::AdjointJacobian as usize],
+            scratch,
+        );
+        let mut offsets = Vec::new();
+        let mut end = 0;
+        for (port, _) in &jacobian_function.outputs {
+            offsets.push(end);
+            end += port.pattern.nnz();
+        }
+        // The products' array is a scratch buffer (with one more value, where the entries
+        // that go nowhere are put): without room, no compiled products.
+        let products = if end < scratch {
+            Products::new(primal, jacobian_function, &jacobian, &offsets)
+        } else {
+            Products::default()
+        };
         let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (column, &z) in local.iter().enumerate() {
             let Some((block, within)) = block_of(primal, z) else {
@@ -645,37 +560,149 @@ impl Plans {
             parameters: first..last,
             jacobian,
             second,
-            jacobian_placement,
-            second_placement,
             adjoint,
-            products: Products::new(primal, structure),
+            products,
+            offsets,
+            end,
         })
     }
 }
 
-/// The scatter of the Jacobian's block `i` into an output whose slot of entry (row, within)
-/// `slot` gives.
-fn jacobian_scatter(
+impl Plans {
+    /// The destinations of `jac_f`'s outputs one after the other from `base` (at
+    /// [`Plans::offsets`]), and of the entries that go nowhere just after them.
+    ///
+    /// # Safety
+    /// `base` points to a buffer longer than [`Plans::end`] (the scratch buffer, when the
+    /// products are compiled).
+    #[inline(always)]
+    pub unsafe fn stacked(&self, base: *mut f64) -> Destinations {
+        // SAFETY: within the buffer (the contract).
+        let mut to = [unsafe { base.add(self.end) }; DISCARD + 1];
+        for (k, &offset) in self.offsets.iter().enumerate().take(DISCARD) {
+            // SAFETY: as above.
+            to[k] = unsafe { base.add(offset) };
+        }
+        to
+    }
+}
+
+/// Each output's stage if compiled (`stage(i)` for its content) and its nonzeros.
+fn outputs(
+    function: &Function,
+    stage: impl Fn(&Content) -> Option<bool>,
+) -> (Vec<Option<bool>>, Vec<usize>) {
+    let nnz: Vec<usize> = function
+        .outputs
+        .iter()
+        .map(|(p, _)| p.pattern.nnz())
+        .collect();
+    let stages = function
+        .outputs
+        .iter()
+        .zip(&nnz)
+        .map(|((_, content), _)| stage(content))
+        .collect();
+    (stages, nnz)
+}
+
+/// `jac_f`'s outputs the compiled code fills: entry e, (row r, column of block k at w),
+/// goes to output k at the pattern's place of (r, w).
+fn jacobian_direct(
     primal: &Primal,
     structure: &Structure,
-    i: usize,
-    slot: impl Fn(usize, usize) -> Option<usize>,
-) -> Scatter {
-    let parameters = is_parameters(primal, i);
-    let Some(entries) = structure.jacobian_entries(primal, parameters) else {
-        return Scatter::uncompiled(parameters);
-    };
-    let jacobian: Vec<(usize, usize)> = entries
-        .iter()
-        .filter(|e| e.2 == i)
-        .filter_map(|e| Some((e.0, slot(e.1, e.3)?)))
-        .collect();
-    // A plain copy when the entries are consecutive and land in slots 0, 1, 2, … in order.
-    let copy = jacobian.first().map(|&(start, _)| start).filter(|&start| {
-        jacobian
-            .iter()
-            .enumerate()
-            .all(|(k, &(e, s))| e == start + k && s == k)
+    tables: &Tables,
+    function: &Function,
+    scratch: usize,
+) -> Direct {
+    let (stage, nnz) = outputs(function, |content| match *content {
+        Content::Jacobian(i) => {
+            let parameters = is_parameters(primal, i);
+            structure.stage(0, parameters).map(|_| parameters)
+        }
+        _ => None,
     });
-    Scatter::new(parameters, false, jacobian, copy)
+    let mut expected = Vec::new();
+    for parameters in [false, true] {
+        for (e, r, k, w) in structure
+            .jacobian_entries(primal, parameters)
+            .unwrap_or_default()
+        {
+            let place = function.outputs[k].0.pattern.position(r, w);
+            let place = place.map_or((usize::MAX, 0), |s| (k, s));
+            expected.push((e, Some([place, (DISCARD, 0)])));
+        }
+    }
+    let layout: Vec<[Slot; 2]> = tables
+        .layout
+        .jacobian
+        .iter()
+        .map(|&s| [s, (DISCARD, 0)])
+        .collect();
+    Direct::new(&expected, &layout, &stage, &nnz, scratch)
+}
+
+/// `jac_adj1_f`'s outputs the compiled code fills: the second derivatives' entry e, (a, b),
+/// goes to block (a's, b's) at (a, b) and, off the diagonal, to block (b's, a's) at (b, a);
+/// the Jacobian's entry e to the transposed block of its column's.
+fn second_direct(
+    primal: &Primal,
+    structure: &Structure,
+    tables: &Tables,
+    function: &Function,
+    scratch: usize,
+) -> Direct {
+    let nb = primal.inputs.len();
+    let output = |i: usize, j: usize| i * (nb + 2) + j;
+    let (stage, nnz) = outputs(function, |content| match *content {
+        Content::Second(i, j) => {
+            let parameters = is_parameters(primal, i) || is_parameters(primal, j);
+            structure.stage(1, parameters).map(|_| parameters)
+        }
+        // The second derivatives' stage computes the Jacobian too.
+        Content::Transposed(i) => {
+            let parameters = is_parameters(primal, i);
+            structure.stage(1, parameters)?;
+            structure.stage(0, parameters).map(|_| parameters)
+        }
+        _ => None,
+    });
+    let place = |o: usize, a: usize, b: usize| -> Slot {
+        let position = function
+            .outputs
+            .get(o)
+            .and_then(|p| p.0.pattern.position(a, b));
+        position.map_or((usize::MAX, 0), |s| (o, s))
+    };
+    let mut expected: Vec<(usize, Option<[Slot; 2]>)> = Vec::new();
+    for parameters in [false, true] {
+        for (e, ka, wa, kb, wb) in structure
+            .second_entries(primal, parameters)
+            .unwrap_or_default()
+        {
+            let here = place(output(ka, kb), wa, wb);
+            // `second_entries` lists the mirror of an entry right after it.
+            match expected.last_mut() {
+                Some((last, Some(places))) if *last == e && places[1].0 == DISCARD => {
+                    places[1] = here;
+                }
+                _ => expected.push((e, Some([here, (DISCARD, 0)]))),
+            }
+        }
+    }
+    // The Jacobian's entries, which the code puts with the second derivatives' stage.
+    let nh = tables.second.len();
+    for parameters in [false, true] {
+        let put = structure.stage(1, parameters).is_some();
+        for (e, r, k, w) in structure
+            .jacobian_entries(primal, parameters)
+            .unwrap_or_default()
+        {
+            let places = put.then(|| [place(output(k, nb + 1), w, r), (DISCARD, 0)]);
+            expected.push((nh + e, places));
+        }
+    }
+    let mut layout: Vec<[Slot; 2]> = tables.layout.second.to_vec();
+    layout.extend(tables.layout.transposed.iter().map(|&s| [s, (DISCARD, 0)]));
+    Direct::new(&expected, &layout, &stage, &nnz, scratch)
 }

@@ -176,14 +176,10 @@ fn family(
     };
     let (no, nc) = (lit(d.roots.len()), lit(s.columns));
     let value_body = value_body(&emit, d)?;
-    let jacobian_body = staged_body(&emit, &d.jacobian, &[], "out")?;
-    let second_body = staged_body(&emit, &d.second, &[(&d.jacobian, "jacobian")], "second")?;
+    let jacobian_body = staged_body(&emit, &d.jacobian, None)?;
+    let second_body = staged_body(&emit, &d.second, Some(&d.jacobian))?;
     let forward_body = forward_body(&emit, d)?;
     let adjoint_body = adjoint_body(&emit, d, columns)?;
-    let (nj, nh) = (
-        lit(staged_entries(&d.jacobian).0.len()),
-        lit(staged_entries(&d.second).0.len()),
-    );
     let (value, jacobian_fn, forward_fn, adjoint_fn, second_fn) = (
         name(""),
         name("_jacobian"),
@@ -202,7 +198,7 @@ fn family(
     let (value_doc, jacobian_doc, forward_doc, adjoint_doc, second_doc) = (
         doc("The values"),
         doc(
-            "The Jacobian's entries (`_JACOBIAN`: row, column), those by the parameters only if `parameters` (false: not compiled, nothing written)",
+            "The Jacobian's entries, each as `put(k, value)` with k its index in `_JACOBIAN` (row, column), those by the parameters only if `parameters` (false: not compiled, nothing put)",
         ),
         doc(
             "The derivative along `direction` (over the columns x, u, p, t), with the parameters' part only if `parameters`",
@@ -211,7 +207,7 @@ fn family(
             "The adjoint derivative with `weights` (over the columns x, u, p, t), the parameters' part only if `parameters`",
         ),
         doc(
-            "The weighted second derivatives' entries (`_SECOND`: row ≥ column) and the Jacobian's, by the parameters only if `parameters` (false: not compiled)",
+            "The weighted second derivatives' entries (`put(k, value)`, k their index in `_SECOND`: row ≥ column) and the Jacobian's (`put(_SECOND.len() + k, value)`, k their index in `_JACOBIAN`), by the parameters only if `parameters` (false: not compiled, nothing put)",
         ),
     );
     Ok(quote! {
@@ -227,7 +223,7 @@ fn family(
         #[doc(hidden)]
         #allow
         #[inline]
-        pub fn #jacobian_fn<E>(#args parameters: bool, out: &mut [f64; #nj]) -> #result<bool, #singularity> {
+        pub fn #jacobian_fn<E, P: FnMut(usize, f64)>(#args parameters: bool, put: &mut P) -> #result<bool, #singularity> {
             #jacobian_body
         }
 
@@ -251,7 +247,7 @@ fn family(
         #[doc(hidden)]
         #allow
         #[inline]
-        pub fn #second_fn<E>(#args weights: &[f64; #no], parameters: bool, second: &mut [f64; #nh], jacobian: &mut [f64; #nj]) -> #result<bool, #singularity> {
+        pub fn #second_fn<E, P: FnMut(usize, f64)>(#args weights: &[f64; #no], parameters: bool, put: &mut P) -> #result<bool, #singularity> {
             #second_body
         }
 
@@ -474,71 +470,55 @@ fn writes(
 type Emit<'a> =
     dyn Fn(&[&[NodeId]]) -> syn::Result<(Vec<crate::engine::emit::Code>, TokenStream)> + 'a;
 
-/// The body of a staged function writing `staged` into `array` (and each of `also`, the
-/// same stages of another table, into its array): `Ok(false)` when a stage asked for is not
-/// compiled.
+/// The body of a staged function that puts the entries of `staged` (`put(k, value)`, k the
+/// entry's index in its table: the first stage's entries, then the second's) and, with
+/// `jacobian`, the same stages of the Jacobian after them (k from the end of `staged`'s
+/// table): `Ok(false)`, having put nothing, when a stage asked for is not compiled. The
+/// indices are constants: `hamel-export`'s `put` writes each entry straight into its place
+/// in CasADi's output blocks.
 fn staged_body(
     emit: &Emit<'_>,
     staged: &Staged<Vec<Entry>>,
-    also: &[(&Staged<Vec<Entry>>, &str)],
-    array: &str,
+    jacobian: Option<&Staged<Vec<Entry>>>,
 ) -> syn::Result<TokenStream> {
     let result = quote!(::core::result::Result);
     let Some(first) = &staged.states else {
         return Ok(quote!(#result::Ok(false)));
     };
-    let stage_nodes = |s: &[Entry], others: &[&[Entry]]| -> Vec<NodeId> {
-        s.iter()
-            .chain(others.iter().flat_map(|o| o.iter()))
-            .map(|e| e.2)
-            .collect()
-    };
-    let also_first: Vec<&[Entry]> = also
-        .iter()
-        .map(|(s, _)| s.states.as_deref().unwrap_or_default())
-        .collect();
-    let also_second: Vec<&[Entry]> = also
-        .iter()
-        .map(|(s, _)| s.parameters.as_deref().unwrap_or_default())
-        .collect();
-    let roots_first = stage_nodes(first, &also_first);
     let second = staged.parameters.as_deref();
-    let roots_second = stage_nodes(second.unwrap_or_default(), &also_second);
+    let (also_first, also_second) = match jacobian {
+        Some(j) => (
+            j.states.as_deref().unwrap_or_default(),
+            j.parameters.as_deref().unwrap_or_default(),
+        ),
+        None => (&[][..], &[][..]),
+    };
+    let nodes = |own: &[Entry], also: &[Entry]| -> Vec<NodeId> {
+        own.iter().chain(also).map(|e| e.2).collect()
+    };
+    let (roots_first, roots_second) = (
+        nodes(first, also_first),
+        nodes(second.unwrap_or_default(), also_second),
+    );
     let (codes, checks) = emit(&[&roots_first, &roots_second])?;
     let [code_first, code_second] = exactly(codes)?;
-    let write_stage =
-        |code: &crate::engine::emit::Code, own: &[Entry], others: &[&[Entry]], offset: &[usize]| {
-            let start = |k: usize| offset.get(k).copied().unwrap_or(0);
-            let mut tokens = writes(
-                code,
-                array,
-                own.iter().enumerate().map(|(i, e)| (start(0) + i, e.2)),
-            );
-            for (k, ((_, name), entries)) in also.iter().zip(others).enumerate() {
-                tokens.extend(writes(
-                    code,
-                    name,
-                    entries
-                        .iter()
-                        .enumerate()
-                        .map(|(i, e)| (start(k + 1) + i, e.2)),
-                ));
-            }
-            tokens
-        };
-    let zero = vec![0; also.len() + 1];
-    let first_writes = write_stage(&code_first, first, &also_first, &zero);
-    let offsets: Vec<usize> = std::iter::once(first.len())
-        .chain(also_first.iter().map(|e| e.len()))
-        .collect();
+    // Where each table's entries start: the own table's stages, then the Jacobian's.
+    let own_len = first.len() + second.map_or(0, <[Entry]>::len);
+    let first_puts = puts(&code_first, first, 0)
+        .into_iter()
+        .chain(puts(&code_first, also_first, own_len))
+        .collect::<TokenStream>();
     let (first_stmts, second_stmts) = (&code_first.stmts, &code_second.stmts);
     let parameters = match second {
         Some(second) => {
-            let second_writes = write_stage(&code_second, second, &also_second, &offsets);
+            let second_puts = puts(&code_second, second, first.len())
+                .into_iter()
+                .chain(puts(&code_second, also_second, own_len + also_first.len()))
+                .collect::<TokenStream>();
             quote! {
                 if parameters {
                     #second_stmts
-                    #second_writes
+                    #second_puts
                 }
             }
         }
@@ -551,8 +531,20 @@ fn staged_body(
         #refuse
         #first_stmts
         #checks
-        #first_writes
+        #first_puts
         #parameters
         #result::Ok(true)
     })
+}
+
+/// `put(start + i, value);` for the i-th of `entries`.
+fn puts(code: &crate::engine::emit::Code, entries: &[Entry], start: usize) -> Vec<TokenStream> {
+    entries
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let (k, v) = (lit(start + i), code.value(e.2));
+            quote!(put(#k, #v);)
+        })
+        .collect()
 }
