@@ -635,11 +635,11 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// 10⁻³…10⁻¹⁰): the largest ratio of evaluations falls on ROBER from 1.32 to 1.17, stays
     /// 1.40 on HIRES (one point; 0.96 since the first Jacobian's columns lost in rounding are
     /// differenced again, `differences.rs`), and 1.06–1.09 on VDPOL and OREGO; the
-    /// factorizations fall by 10–40 %; Robertson's y₁ at 4·10¹⁰ comes out 1.2·10⁻⁵ off (was 1.5·10⁻⁵) in 1916
-    /// evaluations (was 2105; 2.2·10⁻⁵ in 1888 since a failed iteration on a fresh Jacobian
-    /// halves the step). With the exact Jacobian RADAU5's rule stays: there a Jacobian
-    /// costs no evaluation, and scipy's rule took ROBER at 10⁻¹⁰ from 0.60 to 0.99 of scipy's
-    /// evaluations at equal error.
+    /// factorizations fall by 10–40 %; Robertson's y₁ at 4·10¹⁰ comes out 1.2·10⁻⁵ off (was
+    /// 1.5·10⁻⁵) in 1916 evaluations (was 2105; 2.2·10⁻⁵ in 1888 since a failed iteration on
+    /// a fresh Jacobian halves the step, in 1890 since the first Jacobian's fix). With the
+    /// exact Jacobian RADAU5's rule stays: there a Jacobian costs no evaluation, and scipy's
+    /// rule took ROBER at 10⁻¹⁰ from 0.60 to 0.99 of scipy's evaluations at equal error.
     fn renew_jacobian(&self, iterations: usize) -> bool {
         self.theta > self.thet() && (!self.jacobian.differenced() || iterations > 2)
     }
