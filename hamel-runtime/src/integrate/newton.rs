@@ -152,6 +152,7 @@ impl Convergence {
 
     /// Judges the k-th correction, of scaled size `increment` (its solve having succeeded
     /// or not), before it is applied: a failure ends the iteration.
+    #[inline]
     pub fn judge(
         &mut self,
         k: usize,
