@@ -30,8 +30,8 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::linalg::{gauss_step, gauss_step_swap};
 use nalgebra::{
-    Complex, ComplexField, Const, DefaultAllocator, Dim, Dyn, Matrix, OMatrix, PermutationSequence,
-    StorageMut, U1,
+    Complex, ComplexField, Const, DefaultAllocator, Dim, Dyn, Matrix, OMatrix, OVector,
+    PermutationSequence, StorageMut, U1,
 };
 
 /// The largest n whose matrices are sized at compile time. Above it the storage is dynamic
@@ -86,6 +86,10 @@ where
 {
     lu: OMatrix<T, D, D>,
     p: PermutationSequence<D>,
+    /// For a complex entry, the squared moduli of U's diagonal, |uᵢᵢ|² (left at zero for a
+    /// real one): the denominators of the back substitution's divisions, formed once for
+    /// all the solves of a factorization.
+    squares: OVector<f64, D>,
     dim: D,
 }
 
@@ -97,6 +101,7 @@ where
         Factors {
             lu: OMatrix::zeros_generic(dim, dim),
             p: PermutationSequence::identity_generic(dim),
+            squares: OVector::zeros_generic(dim, U1),
             dim,
         }
     }
@@ -125,6 +130,11 @@ where
                 }
             } else {
                 self.eliminate(diag, i, piv);
+            }
+        }
+        if T::COMPLEX {
+            for (i, square) in self.squares.iter_mut().enumerate() {
+                *square = self.lu[(i, i)].modulus_squared();
             }
         }
         smallest_modulus((0..n).map(|i| self.lu[(i, i)]))
@@ -182,7 +192,10 @@ where
             if diag.is_zero() {
                 return false;
             }
-            let x = b[i] / diag;
+            // b / diag as num-complex divides, (b·conj(diag)) / |diag|², with |diag|² from
+            // the factorization: the same operations (b·conj(d) is a·c − b·(−d) and
+            // a·(−d) + b·c, num-complex's a·c + b·d and b·c − a·d exactly), so the same bits.
+            let x = (b[i] * diag.conjugate()).unscale(self.squares[i]);
             b[i] = x;
             subtract_multiple(&mut b.rows_range_mut(..i), x, &self.lu.view_range(..i, i));
         }

@@ -350,6 +350,9 @@ struct Run<'a, 't, O: Ode> {
     fnewt: f64,
     t: f64,
     y: O::State,
+    /// RADAU5's scale at y, atol + rtol·|yᵢ|: formed once for each y, for every attempt
+    /// at the step and its error estimate.
+    scale: O::State,
     /// f(t, y).
     f0: O::State,
     t_end: f64,
@@ -394,6 +397,15 @@ const NEWTON_FAILURES_SUSTAINED: usize = 50;
 /// Singular iteration matrices in a row, each followed by a step half as long, after which
 /// the run ends with [`Error::SingularIterationMatrix`] (RADAU5 gives up after 5 too).
 const SINGULAR_IN_A_ROW: usize = 5;
+
+/// RADAU5's scale of each component of y: atol + rtol·|yᵢ| (transformed tolerances).
+fn scale<V: Vector>(rtol: f64, atol: f64, y: &V) -> V {
+    let mut scale = V::zeros();
+    for (s, v) in scale.as_mut().iter_mut().zip(y.as_ref()) {
+        *s = atol + rtol * v.abs();
+    }
+    scale
+}
 
 /// A step's stage increments and the Newton iterations they took.
 type Solved<V> = ([V; 3], usize);
@@ -444,6 +456,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             }
         };
         let controlled = ode.controlled_components();
+        let scale = scale(rtol, atol, x0);
         Ok(Run {
             method,
             tableau,
@@ -457,6 +470,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             fnewt,
             t: t0,
             y: *x0,
+            scale,
             f0,
             t_end,
             h,
@@ -670,7 +684,6 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             Some(last) if !self.first && last.t + last.h == t => extrapolate(last, &y, h),
             _ => [O::State::zeros(); 3],
         };
-        let scale = self.scale(&y);
         let criterion = Criterion::Predicted {
             tolerance: self.fnewt,
             max_iterations: self.method.max_iterations,
@@ -682,7 +695,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
             (t, &y, h),
             &mut z,
             criterion,
-            &scale,
+            &self.scale,
             &mut self.stats,
         )?;
         match outcome {
@@ -735,15 +748,6 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         Ok(())
     }
 
-    /// RADAU5's scale of each component: atol + rtol·|yᵢ| (transformed tolerances).
-    fn scale(&self, y: &O::State) -> O::State {
-        let mut scale = O::State::zeros();
-        for (s, v) in scale.as_mut().iter_mut().zip(y.as_ref()) {
-            *s = self.atol + self.rtol * v.abs();
-        }
-        scale
-    }
-
     /// RADAU5's error estimate (ESTRAD): ((u₁/h) I − J)⁻¹ (f(y) + Σ eᵢ Zᵢ / h), measured
     /// in the controlled components; after a rejection or at the first step, when it is ≥ 1,
     /// once more through an evaluation at y + the estimate, which filters the stiff
@@ -786,9 +790,11 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
     /// √(mean((eᵢ/scᵢ)²)) over the controlled components, at least 10⁻¹⁰ (RADAU5).
     fn error_norm(&self, e: &O::State) -> f64 {
         let len = self.ode.controlled_components().min(O::State::LEN).max(1);
-        let scale = self.scale(&self.y);
-        let sum: f64 = (0..len)
-            .map(|k| (e.as_ref()[k] / scale.as_ref()[k]).powi(2))
+        // Slices of the controlled length zipped: no index checks in the loop.
+        let sum: f64 = e.as_ref()[..len]
+            .iter()
+            .zip(&self.scale.as_ref()[..len])
+            .map(|(e, s)| (e / s).powi(2))
             .sum();
         (sum / len as f64).sqrt().max(1e-10)
     }
@@ -859,6 +865,7 @@ impl<'a, 't, O: Ode> Run<'a, 't, O> {
         }
         self.last = Some(step);
         (self.t, self.y) = (t1, y1);
+        self.scale = scale(self.rtol, self.atol, &y1);
         if last {
             return Ok(Next::Done);
         }

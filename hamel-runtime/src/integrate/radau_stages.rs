@@ -202,15 +202,11 @@ impl<V: Vector> TransformedStages<V> {
             // G = (T⁻¹ ⊗ I) F.
             let gt = transform(&tr.t_inv, &f);
             let solved = self.solve_corrections(&w, &gt, h);
-            let increment = self.scaled_norm(scale);
+            // The corrections measured and added in one pass (W is not read again when the
+            // iteration fails).
+            let increment = self.correct(&mut w, scale);
             if let Some(failed) = convergence.judge(k, increment, solved, &mut self.faccon) {
                 return Ok(failed);
-            }
-            let (real, complex) = (self.real_rhs.as_ref(), &self.complex_rhs);
-            for p in 0..V::LEN {
-                w[0].as_mut()[p] += real[p];
-                w[1].as_mut()[p] += complex[p].re;
-                w[2].as_mut()[p] += complex[p].im;
             }
             *z = transform(&tr.t, &w);
             if let Some(outcome) = convergence.settled(k, increment, &mut self.faccon) {
@@ -238,18 +234,58 @@ impl<V: Vector> TransformedStages<V> {
         self.real.solve(self.real_rhs.as_mut()) && self.complex.solve(&mut self.complex_rhs)
     }
 
-    /// RADAU5's norm of a correction: √(mean((ΔWᵢ / scale)²)) over the three stages and the
-    /// controlled components.
-    fn scaled_norm(&self, scale: &V) -> f64 {
+    /// Adds the corrections ΔW (in `real_rhs` and `complex_rhs`) to `w`, and returns
+    /// RADAU5's norm of them: √(mean((ΔWᵢ / scale)²)) over the three stages and the
+    /// controlled components (the first `controlled`).
+    #[inline(always)]
+    fn correct(&self, w: &mut [V; 3], scale: &V) -> f64 {
         let len = self.controlled;
-        // Slices of the controlled length zipped: no index checks in the loop.
-        let (real, complex) = (&self.real_rhs.as_ref()[..len], &self.complex_rhs[..len]);
-        let sum: f64 = real
+        let [w1, w2, w3] = w;
+        let (real, complex) = (self.real_rhs.as_ref(), &self.complex_rhs[..]);
+        let (w1, w2, w3) = (w1.as_mut(), w2.as_mut(), w3.as_mut());
+        // The controlled components, measured, then the others: zipped slices, no index
+        // checks and no branch in the loops. The sum of squares starts at +0 (`Sum` starts
+        // at −0: its first term is +0 or more, so the sums are the same).
+        let mut sum = 0.0;
+        if len == V::LEN {
+            // Every component controlled (the usual case): loops of a length known at
+            // compile time, unrolled for a small system.
+            for ((((r, c), s), w1), (w2, w3)) in real
+                .iter()
+                .zip(complex)
+                .zip(scale.as_ref())
+                .zip(w1.iter_mut())
+                .zip(w2.iter_mut().zip(w3.iter_mut()))
+            {
+                sum += (r / s).powi(2) + (c.re / s).powi(2) + (c.im / s).powi(2);
+                *w1 += r;
+                *w2 += c.re;
+                *w3 += c.im;
+            }
+            return (sum / (3 * len) as f64).sqrt();
+        }
+        for ((((r, c), s), w1), (w2, w3)) in real[..len]
             .iter()
-            .zip(complex)
+            .zip(&complex[..len])
             .zip(&scale.as_ref()[..len])
-            .map(|((r, c), s)| (r / s).powi(2) + (c.re / s).powi(2) + (c.im / s).powi(2))
-            .sum();
+            .zip(&mut w1[..len])
+            .zip(w2[..len].iter_mut().zip(&mut w3[..len]))
+        {
+            sum += (r / s).powi(2) + (c.re / s).powi(2) + (c.im / s).powi(2);
+            *w1 += r;
+            *w2 += c.re;
+            *w3 += c.im;
+        }
+        for (((r, c), w1), (w2, w3)) in real[len..]
+            .iter()
+            .zip(&complex[len..])
+            .zip(&mut w1[len..])
+            .zip(w2[len..].iter_mut().zip(&mut w3[len..]))
+        {
+            *w1 += r;
+            *w2 += c.re;
+            *w3 += c.im;
+        }
         (sum / (3 * len) as f64).sqrt()
     }
 }
