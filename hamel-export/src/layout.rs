@@ -100,12 +100,27 @@ const fn slot_of(place: Place, places: &[[Place; 2]], count: usize) -> Slot {
 
 /// `jac_f`: entry (row r, column c) of block b goes to output b at (column within b, r).
 pub const fn jacobian<const N: usize>(entries: &[(usize, usize)], columns: Columns) -> [Slot; N] {
+    jacobian_slots(entries, columns, false)
+}
+
+/// The slots of the Jacobian's entries: in `jac_f`'s outputs, or `transposed` in
+/// `jac_adj1_f`'s blocks by the adjoint seed.
+const fn jacobian_slots<const N: usize>(
+    entries: &[(usize, usize)],
+    columns: Columns,
+    transposed: bool,
+) -> [Slot; N] {
+    let nb = columns.blocks();
     let mut places = [[None; 2]; N];
     let mut k = 0;
     while k < N {
         let (r, c) = entries[k];
         if let Some((b, w)) = columns.block(c) {
-            places[k][0] = Some((b, w, r));
+            places[k][0] = Some(if transposed {
+                (second_output(&columns, b, nb + 1), r, w)
+            } else {
+                (b, w, r)
+            });
         }
         k += 1;
     }
@@ -157,23 +172,7 @@ pub const fn second<const N: usize>(
 /// `jac_adj1_f`'s transposed Jacobian blocks: Jacobian entry (r, c) of block b goes to the
 /// block of b by the adjoint seed at (row within b, column r).
 pub const fn transposed<const N: usize>(entries: &[(usize, usize)], columns: Columns) -> [Slot; N] {
-    let nb = columns.blocks();
-    let mut places = [[None; 2]; N];
-    let mut k = 0;
-    while k < N {
-        let (r, c) = entries[k];
-        if let Some((b, w)) = columns.block(c) {
-            places[k][0] = Some((second_output(&columns, b, nb + 1), r, w));
-        }
-        k += 1;
-    }
-    let mut out = [(DISCARD, 0); N];
-    let mut k = 0;
-    while k < N {
-        out[k] = slot_of(places[k][0], &places, N);
-        k += 1;
-    }
-    out
+    jacobian_slots(entries, columns, true)
 }
 
 /// The largest slot + 1 of `slots` (for the scratch buffer's length).

@@ -223,9 +223,7 @@ impl Jacobian {
                     (column, factor, step) = (retry, larger, retry_step);
                 }
             }
-            for (i, d) in column.difference.as_ref().iter().enumerate() {
-                self.rows[i * n + j] = d / step;
-            }
+            self.set_column(j, column.difference.as_ref(), step);
             if column.largest < DIFF_SMALL * column.scale {
                 factor *= FACTOR_CHANGE;
             }
@@ -235,37 +233,21 @@ impl Jacobian {
             self.factors[j] = factor.max(MIN_FACTOR);
             let lost = column.largest < DIFF_REJECT * largest_rate;
             if first && lost && xs[j].abs() <= self.threshold {
-                self.hairer_column(ode, t, x, f0, j, direction * step.abs(), stats)?;
+                if let Some(hairer) = hairer_step(xs[j], direction * step.abs()) {
+                    let column = self.column(ode, t, x, f0, j, hairer, stats)?;
+                    self.set_column(j, column.difference.as_ref(), hairer);
+                }
             }
         }
         Ok(())
     }
 
-    /// Column j again by Hairer's step √(ε·max(10⁻⁵, |xⱼ|)), directed as ẋⱼ points, if it is
-    /// longer than `step` (module documentation).
-    #[allow(clippy::too_many_arguments)]
-    fn hairer_column<O: Ode>(
-        &mut self,
-        ode: &mut O,
-        t: f64,
-        x: &O::State,
-        f0: &O::State,
-        j: usize,
-        step: f64,
-        stats: &mut Stats,
-    ) -> Result<(), Error> {
-        let n = O::State::LEN;
-        let xj = x.as_ref()[j];
-        let hairer = step.signum() * (f64::EPSILON * HAIRER_FLOOR.max(xj.abs())).sqrt();
-        let hairer = (xj + hairer) - xj;
-        if hairer.abs() <= step.abs() {
-            return Ok(());
+    /// Column j of the Jacobian: the `difference` over the `step` it was taken with.
+    fn set_column(&mut self, j: usize, difference: &[f64], step: f64) {
+        let n = difference.len();
+        for (i, d) in difference.iter().enumerate() {
+            self.rows[i * n + j] = d / step;
         }
-        let column = self.column(ode, t, x, f0, j, hairer, stats)?;
-        for (i, d) in column.difference.as_ref().iter().enumerate() {
-            self.rows[i * n + j] = d / hairer;
-        }
-        Ok(())
     }
 
     /// f(t, x + step·eⱼ) − f(t, x), its largest entry in modulus and the function's scale
@@ -315,6 +297,14 @@ struct Column<V> {
     difference: V,
     largest: f64,
     scale: f64,
+}
+
+/// Hairer's step √(ε·max(10⁻⁵, |xⱼ|)) at xⱼ, directed as `step`, if it is longer than `step`
+/// (module documentation).
+fn hairer_step(xj: f64, step: f64) -> Option<f64> {
+    let hairer = step.signum() * (f64::EPSILON * HAIRER_FLOOR.max(xj.abs())).sqrt();
+    let hairer = (xj + hairer) - xj;
+    (hairer.abs() > step.abs()).then_some(hairer)
 }
 
 #[cfg(test)]
