@@ -162,7 +162,7 @@ impl<V: Vector> TransformedStages<V> {
         }
         let tr = &self.transformation;
         let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
-        let (real, complex) = factor_pair(&mut self.real, &mut self.complex, jacobian, g, s);
+        let (real, complex) = factor_pair::<V>(&mut self.real, &mut self.complex, jacobian, g, s);
         stats.factorizations += 2;
         self.formed = None;
         let suspicious = relative_pivot(real.smallest, real.largest) <= SUSPICIOUS_PIVOT
@@ -302,26 +302,24 @@ struct Pivots {
 /// the complex entries with a zero imaginary part, whose modulus is |j| exactly: only the n
 /// diagonal entries of the complex matrix need a modulus of their own for the largest entry,
 /// and of those only the ones whose squared modulus is within 10⁻¹² of the largest one's.
-fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
-    real: &mut R,
-    complex: &mut C,
+fn factor_pair<V: Vector>(
+    real: &mut V::Lu,
+    complex: &mut V::ComplexLu,
     jacobian: &DMatrix<f64>,
     g: f64,
     s: Complex<f64>,
 ) -> (Pivots, Pivots) {
     let zero = Complex::new(0.0, 0.0);
     let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
-    let n = jacobian.nrows();
+    let n = V::LEN;
+    debug_assert_eq!((jacobian.nrows(), jacobian.ncols()), (n, n));
     let js = jacobian.as_slice();
     // Column by column (the storage order of both), as slices: no index checks. The complex
     // column is written whole, then its diagonal entry over it: no branch an entry (for the
     // real one, splitting the column around its diagonal cost more on n = 3 than it saved).
     let real_smallest = real.factor(|m| {
-        for (c, (column, js)) in m
-            .chunks_exact_mut(n.max(1))
-            .zip(js.chunks_exact(n.max(1)))
-            .enumerate()
-        {
+        let (m, js) = square::<V, _>(m, js);
+        for (c, (column, js)) in m.chunks_exact_mut(n.max(1)).zip(js).enumerate() {
             for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
                 if r == c {
                     *v = g - j;
@@ -334,11 +332,8 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
         }
     });
     let complex_smallest = complex.factor(|m| {
-        for (c, (column, js)) in m
-            .chunks_exact_mut(n.max(1))
-            .zip(js.chunks_exact(n.max(1)))
-            .enumerate()
-        {
+        let (m, js) = square::<V, _>(m, js);
+        for (c, (column, js)) in m.chunks_exact_mut(n.max(1)).zip(js).enumerate() {
             for (v, &j) in column.iter_mut().zip(js) {
                 *v = zero - j;
             }
@@ -367,6 +362,20 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
             largest: complex_diagonal.max(off_diagonal),
         },
     )
+}
+
+/// A matrix's storage `m` and the Jacobian's columns `js`, both sliced to n² entries with
+/// n = `V::LEN`: lengths known at compile time inside the closures that fill the matrices, so
+/// that a small matrix's loops are unrolled (with the lengths they are called with, read at
+/// run time, they were loops with a division for their trip count: some 90 instructions more
+/// a factorization at n = 3).
+#[inline(always)]
+fn square<'a, 'b, V: Vector, T>(
+    m: &'a mut [T],
+    js: &'b [f64],
+) -> (&'a mut [T], std::slice::ChunksExact<'b, f64>) {
+    let n = V::LEN;
+    (&mut m[..n * n], js[..n * n].chunks_exact(n.max(1)))
 }
 
 /// The larger of a running maximum `m` (never NaN: it starts at 0) and `x`, and `m` when `x`
@@ -418,7 +427,7 @@ mod tests {
                 <[f64; N] as Vector>::ComplexLu::new(),
             );
             let (real_pivots, complex_pivots) =
-                factor_pair(&mut real, &mut complex, &jacobian, g, s);
+                factor_pair::<[f64; N]>(&mut real, &mut complex, &jacobian, g, s);
             // The definitions: each entry as written, the largest by a modulus of each.
             let zero = Complex::new(0.0, 0.0);
             let expected_real = DMatrix::from_fn(N, N, |r, c| {
