@@ -310,16 +310,15 @@ fn factor_pair<V: Vector>(
     s: Complex<f64>,
 ) -> (Pivots, ComplexEntries) {
     let zero = Complex::new(0.0, 0.0);
-    let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
     let n = V::LEN;
     debug_assert_eq!((jacobian.nrows(), jacobian.ncols()), (n, n));
     let js = jacobian.as_slice();
     // Column by column (the storage order of both), as slices: no index checks. The complex
     // column is written whole, then its diagonal entry over it: no branch an entry (for the
     // real one, splitting the column around its diagonal cost more on n = 3 than it saved).
+    let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
     let real_smallest = real.factor(|m| {
-        let (m, js) = square::<V, _>(m, js);
-        for (c, (column, js)) in m.chunks_exact_mut(n.max(1)).zip(js).enumerate() {
+        for (c, (column, js)) in square::<V, _>(m, js).enumerate() {
             for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
                 if r == c {
                     *v = g - j;
@@ -331,15 +330,20 @@ fn factor_pair<V: Vector>(
             }
         }
     });
+    // The complex diagonal's running maximum is the closure's own, handed out at the end:
+    // kept in a register (a captured one is stored back after every column, as the matrix
+    // might alias it; for the real matrix's two maxima that cost less than what the
+    // compiler did with them as locals, not unrolling the columns at n = 8).
     complex.form(|m| {
-        let (m, js) = square::<V, _>(m, js);
-        for (c, (column, js)) in m.chunks_exact_mut(n.max(1)).zip(js).enumerate() {
+        let mut square_max = 0.0f64;
+        for (c, (column, js)) in square::<V, _>(m, js).enumerate() {
             for (v, &j) in column.iter_mut().zip(js) {
                 *v = zero - j;
             }
             column[c] = s - js[c];
-            diagonal_square = larger(diagonal_square, column[c].norm_sqr());
+            square_max = larger(square_max, column[c].norm_sqr());
         }
+        diagonal_square = square_max;
     });
     (
         Pivots {
@@ -424,8 +428,9 @@ fn settled_by_squares(smallest_square: f64, largest_square: f64) -> Option<bool>
     }
 }
 
-/// A matrix's storage `m` and the Jacobian's columns `js`, both sliced to n² entries with
-/// n = `V::LEN`: lengths known at compile time inside the closures that fill the matrices, so
+/// The columns of a matrix's storage `m` and of the Jacobian `js`, paired, both sliced to n²
+/// entries with n = `V::LEN`: lengths known at compile time inside the closures that fill the
+/// matrices (not the n they would capture from outside, read at run time), so
 /// that a small matrix's loops are unrolled (with the lengths they are called with, read at
 /// run time, they were loops with a division for their trip count: some 90 instructions more
 /// a factorization at n = 3).
@@ -433,9 +438,10 @@ fn settled_by_squares(smallest_square: f64, largest_square: f64) -> Option<bool>
 fn square<'a, 'b, V: Vector, T>(
     m: &'a mut [T],
     js: &'b [f64],
-) -> (&'a mut [T], std::slice::ChunksExact<'b, f64>) {
+) -> impl Iterator<Item = (&'a mut [T], &'b [f64])> {
     let n = V::LEN;
-    (&mut m[..n * n], js[..n * n].chunks_exact(n.max(1)))
+    let (m, js) = (&mut m[..n * n], &js[..n * n]);
+    m.chunks_exact_mut(n.max(1)).zip(js.chunks_exact(n.max(1)))
 }
 
 /// The larger of a running maximum `m` (never NaN: it starts at 0) and `x`, and `m` when `x`
