@@ -237,7 +237,7 @@ impl Jacobian {
                     (column, factor, step) = (retry, larger, retry_step);
                 }
             }
-            self.set_column(j, column.difference.as_ref(), step);
+            self.set_column(j, &column.difference, step);
             if column.largest < DIFF_SMALL * column.scale {
                 factor *= FACTOR_CHANGE;
             }
@@ -249,18 +249,25 @@ impl Jacobian {
             if first && lost && xs[j].abs() <= self.threshold {
                 if let Some(hairer) = hairer_step(xs[j], direction * step.abs()) {
                     let column = self.column(ode, t, x, f0, j, hairer, stats)?;
-                    self.set_column(j, column.difference.as_ref(), hairer);
+                    self.set_column(j, &column.difference, hairer);
                 }
             }
         }
         Ok(())
     }
 
-    /// Column j of the Jacobian: the `difference` over the `step` it was taken with.
-    fn set_column(&mut self, j: usize, difference: &[f64], step: f64) {
-        let n = difference.len();
-        for (i, d) in difference.iter().enumerate() {
-            self.rows[i * n + j] = d / step;
+    /// Column j of the Jacobian: the `difference` over the `step` it was taken with. Sized by
+    /// the state's type, so that n is known at compile time, as where the loop was written
+    /// out in place (with the slice's length, read at run time, and an index check an entry,
+    /// the differenced runs took about 1 % more instructions).
+    fn set_column<V: Vector>(&mut self, j: usize, difference: &V, step: f64) {
+        let n = V::LEN;
+        assert!(j < n, "column {j} of {n}");
+        for (row, d) in self.rows[..n * n]
+            .chunks_exact_mut(n)
+            .zip(difference.as_ref())
+        {
+            row[j] = d / step;
         }
     }
 
