@@ -72,7 +72,25 @@ pub trait SquareLu<T: Entry> {
     /// modulus (infinite for n = 0), for the singularity test (`super::singular`; the caller
     /// knows the largest entry more cheaply than a modulus of every entry, which for a
     /// complex one is a `hypot`).
-    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64;
+    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
+        self.form(fill);
+        self.smallest_pivot()
+    }
+
+    /// Forms and factors the matrix as [`SquareLu::factor`] does, without measuring its
+    /// pivots.
+    fn form(&mut self, fill: impl FnOnce(&mut [T]));
+
+    /// The smallest pivot in modulus of the factors (infinite for n = 0): what
+    /// [`SquareLu::factor`] returns.
+    fn smallest_pivot(&self) -> f64;
+
+    /// The smallest squared modulus of the pivots, |uᵢᵢ|², where every one is finite and the
+    /// least above [`SQUARE_FLOOR`] (so that each carries its full precision); `None`
+    /// otherwise. For a complex matrix it is at hand from the factorization, where the
+    /// modulus itself is a `hypot` a pivot: enough to settle a comparison of the smallest
+    /// pivot that is not a near-tie.
+    fn smallest_pivot_square(&self) -> Option<f64>;
 
     /// Solves the factored system in place, `b` of length n; `false` when a pivot is zero.
     fn solve(&self, b: &mut [T]) -> bool;
@@ -107,7 +125,7 @@ where
     }
 
     /// `LU::new`'s steps on the storage in place.
-    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
+    fn form(&mut self, fill: impl FnOnce(&mut [T])) {
         let n = self.dim.value();
         fill(self.lu.as_mut_slice());
         self.p = PermutationSequence::identity_generic(self.dim);
@@ -137,7 +155,26 @@ where
                 *square = self.lu[(i, i)].modulus_squared();
             }
         }
-        smallest_modulus((0..n).map(|i| self.lu[(i, i)]))
+    }
+
+    fn smallest_pivot(&self) -> f64 {
+        smallest_modulus((0..self.dim.value()).map(|i| self.lu[(i, i)]))
+    }
+
+    fn smallest_pivot_square(&self) -> Option<f64> {
+        let n = self.dim.value();
+        let square = |i: usize| {
+            if T::COMPLEX {
+                self.squares[i]
+            } else {
+                self.lu[(i, i)].modulus_squared()
+            }
+        };
+        // A sum of non-negative terms is finite exactly when every term is (NaN included).
+        let (least, sum) = (0..n)
+            .map(square)
+            .fold((f64::INFINITY, 0.0), |(m, s), q| (m.min(q), s + q));
+        (sum.is_finite() && least.is_finite() && least > SQUARE_FLOOR).then_some(least)
     }
 
     /// One Gauss step on column `i` with its pivot in row `piv` ≥ `i`: nalgebra's
@@ -281,10 +318,24 @@ impl<T: Entry, const N: usize> SquareLu<T> for Lu<T, N> {
         }
     }
 
-    fn factor(&mut self, fill: impl FnOnce(&mut [T])) -> f64 {
+    fn form(&mut self, fill: impl FnOnce(&mut [T])) {
         match self {
-            Lu::Fixed(factors) => factors.factor(fill),
-            Lu::General(factors) => factors.factor(fill),
+            Lu::Fixed(factors) => factors.form(fill),
+            Lu::General(factors) => factors.form(fill),
+        }
+    }
+
+    fn smallest_pivot(&self) -> f64 {
+        match self {
+            Lu::Fixed(factors) => factors.smallest_pivot(),
+            Lu::General(factors) => factors.smallest_pivot(),
+        }
+    }
+
+    fn smallest_pivot_square(&self) -> Option<f64> {
+        match self {
+            Lu::Fixed(factors) => factors.smallest_pivot_square(),
+            Lu::General(factors) => factors.smallest_pivot_square(),
         }
     }
 

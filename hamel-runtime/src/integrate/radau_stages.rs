@@ -162,11 +162,11 @@ impl<V: Vector> TransformedStages<V> {
         }
         let tr = &self.transformation;
         let (g, s) = (tr.gamma / h, Complex::new(tr.alpha / h, tr.beta / h));
-        let (real, complex) = factor_pair(&mut self.real, &mut self.complex, jacobian, g, s);
+        let (real, complex) = factor_pair::<V>(&mut self.real, &mut self.complex, jacobian, g, s);
         stats.factorizations += 2;
         self.formed = None;
         let suspicious = relative_pivot(real.smallest, real.largest) <= SUSPICIOUS_PIVOT
-            || relative_pivot(complex.smallest, complex.largest) <= SUSPICIOUS_PIVOT;
+            || complex.suspicious(&self.complex, jacobian);
         if suspicious {
             let mus = self
                 .method_eigenvalues
@@ -302,26 +302,23 @@ struct Pivots {
 /// the complex entries with a zero imaginary part, whose modulus is |j| exactly: only the n
 /// diagonal entries of the complex matrix need a modulus of their own for the largest entry,
 /// and of those only the ones whose squared modulus is within 10⁻¹² of the largest one's.
-fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
-    real: &mut R,
-    complex: &mut C,
+fn factor_pair<V: Vector>(
+    real: &mut V::Lu,
+    complex: &mut V::ComplexLu,
     jacobian: &DMatrix<f64>,
     g: f64,
     s: Complex<f64>,
-) -> (Pivots, Pivots) {
+) -> (Pivots, ComplexEntries) {
     let zero = Complex::new(0.0, 0.0);
-    let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
-    let n = jacobian.nrows();
+    let n = V::LEN;
+    debug_assert_eq!((jacobian.nrows(), jacobian.ncols()), (n, n));
     let js = jacobian.as_slice();
     // Column by column (the storage order of both), as slices: no index checks. The complex
     // column is written whole, then its diagonal entry over it: no branch an entry (for the
     // real one, splitting the column around its diagonal cost more on n = 3 than it saved).
+    let (mut off_diagonal, mut real_diagonal, mut diagonal_square) = (0.0f64, 0.0f64, 0.0f64);
     let real_smallest = real.factor(|m| {
-        for (c, (column, js)) in m
-            .chunks_exact_mut(n.max(1))
-            .zip(js.chunks_exact(n.max(1)))
-            .enumerate()
-        {
+        for (c, (column, js)) in square::<V, _>(m, js).enumerate() {
             for (r, (v, &j)) in column.iter_mut().zip(js).enumerate() {
                 if r == c {
                     *v = g - j;
@@ -333,40 +330,118 @@ fn factor_pair<R: SquareLu<f64>, C: SquareLu<Complex<f64>>>(
             }
         }
     });
-    let complex_smallest = complex.factor(|m| {
-        for (c, (column, js)) in m
-            .chunks_exact_mut(n.max(1))
-            .zip(js.chunks_exact(n.max(1)))
-            .enumerate()
-        {
+    // The complex diagonal's running maximum is the closure's own, handed out at the end:
+    // kept in a register (a captured one is stored back after every column, as the matrix
+    // might alias it; for the real matrix's two maxima that cost less than what the
+    // compiler did with them as locals, not unrolling the columns at n = 8).
+    complex.form(|m| {
+        let mut square_max = 0.0f64;
+        for (c, (column, js)) in square::<V, _>(m, js).enumerate() {
             for (v, &j) in column.iter_mut().zip(js) {
                 *v = zero - j;
             }
             column[c] = s - js[c];
-            diagonal_square = larger(diagonal_square, column[c].norm_sqr());
+            square_max = larger(square_max, column[c].norm_sqr());
         }
+        diagonal_square = square_max;
     });
-    // The largest modulus of the complex diagonal, a `hypot` taken only of the entries that
-    // can be the largest (as `dense::smallest_modulus` takes the smallest pivot's).
-    let diagonal = || (0..n).map(|c| s - jacobian[(c, c)]);
-    let complex_diagonal = if diagonal_square.is_finite() && diagonal_square > SQUARE_FLOOR {
-        let bound = diagonal_square * (1.0 - SQUARE_MARGIN);
-        diagonal()
-            .filter(|d| d.norm_sqr() >= bound)
-            .fold(0.0, |m, d| larger(m, d.norm()))
-    } else {
-        diagonal().fold(0.0, |m, d| larger(m, d.norm()))
-    };
     (
         Pivots {
             smallest: real_smallest,
             largest: real_diagonal.max(off_diagonal),
         },
-        Pivots {
-            smallest: complex_smallest,
-            largest: complex_diagonal.max(off_diagonal),
+        ComplexEntries {
+            s,
+            diagonal_square,
+            off_diagonal,
         },
     )
+}
+
+/// What forming the complex matrix (α + iβ)/h I − J measured of its entries: the largest
+/// |j| off the diagonal and the largest squared modulus on it, from which its pivots are
+/// judged.
+struct ComplexEntries {
+    s: Complex<f64>,
+    diagonal_square: f64,
+    off_diagonal: f64,
+}
+
+impl ComplexEntries {
+    /// The factored matrix's smallest pivot and largest entry, in modulus: `hypot`s, the
+    /// largest diagonal entry's taken only of the entries that can be the largest (as
+    /// `dense::smallest_modulus` takes the smallest pivot's).
+    fn pivots<C: SquareLu<Complex<f64>>>(&self, complex: &C, jacobian: &DMatrix<f64>) -> Pivots {
+        let (s, diagonal_square) = (self.s, self.diagonal_square);
+        let diagonal = || (0..jacobian.nrows()).map(|c| s - jacobian[(c, c)]);
+        let complex_diagonal = if diagonal_square.is_finite() && diagonal_square > SQUARE_FLOOR {
+            let bound = diagonal_square * (1.0 - SQUARE_MARGIN);
+            diagonal()
+                .filter(|d| d.norm_sqr() >= bound)
+                .fold(0.0, |m, d| larger(m, d.norm()))
+        } else {
+            diagonal().fold(0.0, |m, d| larger(m, d.norm()))
+        };
+        Pivots {
+            smallest: complex.smallest_pivot(),
+            largest: complex_diagonal.max(self.off_diagonal),
+        }
+    }
+
+    /// Whether the smallest pivot relative to the largest entry is at most
+    /// [`SUSPICIOUS_PIVOT`], as [`Self::pivots`] would tell, settled on their squared moduli
+    /// where that ratio is not a near-tie ([`settled_by_squares`]): no `hypot` then, some
+    /// 100 instructions a factorization at n = 3.
+    fn suspicious<C: SquareLu<Complex<f64>>>(&self, complex: &C, jacobian: &DMatrix<f64>) -> bool {
+        let largest_square = self
+            .diagonal_square
+            .max(self.off_diagonal * self.off_diagonal);
+        let settled = complex
+            .smallest_pivot_square()
+            .and_then(|smallest| settled_by_squares(smallest, largest_square));
+        settled.unwrap_or_else(|| {
+            let pivots = self.pivots(complex, jacobian);
+            relative_pivot(pivots.smallest, pivots.largest) <= SUSPICIOUS_PIVOT
+        })
+    }
+}
+
+/// `relative_pivot(smallest, largest) <= SUSPICIOUS_PIVOT` from the squares of the two
+/// moduli (each within a few ulps of the exact square), where their ratio differs from
+/// SUSPICIOUS_PIVOT² by more than a relative [`SQUARE_MARGIN`]: far beyond any rounding of
+/// the squares, of the moduli (`hypot`, within an ulp) and of their quotient, so the answer
+/// is the one the moduli give. `None` for a near-tie, or squares that are not finite, normal
+/// numbers above [`SQUARE_FLOOR`].
+fn settled_by_squares(smallest_square: f64, largest_square: f64) -> Option<bool> {
+    let normal = |q: f64| q.is_finite() && q > SQUARE_FLOOR;
+    if !(normal(smallest_square) && normal(largest_square)) {
+        return None;
+    }
+    let ratio = smallest_square / largest_square;
+    let threshold = SUSPICIOUS_PIVOT * SUSPICIOUS_PIVOT;
+    if ratio > threshold * (1.0 + SQUARE_MARGIN) {
+        Some(false)
+    } else if ratio < threshold * (1.0 - SQUARE_MARGIN) {
+        Some(true)
+    } else {
+        None
+    }
+}
+
+/// The columns of a matrix's storage `m` and of the Jacobian `js`, paired, both sliced to n²
+/// entries with n = `V::LEN`: lengths known at compile time inside the closures that fill the
+/// matrices (not the n they would capture from outside, read at run time), so
+/// that a small matrix's loops are unrolled (with the lengths they are called with, read at
+/// run time, they were loops with a division for their trip count: some 90 instructions more
+/// a factorization at n = 3).
+#[inline(always)]
+fn square<'a, 'b, V: Vector, T>(
+    m: &'a mut [T],
+    js: &'b [f64],
+) -> impl Iterator<Item = (&'a mut [T], &'b [f64])> {
+    let n = V::LEN;
+    let (m, js) = (&mut m[..n * n], &js[..n * n]);
+    m.chunks_exact_mut(n.max(1)).zip(js.chunks_exact(n.max(1)))
 }
 
 /// The larger of a running maximum `m` (never NaN: it starts at 0) and `x`, and `m` when `x`
@@ -377,15 +452,30 @@ fn larger(m: f64, x: f64) -> f64 {
     if x > m { x } else { m }
 }
 
-/// (M ⊗ I) applied to three stage vectors.
+/// (M ⊗ I) applied to three stage vectors: each output entry m_i0·x0 + m_i1·x1 + m_i2·x2,
+/// summed left to right (what `Iterator::sum` from −0 gives, −0 + a being a for every a),
+/// written in place component by component: no closure per stage and no copy of a stage
+/// vector out of one, whose inlining varied from build to build (at n = 8 a third of the
+/// iteration's instructions went to `array::from_fn`'s machinery and copies).
+#[inline(always)]
 fn transform<V: Vector>(m: &[[f64; 3]; 3], x: &[V; 3]) -> [V; 3] {
-    core::array::from_fn(|i| {
-        let mut out = V::zeros();
-        for (p, o) in out.as_mut().iter_mut().enumerate() {
-            *o = (0..3).map(|j| m[i][j] * x[j].as_ref()[p]).sum();
-        }
-        out
-    })
+    let mut out = [V::zeros(); 3];
+    let [o0, o1, o2] = &mut out;
+    let (x0, x1, x2) = (x[0].as_ref(), x[1].as_ref(), x[2].as_ref());
+    let row = |i: usize, a: f64, b: f64, c: f64| m[i][0] * a + m[i][1] * b + m[i][2] * c;
+    for ((((o0, o1), o2), x0), (x1, x2)) in o0
+        .as_mut()
+        .iter_mut()
+        .zip(o1.as_mut())
+        .zip(o2.as_mut())
+        .zip(x0)
+        .zip(x1.iter().zip(x2))
+    {
+        *o0 = row(0, *x0, *x1, *x2);
+        *o1 = row(1, *x0, *x1, *x2);
+        *o2 = row(2, *x0, *x1, *x2);
+    }
+    out
 }
 
 #[cfg(test)]
@@ -417,8 +507,15 @@ mod tests {
                 <[f64; N] as Vector>::Lu::new(),
                 <[f64; N] as Vector>::ComplexLu::new(),
             );
-            let (real_pivots, complex_pivots) =
-                factor_pair(&mut real, &mut complex, &jacobian, g, s);
+            let (real_pivots, complex_entries) =
+                factor_pair::<[f64; N]>(&mut real, &mut complex, &jacobian, g, s);
+            let complex_pivots = complex_entries.pivots(&complex, &jacobian);
+            // The screened test tells what the moduli tell.
+            assert_eq!(
+                complex_entries.suspicious(&complex, &jacobian),
+                relative_pivot(complex_pivots.smallest, complex_pivots.largest) <= SUSPICIOUS_PIVOT,
+                "h = {h}"
+            );
             // The definitions: each entry as written, the largest by a modulus of each.
             let zero = Complex::new(0.0, 0.0);
             let expected_real = DMatrix::from_fn(N, N, |r, c| {
@@ -459,6 +556,74 @@ mod tests {
                     (bits(b.re), bits(b.im)),
                     "h = {h}"
                 );
+            }
+        }
+    }
+
+    /// The test on squared moduli answers as the moduli do wherever it answers, on pairs of
+    /// complex numbers around the threshold (a relative 10⁻⁶ to 10⁻¹⁵ from it, and exactly
+    /// at it), of every size from 10⁻¹²⁰ to 10¹²⁰ and direction; and it answers away from
+    /// the threshold.
+    #[test]
+    fn the_squares_settle_the_singularity_test_as_the_moduli_do() {
+        let (mut answered, mut ties) = (0, 0);
+        for k in 0..4000u32 {
+            let angle = |j: u32| 0.61 * f64::from(j) + 0.1;
+            let size = 10f64.powi((k % 241) as i32 - 120);
+            let large = Complex::from_polar(size, angle(k));
+            let offset = match k % 5 {
+                0 => 0.0,
+                1 => 1e-6,
+                2 => -1e-12,
+                3 => 1e-15 * f64::from(k % 7),
+                _ => -1e-13 * f64::from(k % 11),
+            };
+            let small = Complex::from_polar(
+                large.norm() * SUSPICIOUS_PIVOT * (1.0 + offset),
+                angle(k / 3 + 1),
+            );
+            let exact = relative_pivot(small.norm(), large.norm()) <= SUSPICIOUS_PIVOT;
+            match settled_by_squares(small.norm_sqr(), large.norm_sqr()) {
+                Some(screened) => {
+                    assert_eq!(screened, exact, "{small} against {large}");
+                    answered += 1;
+                }
+                None => ties += 1,
+            }
+        }
+        assert!(
+            answered > 1500 && ties > 1500,
+            "{answered} answered, {ties} ties"
+        );
+        assert_eq!(settled_by_squares(1.0, 1e20), Some(false));
+        assert_eq!(settled_by_squares(1e-20, 1e20), Some(true));
+        assert_eq!(settled_by_squares(1.0, 0.0), None);
+        assert_eq!(settled_by_squares(f64::NAN, 1.0), None);
+        assert_eq!(settled_by_squares(1.0, f64::INFINITY), None);
+    }
+
+    /// The transform is (M ⊗ I) x as `Iterator::sum` adds it, to the bit, zeros of both
+    /// signs included.
+    #[test]
+    fn the_transform_is_the_summed_products() {
+        let tr = Transformation::new(&Tableau::radau_iia());
+        let value = |k: usize| match k % 6 {
+            0 => 0.0,
+            1 => -0.0,
+            _ => (k as f64 * 0.37).sin() * 10f64.powi(k as i32 % 9 - 4),
+        };
+        let x: [[f64; 5]; 3] = core::array::from_fn(|i| core::array::from_fn(|p| value(5 * i + p)));
+        for m in [
+            &tr.t,
+            &tr.t_inv,
+            &[[0.0, -0.0, 1.0], [-0.0, -0.0, -0.0], [2.0, 0.5, -3.0]],
+        ] {
+            let ours = transform(m, &x);
+            for (i, row) in ours.iter().enumerate() {
+                for (p, v) in row.iter().enumerate() {
+                    let summed: f64 = (0..3).map(|j| m[i][j] * x[j][p]).sum();
+                    assert_eq!(v.to_bits(), summed.to_bits(), "({i}, {p})");
+                }
             }
         }
     }
