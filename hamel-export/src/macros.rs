@@ -114,6 +114,15 @@ macro_rules! model {
                 [fill; <$marker>::LEN]
             }
 
+            #[inline(always)]
+            unsafe fn assume_init(
+                a: [::core::mem::MaybeUninit<f64>; <$marker>::LEN],
+            ) -> [f64; <$marker>::LEN] {
+                // SAFETY: every value is initialized (the caller's contract), and an array
+                // of `MaybeUninit<f64>` has the layout of one of `f64`.
+                unsafe { ::core::ptr::from_ref(&a).cast::<[f64; <$marker>::LEN]>().read() }
+            }
+
             #[inline]
             fn rhs<S: $crate::__private::Scalar>(
                 z: &[S; <$marker>::LEN],
@@ -183,6 +192,7 @@ macro_rules! __model_compiled {
         type Prepared = ();
         type Scratch = [::core::mem::MaybeUninit<f64>; 0];
         const LIE: usize = 0;
+        const COMPILED: bool = false;
 
         #[inline(always)]
         fn scratch() -> [::core::mem::MaybeUninit<f64>; 0] {
@@ -270,6 +280,7 @@ macro_rules! __model_compiled {
         type Prepared = [f64; <$system>::__HAMEL_EXPORT_PREPARED];
         type Scratch = [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH];
         const LIE: usize = <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len();
+        const COMPILED: bool = true;
 
         #[inline(always)]
         fn scratch() -> [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH] {
@@ -798,16 +809,17 @@ macro_rules! __casadi_family {
             fn family() -> &'static $crate::casadi::Family {
                 FAMILY.get_or_init(|| $crate::casadi::Family::new::<$marker>($which))
             }
-            $crate::__casadi_function!($marker, family, Value, "", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Jacobian, "jac_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward, "fwd1_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward2, "fwd2_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward4, "fwd4_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward8, "fwd8_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Adjoint, "adj1_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Value, "", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Jacobian, "jac_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward, "fwd1_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward2, "fwd2_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward4, "fwd4_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward8, "fwd8_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Adjoint, "adj1_", $name, $suffix);
             $crate::__casadi_function!(
                 $marker,
                 family,
+                $which,
                 AdjointJacobian,
                 "jac_adj1_",
                 $name,
@@ -820,7 +832,8 @@ macro_rules! __casadi_family {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __casadi_function {
-    ($marker:ty, $family:ident, $kind:ident, $prefix:literal, $name:literal, $suffix:literal) => {
+    ($marker:ty, $family:ident, $which:expr, $kind:ident, $prefix:literal, $name:literal,
+        $suffix:literal) => {
         const _: () = {
             use $crate::__private::{CasadiInt, c_char, c_int};
             use $crate::casadi::{Kind, symbols};
@@ -834,7 +847,7 @@ macro_rules! __casadi_function {
                 _mem: c_int,
             ) -> c_int {
                 $crate::abi::guard(concat!($prefix, $name, $suffix), || unsafe {
-                    $crate::casadi::eval::<$marker>($family(), Kind::$kind, arg, res)
+                    $crate::casadi::call::<$marker>($which, $family, Kind::$kind, arg, res)
                 })
             }
 

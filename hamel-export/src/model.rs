@@ -47,6 +47,9 @@ pub trait Model: 'static {
     /// all the same: at least as long as any output of `jac_f` and `jac_adj1_f`.
     type Scratch: AsMut<[core::mem::MaybeUninit<f64>]>;
 
+    /// Whether the model has the compiled derivative code (feature `compiled`): then every
+    /// family has its [`crate::casadi::plan::Plans`].
+    const COMPILED: bool;
     /// Whether the right-hand side depends on the time explicitly (then the exported
     /// functions take it as their last argument).
     const TIME_DEPENDENT: bool;
@@ -70,6 +73,12 @@ pub trait Model: 'static {
 
     /// An array every entry `fill`.
     fn array<S: Copy>(fill: S) -> Self::Array<S>;
+
+    /// An array whose values are all written: `a` as values.
+    ///
+    /// # Safety
+    /// Every value of `a` is initialized.
+    unsafe fn assume_init(a: Self::Array<core::mem::MaybeUninit<f64>>) -> Self::Array<f64>;
 
     /// A scratch buffer, not initialized.
     fn scratch() -> Self::Scratch;

@@ -11,49 +11,59 @@
 
 use super::eval::{transpose_from, transpose_into};
 use super::{Family, Kind};
-use crate::abi::{Failure, all_finite, all_zero};
+use crate::abi::{Failure, FiniteSum, all_finite, all_zero};
 use crate::model::{Model, Sizes};
 use crate::passes::singular;
 use crate::primal::Which;
 use core::mem::MaybeUninit;
+use hamel_runtime::Singularity;
 
-/// The point (x, u, p and t) into `z`, read with the model's sizes; `false` if a block is
-/// null or a value not finite (the general path takes the call: zeros, or the refusal).
+/// The point (x, u, p and t) as z, read with the model's sizes; `None` if a block is null
+/// or the values' sum not finite (the general path takes the call: zeros for a null block;
+/// the refusal naming a value that is not finite, or the call computed if the sum only
+/// overflowed). The blocks are checked for null before any is read, and each is copied and
+/// checked in one pass ([`FiniteSum`]), into an array not zeroed first: zeros stored, the
+/// copy, and a pass over the copy again were 70 instructions of `f`'s 625 a call (the
+/// robot, `hamel-export/bench/instructions.sh` and callgrind's report of `mobile_robot_f`).
 ///
 /// # Safety
 /// `arg` is CasADi's non-null array of inputs of a function of the right-hand side.
 #[inline(always)]
-unsafe fn point<M: Model>(arg: *const *const f64, z: &mut M::Array<f64>) -> bool {
+unsafe fn point<M: Model>(arg: *const *const f64) -> Option<M::Array<f64>> {
     let s = Sizes::of::<M>();
     // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
     let given = |k: usize| unsafe { *arg.add(k) };
-    {
-        let z = z.as_mut();
-        // x, u, p (and t): CasADi's inputs 0, 1, 2 (and 3).
-        for (k, (start, len)) in [(0, s.nx), (s.u(), s.nu), (s.p(), s.np)]
-            .into_iter()
-            .enumerate()
-        {
-            if len > 0 {
-                let block = given(k);
-                if block.is_null() {
-                    return false;
-                }
-                // SAFETY: a non-null input points to its port's nonzeros: the dense block.
-                z[start..start + len]
-                    .copy_from_slice(unsafe { core::slice::from_raw_parts(block, len) });
-            }
-        }
-        if M::TIME_DEPENDENT {
-            let t = given(3);
-            if t.is_null() {
-                return false;
-            }
-            // SAFETY: as above, one value.
-            z[s.t()] = unsafe { *t };
-        }
+    // x, u, p (and t): CasADi's inputs 0, 1, 2 (and 3).
+    let (x, u, p) = (given(0), given(1), given(2));
+    let t = if M::TIME_DEPENDENT { given(3) } else { x };
+    let null = |block: *const f64, len: usize| len > 0 && block.is_null();
+    if null(x, s.nx) || null(u, s.nu) || null(p, s.np) || (M::TIME_DEPENDENT && t.is_null()) {
+        return None;
     }
-    all_finite(&z.as_ref()[..s.z()])
+    let mut z = M::array(MaybeUninit::<f64>::uninit());
+    let to = z.as_mut();
+    let mut sum = FiniteSum::new();
+    let mut copy = |block: *const f64, start: usize, len: usize| {
+        if len > 0 {
+            // SAFETY: a non-null input points to its port's nonzeros: the dense block.
+            let from = unsafe { core::slice::from_raw_parts(block, len) };
+            sum.copy(from, &mut to[start..start + len]);
+        }
+    };
+    copy(x, 0, s.nx);
+    copy(u, s.u(), s.nu);
+    copy(p, s.p(), s.np);
+    if M::TIME_DEPENDENT {
+        copy(t, s.t(), 1);
+    } else {
+        to[s.t()].write(0.0);
+    }
+    // The rest of the array (longer than z when the outputs are): zeros.
+    for rest in &mut to[s.z()..] {
+        rest.write(0.0);
+    }
+    // SAFETY: every value was written above (z's blocks, t and the rest).
+    sum.finite().then(|| unsafe { M::assume_init(z) })
 }
 
 /// How many of CasADi's inputs are the point: x, u, p (and t).
@@ -61,22 +71,25 @@ fn point_blocks<M: Model>() -> usize {
     3 + usize::from(M::TIME_DEPENDENT)
 }
 
-/// An adjoint's weights (the input after the point and the nominal output; null: zeros)
-/// into `weights`; `false` if one is not finite.
+/// An adjoint's weights (the input after the point and the nominal output): CasADi's own
+/// array, read in place (only read, by code that writes elsewhere), or `zeros` when null;
+/// `None` if their sum is not finite (the general path takes the call, as for the point).
 ///
 /// # Safety
 /// `arg` is CasADi's non-null array of inputs of `adj1_f` or `jac_adj1_f` of the right-hand
-/// side.
+/// side; a non-null input points to as many values as `zeros` holds, valid for the call.
 #[inline(always)]
-unsafe fn read_weights<M: Model>(arg: *const *const f64, weights: &mut [f64]) -> bool {
+unsafe fn weights<M: Model>(arg: *const *const f64, zeros: &[f64]) -> Option<&[f64]> {
     // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
     let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
     if given.is_null() {
-        return true;
+        return Some(zeros);
     }
     // SAFETY: a non-null input points to its port's nonzeros: as many as the weights.
-    weights.copy_from_slice(unsafe { core::slice::from_raw_parts(given, weights.len()) });
-    all_finite(weights)
+    let weights = unsafe { core::slice::from_raw_parts(given, zeros.len()) };
+    let mut sum = FiniteSum::new();
+    sum.add(weights);
+    sum.finite().then_some(weights)
 }
 
 /// Forward seed block `k` (0: x, 1: u, 2: p, 3: t), after the point and the nominal output.
@@ -129,13 +142,10 @@ pub unsafe fn rhs<M: Model>(
     kind: Kind,
     arg: *const *const f64,
     res: *const *mut f64,
-) -> Option<Result<(), Failure>> {
+) -> Option<Result<(), Singularity>> {
     let s = Sizes::of::<M>();
-    let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
-    if !unsafe { point::<M>(arg, &mut z) } {
-        return None;
-    }
+    let z = unsafe { point::<M>(arg) }?;
     // SAFETY: the only output is ẋ or its derivative, dense (the caller's contract).
     let Some(out) = (unsafe { dense_output(res, s.nx) }) else {
         return Some(Ok(()));
@@ -183,7 +193,7 @@ pub unsafe fn rhs<M: Model>(
         _ => return None,
     };
     // `None`: no compiled code (nothing was written); the general path computes it.
-    Some(written?.map_err(|e| singular::<M>(e, z.as_ref())))
+    written
 }
 
 /// Seed block `k` (`N` columns of `len` values; null: zeros) into components
@@ -230,11 +240,8 @@ pub unsafe fn forwards<M: Model, const N: usize>(
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
     let s = Sizes::of::<M>();
-    let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
-    if !unsafe { point::<M>(arg, &mut z) } {
-        return None;
-    }
+    let z = unsafe { point::<M>(arg) }?;
     // SAFETY: the only output is the N derivatives of ẋ, dense, a column each (the
     // caller's contract).
     let Some(out) = (unsafe { dense_output(res, s.nx * N) }) else {
@@ -314,19 +321,12 @@ fn zeroed<const N: usize>(rows: &mut [MaybeUninit<[f64; N]>], len: usize) -> &mu
 pub unsafe fn adjoint<M: Model>(
     arg: *const *const f64,
     res: *const *mut f64,
-) -> Option<Result<(), Failure>> {
+) -> Option<Result<(), Singularity>> {
     let s = Sizes::of::<M>();
-    let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
-    if !unsafe { point::<M>(arg, &mut z) } {
-        return None;
-    }
-    let mut weights = M::array(0.0f64);
-    let weights = &mut weights.as_mut()[..s.nx];
+    let z = unsafe { point::<M>(arg) }?;
     // SAFETY: the caller's contract.
-    if !unsafe { read_weights::<M>(arg, weights) } {
-        return None;
-    }
+    let weights = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?) }?;
     // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
     let out = |k: usize| unsafe { *res.add(k) };
     let parameters = s.np > 0 && !out(2).is_null();
@@ -343,9 +343,12 @@ pub unsafe fn adjoint<M: Model>(
         )
     });
     if let Err(e) = written? {
-        return Some(Err(singular::<M>(e, z.as_ref())));
+        return Some(Err(e));
     }
-    let local = &local.as_ref()[..columns];
+    // Indexed within the whole array, whose length is a constant (not within its first
+    // `columns`: their bounds were checked at run time, value by value, about 20
+    // instructions of `adj1_f` for the robot; `hamel-export/bench/instructions.sh`).
+    let local = local.as_ref();
     // SAFETY (each block below): a non-null output points to its port's nonzeros, dense.
     for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
         if len > 0 && !out(k).is_null() {
@@ -366,6 +369,25 @@ pub unsafe fn adjoint<M: Model>(
     Some(Ok(()))
 }
 
+/// The refusal of a singularity that [`rhs`] or [`adjoint`] met, naming the state, read
+/// again from `arg`: out of line, so that the fast calls carry the singularity alone, not
+/// the point for its message (10 instructions fewer in `adj1_f` of the robot,
+/// `hamel-export/bench/instructions.sh`).
+///
+/// # Safety
+/// As [`rhs`], for the call that met the singularity.
+#[cold]
+#[inline(never)]
+pub unsafe fn singular_at<M: Model>(e: Singularity, arg: *const *const f64) -> Failure {
+    // SAFETY: the caller's contract.
+    let z = unsafe { point::<M>(arg) }.unwrap_or_else(|| M::array(0.0));
+    singular::<M>(e, z.as_ref())
+}
+
+/// Zero weights, for a null adjoint seed (CasADi's zeros): a model with more states takes
+/// the general path then.
+static ZEROS: [f64; 256] = [0.0; 256];
+
 /// `jac_f` (the blocks by x, u, t and, when wanted, by p) or `jac_adj1_f` (the weighted
 /// second derivatives and the transposed Jacobian blocks) of the right-hand side, when every
 /// wanted block is filled by the compiled code, which writes each entry straight into its
@@ -382,21 +404,18 @@ pub unsafe fn sparse<M: Model>(
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
     let s = Sizes::of::<M>();
-    let mut z = M::array(0.0f64);
     // SAFETY: the caller's contract.
-    if !unsafe { point::<M>(arg, &mut z) } {
-        return None;
-    }
+    let z = unsafe { point::<M>(arg) }?;
     let second = kind == Kind::AdjointJacobian;
     // The weights of `jac_adj1_f` only (none for `jac_f`).
     let mut array;
     let weights: &[f64] = if second {
+        // Copied: the compiled code writes into CasADi's outputs while it reads them.
+        // SAFETY: the caller's contract.
+        let given = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?) }?;
         array = M::array(0.0f64);
         let weights = &mut array.as_mut()[..s.nx];
-        // SAFETY: the caller's contract.
-        if !unsafe { read_weights::<M>(arg, weights) } {
-            return None;
-        }
+        weights.copy_from_slice(given);
         weights
     } else {
         &[]
