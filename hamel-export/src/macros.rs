@@ -400,6 +400,34 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
+        unsafe fn products_of<const N: usize>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            directions: &[::core::mem::MaybeUninit<[f64; N]>; <$marker>::LEN],
+            out: &mut [::core::mem::MaybeUninit<[f64; N]>; <$marker>::LEN],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
+            // Each entry times its column's directions, added to its row's: `k`, the row
+            // and the column are constants once the compiled code is inlined here.
+            let put = &mut |k: usize, v: f64| {
+                let (r, c) = <$system>::__HAMEL_EXPORT_RHS_JACOBIAN[k];
+                // SAFETY: row `c` of the directions and row `r` of `out` are initialized
+                // (the caller's contract).
+                unsafe {
+                    $crate::casadi::plan::add_scaled(
+                        v,
+                        directions[c].assume_init_ref(),
+                        out[r].assume_init_mut(),
+                    )
+                };
+            };
+            ::core::option::Option::Some(<$system>::__hamel_export_rhs_jacobian::<(), _>(
+                prepared, p, t, x, u, false, put,
+            ))
+        }
+
+        #[inline]
         fn forward_of<const W: u8>(
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],

@@ -127,6 +127,25 @@ pub trait Model: 'static {
         None
     }
 
+    /// The right-hand side's `N` forward derivatives by x, u and t as products of its
+    /// compiled Jacobian (the stage by x, u and t) with the directions, each entry
+    /// multiplied as the compiled code gives it, not stored: `out[r] += J[r][c] ·
+    /// directions[c]` over the compiled code's columns (x, u, the parameters it reads, t).
+    /// `None` without compiled code; `Some(Ok(false))` if that stage is not compiled.
+    ///
+    /// # Safety
+    /// Every row of `directions` below the compiled code's number of columns, and every row
+    /// of `out` below the number of outputs, is initialized (the rows the entries read and
+    /// add to: [`crate::casadi::plan::Products`] checks the tables against those bounds).
+    unsafe fn products_of<const N: usize>(
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _directions: &Self::Array<core::mem::MaybeUninit<[f64; N]>>,
+        _out: &mut Self::Array<core::mem::MaybeUninit<[f64; N]>>,
+    ) -> Option<Result<bool, Singularity>> {
+        None
+    }
+
     /// The derivative along `direction` into `out`.
     fn forward_of<const W: u8>(
         _prepared: &Self::Prepared,

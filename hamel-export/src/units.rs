@@ -54,6 +54,25 @@ pub mod jacobian {
     }
 }
 
+/// The right-hand side's forward derivatives as products of its compiled Jacobian.
+pub mod products {
+    use super::*;
+    use core::mem::MaybeUninit;
+
+    /// # Safety
+    /// As [`Model::products_of`].
+    #[inline(never)]
+    pub unsafe fn call<M: Model, const N: usize>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        directions: &M::Array<MaybeUninit<[f64; N]>>,
+        out: &mut M::Array<MaybeUninit<[f64; N]>>,
+    ) -> Option<Result<bool, Singularity>> {
+        // SAFETY: the caller's contract.
+        unsafe { M::products_of::<N>(prepared, z, directions, out) }
+    }
+}
+
 /// The compiled forward derivative.
 pub mod forward {
     use super::*;

@@ -253,13 +253,12 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     if !unsafe { fixed_parameters::<M>(arg, N) } {
         return None;
     }
-    // Only the components the products read, and the derivatives of ẋ, set to zeros (not
-    // the arrays' whole length: that was a sixth of `fwd8_f`'s instructions).
-    let mut directions = M::array(MaybeUninit::<[f64; N]>::uninit());
-    let directions = zeroed(
-        directions.as_mut(),
-        plans.products.columns(false).max(s.p()),
-    );
+    // Only the components the products read (over z, and over the compiled code's columns
+    // for the fused products), and the derivatives of ẋ, set to zeros (not the arrays'
+    // whole length: that was a sixth of `fwd8_f`'s instructions).
+    let mut array = M::array(MaybeUninit::<[f64; N]>::uninit());
+    let columns = plans.products.columns(false).max(plans.local.len());
+    let directions = zeroed(array.as_mut(), columns);
     // The seeds in x and in u, one call each (not a loop over the two blocks: at the exported
     // crate's opt-level 2 the loop is not unrolled, and the blocks' lengths are then not
     // constants).
@@ -269,11 +268,23 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     {
         return None;
     }
+    let mut derivatives = M::array(MaybeUninit::<[f64; N]>::uninit());
+    zeroed(derivatives.as_mut(), s.nx);
+    if plans.fused {
+        // SAFETY: the directions' first `columns` rows (at least the compiled code's
+        // columns) and the derivatives' first nx are zeros or seeds.
+        return unsafe { fused::<M, N>(&z, &array, &mut derivatives, out) };
+    }
     if !plans.products.compiled(false) {
         return None;
     }
-    let mut derivatives = M::array(MaybeUninit::<[f64; N]>::uninit());
-    let derivatives = zeroed(derivatives.as_mut(), s.nx);
+    // SAFETY: as above.
+    let (directions, derivatives) = unsafe {
+        (
+            initialized(array.as_ref(), columns),
+            initialized_mut(derivatives.as_mut(), s.nx),
+        )
+    };
     // `jac_f`'s outputs one after the other in a scratch buffer, then their products.
     let mut jacobian = M::scratch();
     let jacobian = jacobian.as_mut();
@@ -297,6 +308,65 @@ pub unsafe fn forwards<M: Model, const N: usize>(
             })
         }
     }
+}
+
+/// `fwd<N>_f`'s derivatives as products of the compiled Jacobian's entries with the
+/// directions, each entry multiplied as the compiled code gives it ([`Model::products_of`]):
+/// an entry stored and read back, with its row and column read from a table, was 8
+/// instructions more per entry and direction pair (28 entries for the robot; `fwd2_f`,
+/// `hamel-export/bench/instructions.sh`).
+///
+/// # Safety
+/// The first rows of `directions` (as many as the compiled code's columns) and of
+/// `derivatives` (nx) are initialized; `plans.fused` holds (the tables' entries lie within
+/// them).
+#[inline(always)]
+unsafe fn fused<M: Model, const N: usize>(
+    z: &M::Array<f64>,
+    directions: &M::Array<MaybeUninit<[f64; N]>>,
+    derivatives: &mut M::Array<MaybeUninit<[f64; N]>>,
+    out: &mut [f64],
+) -> Option<Result<(), Failure>> {
+    let s = Sizes::of::<M>();
+    let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
+        // SAFETY: the caller's contract, which is `products_of`'s.
+        unsafe { crate::units::products::call::<M, N>(prepared, z, directions, derivatives) }
+    });
+    match written? {
+        Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
+        Ok(false) => None,
+        Ok(true) => {
+            // SAFETY: the first nx rows are initialized (the caller's contract).
+            transpose_from(unsafe { initialized(derivatives.as_ref(), s.nx) }, out);
+            Some(Ok(()))
+        }
+    }
+}
+
+/// The first `len` of `rows` (at most all), which are initialized.
+///
+/// # Safety
+/// The first `len` rows are initialized.
+#[inline(always)]
+unsafe fn initialized<const N: usize>(rows: &[MaybeUninit<[f64; N]>], len: usize) -> &[[f64; N]] {
+    let rows = &rows[..len.min(rows.len())];
+    // SAFETY: initialized (the caller's contract); `MaybeUninit<T>` has `T`'s layout.
+    unsafe { &*(core::ptr::from_ref(rows) as *const [[f64; N]]) }
+}
+
+/// As [`initialized`], to write.
+///
+/// # Safety
+/// As [`initialized`].
+#[inline(always)]
+unsafe fn initialized_mut<const N: usize>(
+    rows: &mut [MaybeUninit<[f64; N]>],
+    len: usize,
+) -> &mut [[f64; N]] {
+    let len = len.min(rows.len());
+    let rows = &mut rows[..len];
+    // SAFETY: as above.
+    unsafe { &mut *(core::ptr::from_mut(rows) as *mut [[f64; N]]) }
 }
 
 /// The first `len` of `rows` (at most all), set to zeros.
