@@ -363,7 +363,9 @@ impl FiniteSum {
         };
         #[cfg(not(target_arch = "x86_64"))]
         let sum = self.last;
-        sum.is_finite()
+        // ±0 for a finite sum, NaN for an infinite or NaN one: two instructions fewer than
+        // `is_finite`'s test of the exponent's bits in an integer register.
+        sum * 0.0 == 0.0
     }
 }
 

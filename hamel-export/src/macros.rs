@@ -106,6 +106,10 @@ macro_rules! model {
             const OUTPUT_PARAMETERS: &'static [&'static [&'static str]] =
                 <$system>::__HAMEL_OUTPUT_PARAMETERS;
             const READ: &'static [usize] = &<$marker>::READ;
+            const READS_ALL: bool = $crate::__private::reads_all(
+                &<$marker>::READ,
+                <$system as $crate::__private::Parameters>::NAMES.len(),
+            );
 
             // Always inlined: `fwd8_f` fills two arrays of 8-value rows a call, which a call
             // of this function fills value by value and, inlined, a `memset` does.
@@ -115,12 +119,12 @@ macro_rules! model {
             }
 
             #[inline(always)]
-            unsafe fn assume_init(
-                a: [::core::mem::MaybeUninit<f64>; <$marker>::LEN],
-            ) -> [f64; <$marker>::LEN] {
+            unsafe fn assume_init_ref(
+                a: &[::core::mem::MaybeUninit<f64>; <$marker>::LEN],
+            ) -> &[f64; <$marker>::LEN] {
                 // SAFETY: every value is initialized (the caller's contract), and an array
                 // of `MaybeUninit<f64>` has the layout of one of `f64`.
-                unsafe { ::core::ptr::from_ref(&a).cast::<[f64; <$marker>::LEN]>().read() }
+                unsafe { &*::core::ptr::from_ref(a).cast::<[f64; <$marker>::LEN]>() }
             }
 
             #[inline]
@@ -251,7 +255,7 @@ macro_rules! __model_compiled {
             _z: &[f64; <$marker>::LEN],
             _weights: &[f64],
             _parameters: bool,
-            _out: &mut [f64],
+            _out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             ::core::option::Option::None
         }
@@ -464,7 +468,7 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64],
+            out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split_f64(z);
             let p = &p;
@@ -484,7 +488,7 @@ macro_rules! __model_compiled {
                     u,
                     $crate::__private::array(weights)?,
                     parameters,
-                    $crate::__private::array_mut(out)?,
+                    $crate::__private::array_mut(&mut out[..])?,
                 )
             ))
         }
@@ -603,7 +607,7 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64],
+            out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             use $crate::units::{LIE, OUTPUTS, RHS, adjoint::call};
             match which {

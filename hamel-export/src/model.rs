@@ -67,6 +67,9 @@ pub trait Model: 'static {
     /// The parameters the generated code reads, as positions in `Parameters::NAMES`: the
     /// compiled code's parameter columns.
     const READ: &'static [usize];
+    /// Whether [`Model::READ`] holds every parameter (then the derivatives by the
+    /// parameters have no entry the compiled code leaves out).
+    const READS_ALL: bool;
     /// How many Lie derivatives (L_f^k h for k = 0 … order, then L_{g_j} L_f^k h for
     /// k < order); zero without compiled code or `control(..)`.
     const LIE: usize;
@@ -78,7 +81,7 @@ pub trait Model: 'static {
     ///
     /// # Safety
     /// Every value of `a` is initialized.
-    unsafe fn assume_init(a: Self::Array<core::mem::MaybeUninit<f64>>) -> Self::Array<f64>;
+    unsafe fn assume_init_ref(a: &Self::Array<core::mem::MaybeUninit<f64>>) -> &Self::Array<f64>;
 
     /// A scratch buffer, not initialized.
     fn scratch() -> Self::Scratch;
@@ -163,7 +166,7 @@ pub trait Model: 'static {
         _z: &Self::Array<f64>,
         _weights: &[f64],
         _parameters: bool,
-        _out: &mut [f64],
+        _out: &mut Self::Array<f64>,
     ) -> Option<Result<(), Singularity>> {
         None
     }
@@ -225,7 +228,7 @@ pub trait Model: 'static {
         z: &Self::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut [f64],
+        out: &mut Self::Array<f64>,
     ) -> Option<Result<(), Singularity>>;
 
     /// The weighted second derivatives and the transposed Jacobian into `jac_adj1_f`'s

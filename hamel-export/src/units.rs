@@ -99,7 +99,7 @@ pub mod adjoint {
         z: &M::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut [f64],
+        out: &mut M::Array<f64>,
     ) -> Option<Result<(), Singularity>> {
         M::adjoint_of::<W>(prepared, z, weights, parameters, out)
     }

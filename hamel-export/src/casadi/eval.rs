@@ -492,14 +492,13 @@ impl<M: Model> Run<'_, M> {
                 .enumerate()
                 .any(|(k, b)| b.name == "p" && outputs.wanted(k));
             let mut local = M::array(0.0f64);
-            let n = plans.local.len();
             let written = M::compiled_adjoint(
                 primal.which,
                 self.prepared,
                 self.z,
                 weights,
                 parameters,
-                &mut local.as_mut()[..n],
+                &mut local,
             );
             if let Some(result) = written {
                 result.map_err(|e| self.singular(e))?;

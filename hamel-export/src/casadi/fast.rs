@@ -21,15 +21,35 @@ use hamel_runtime::Singularity;
 /// The point (x, u, p and t) as z, read with the model's sizes; `None` if a block is null
 /// or the values' sum not finite (the general path takes the call: zeros for a null block;
 /// the refusal naming a value that is not finite, or the call computed if the sum only
-/// overflowed). The blocks are checked for null before any is read, and each is copied and
-/// checked in one pass ([`FiniteSum`]), into an array not zeroed first: zeros stored, the
-/// copy, and a pass over the copy again were 70 instructions of `f`'s 625 a call (the
-/// robot, `hamel-export/bench/instructions.sh` and callgrind's report of `mobile_robot_f`).
+/// overflowed).
 ///
 /// # Safety
 /// `arg` is CasADi's non-null array of inputs of a function of the right-hand side.
 #[inline(always)]
-unsafe fn point<M: Model>(arg: *const *const f64) -> Option<M::Array<f64>> {
+unsafe fn point<M: Model>(
+    arg: *const *const f64,
+    z: &mut M::Array<MaybeUninit<f64>>,
+) -> Option<&M::Array<f64>> {
+    // SAFETY: the caller's contract.
+    let sum = unsafe { copy_point::<M>(arg, z) }?;
+    // SAFETY: `copy_point` wrote every value.
+    sum.finite().then(|| unsafe { M::assume_init_ref(z) })
+}
+
+/// The point copied into `z` (every value of it written), and the sum of its values for
+/// the caller to check ([`FiniteSum`]), with its other inputs' if it has any; `None` if a
+/// block is null. The blocks are checked for null before any is read, and each is copied
+/// and added in one pass into an array not zeroed first: zeros stored, the copy, and a
+/// pass over the copy again were 70 instructions of `f`'s 625 a call (the robot,
+/// `hamel-export/bench/instructions.sh` and callgrind's report of `mobile_robot_f`).
+///
+/// # Safety
+/// As [`point`].
+#[inline(always)]
+unsafe fn copy_point<M: Model>(
+    arg: *const *const f64,
+    z: &mut M::Array<MaybeUninit<f64>>,
+) -> Option<FiniteSum> {
     let s = Sizes::of::<M>();
     // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
     let given = |k: usize| unsafe { *arg.add(k) };
@@ -40,7 +60,6 @@ unsafe fn point<M: Model>(arg: *const *const f64) -> Option<M::Array<f64>> {
     if null(x, s.nx) || null(u, s.nu) || null(p, s.np) || (M::TIME_DEPENDENT && t.is_null()) {
         return None;
     }
-    let mut z = M::array(MaybeUninit::<f64>::uninit());
     let to = z.as_mut();
     let mut sum = FiniteSum::new();
     let mut copy = |block: *const f64, start: usize, len: usize| {
@@ -62,8 +81,7 @@ unsafe fn point<M: Model>(arg: *const *const f64) -> Option<M::Array<f64>> {
     for rest in &mut to[s.z()..] {
         rest.write(0.0);
     }
-    // SAFETY: every value was written above (z's blocks, t and the rest).
-    sum.finite().then(|| unsafe { M::assume_init(z) })
+    Some(sum)
 }
 
 /// How many of CasADi's inputs are the point: x, u, p (and t).
@@ -73,23 +91,27 @@ fn point_blocks<M: Model>() -> usize {
 
 /// An adjoint's weights (the input after the point and the nominal output): CasADi's own
 /// array, read in place (only read, by code that writes elsewhere), or `zeros` when null;
-/// `None` if their sum is not finite (the general path takes the call, as for the point).
+/// their values added to `sum`, which the caller checks (as the point's: one check of
+/// both).
 ///
 /// # Safety
 /// `arg` is CasADi's non-null array of inputs of `adj1_f` or `jac_adj1_f` of the right-hand
 /// side; a non-null input points to as many values as `zeros` holds, valid for the call.
 #[inline(always)]
-unsafe fn weights<M: Model>(arg: *const *const f64, zeros: &[f64]) -> Option<&[f64]> {
+unsafe fn weights<'a, M: Model>(
+    arg: *const *const f64,
+    zeros: &'a [f64],
+    sum: &mut FiniteSum,
+) -> &'a [f64] {
     // SAFETY: CasADi's array holds a pointer per input (the caller's contract).
     let given = unsafe { *arg.add(point_blocks::<M>() + 1) };
     if given.is_null() {
-        return Some(zeros);
+        return zeros;
     }
     // SAFETY: a non-null input points to its port's nonzeros: as many as the weights.
     let weights = unsafe { core::slice::from_raw_parts(given, zeros.len()) };
-    let mut sum = FiniteSum::new();
     sum.add(weights);
-    sum.finite().then_some(weights)
+    weights
 }
 
 /// Forward seed block `k` (0: x, 1: u, 2: p, 3: t), after the point and the nominal output.
@@ -144,8 +166,9 @@ pub unsafe fn rhs<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Singularity>> {
     let s = Sizes::of::<M>();
+    let mut storage = M::array(MaybeUninit::<f64>::uninit());
     // SAFETY: the caller's contract.
-    let z = unsafe { point::<M>(arg) }?;
+    let z = unsafe { point::<M>(arg, &mut storage) }?;
     // SAFETY: the only output is ẋ or its derivative, dense (the caller's contract).
     let Some(out) = (unsafe { dense_output(res, s.nx) }) else {
         return Some(Ok(()));
@@ -153,7 +176,7 @@ pub unsafe fn rhs<M: Model>(
     let parameters = &z.as_ref()[s.p()..s.t()];
     let written = match kind {
         Kind::Value => M::with_prepared(parameters, |prepared| {
-            M::compiled_value(Which::Rhs, prepared, &z, out)
+            M::compiled_value(Which::Rhs, prepared, z, out)
         }),
         Kind::Forward => {
             // A direction in p or t takes the general path.
@@ -183,7 +206,7 @@ pub unsafe fn rhs<M: Model>(
                 M::compiled_forward(
                     Which::Rhs,
                     prepared,
-                    &z,
+                    z,
                     &local.as_ref()[..columns],
                     false,
                     out,
@@ -240,8 +263,9 @@ pub unsafe fn forwards<M: Model, const N: usize>(
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
     let s = Sizes::of::<M>();
+    let mut storage = M::array(MaybeUninit::<f64>::uninit());
     // SAFETY: the caller's contract.
-    let z = unsafe { point::<M>(arg) }?;
+    let z = unsafe { point::<M>(arg, &mut storage) }?;
     // SAFETY: the only output is the N derivatives of ẋ, dense, a column each (the
     // caller's contract).
     let Some(out) = (unsafe { dense_output(res, s.nx * N) }) else {
@@ -273,7 +297,7 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     if plans.fused {
         // SAFETY: the directions' first `columns` rows (at least the compiled code's
         // columns) and the derivatives' first nx are zeros or seeds.
-        return unsafe { fused::<M, N>(&z, &array, &mut derivatives, out) };
+        return unsafe { fused::<M, N>(z, &array, &mut derivatives, out) };
     }
     if !plans.products.compiled(false) {
         return None;
@@ -294,7 +318,7 @@ pub unsafe fn forwards<M: Model, const N: usize>(
     let to = unsafe { plans.stacked(base) };
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         // SAFETY: each output's slots lie within its part of the buffer.
-        unsafe { M::compiled_jacobian(Which::Rhs, prepared, &z, false, &to) }
+        unsafe { M::compiled_jacobian(Which::Rhs, prepared, z, false, &to) }
     });
     match written? {
         Err(e) => Some(Err(singular::<M>(e, z.as_ref()))),
@@ -312,8 +336,8 @@ pub unsafe fn forwards<M: Model, const N: usize>(
 
 /// `fwd<N>_f`'s derivatives as products of the compiled Jacobian's entries with the
 /// directions, each entry multiplied as the compiled code gives it ([`Model::products_of`]):
-/// an entry stored and read back, with its row and column read from a table, was 8
-/// instructions more per entry and direction pair (28 entries for the robot; `fwd2_f`,
+/// each entry stored and read back with its row and column from a table was 388 of
+/// `fwd2_f`'s 1484 instructions a call and 474 of `fwd4_f`'s 1811 (the robot's 28 entries;
 /// `hamel-export/bench/instructions.sh`).
 ///
 /// # Safety
@@ -393,24 +417,23 @@ pub unsafe fn adjoint<M: Model>(
     res: *const *mut f64,
 ) -> Option<Result<(), Singularity>> {
     let s = Sizes::of::<M>();
-    // SAFETY: the caller's contract.
-    let z = unsafe { point::<M>(arg) }?;
-    // SAFETY: the caller's contract.
-    let weights = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?) }?;
+    let mut storage = M::array(MaybeUninit::<f64>::uninit());
+    // The point and the weights checked by one sum.
+    // SAFETY (both): the caller's contract.
+    let mut sum = unsafe { copy_point::<M>(arg, &mut storage) }?;
+    let weights = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?, &mut sum) };
+    if !sum.finite() {
+        return None;
+    }
+    // SAFETY: `copy_point` wrote every value.
+    let z = unsafe { M::assume_init_ref(&storage) };
     // SAFETY: CasADi's array holds a pointer per output (the caller's contract).
     let out = |k: usize| unsafe { *res.add(k) };
     let parameters = s.np > 0 && !out(2).is_null();
     let columns = s.p() + M::READ.len() + 1;
     let mut local = M::array(0.0f64);
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
-        M::compiled_adjoint(
-            Which::Rhs,
-            prepared,
-            &z,
-            weights,
-            parameters,
-            &mut local.as_mut()[..columns],
-        )
+        M::compiled_adjoint(Which::Rhs, prepared, z, weights, parameters, &mut local)
     });
     if let Err(e) = written? {
         return Some(Err(e));
@@ -428,7 +451,10 @@ pub unsafe fn adjoint<M: Model>(
     }
     if parameters {
         let adj_p = unsafe { core::slice::from_raw_parts_mut(out(2), s.np) };
-        adj_p.fill(0.0);
+        // Zeros where no column writes (none when every parameter is read).
+        if !M::READS_ALL {
+            adj_p.fill(0.0);
+        }
         for (column, &read) in M::READ.iter().enumerate() {
             adj_p[read] = local[s.p() + column];
         }
@@ -450,8 +476,11 @@ pub unsafe fn adjoint<M: Model>(
 #[inline(never)]
 pub unsafe fn singular_at<M: Model>(e: Singularity, arg: *const *const f64) -> Failure {
     // SAFETY: the caller's contract.
-    let z = unsafe { point::<M>(arg) }.unwrap_or_else(|| M::array(0.0));
-    singular::<M>(e, z.as_ref())
+    let mut storage = M::array(MaybeUninit::<f64>::uninit());
+    match unsafe { point::<M>(arg, &mut storage) } {
+        Some(z) => singular::<M>(e, z.as_ref()),
+        None => singular::<M>(e, M::array(0.0).as_ref()),
+    }
 }
 
 /// Zero weights, for a null adjoint seed (CasADi's zeros): a model with more states takes
@@ -474,15 +503,20 @@ pub unsafe fn sparse<M: Model>(
 ) -> Option<Result<(), Failure>> {
     let plans = family.plans.as_ref()?;
     let s = Sizes::of::<M>();
+    let mut storage = M::array(MaybeUninit::<f64>::uninit());
     // SAFETY: the caller's contract.
-    let z = unsafe { point::<M>(arg) }?;
+    let z = unsafe { point::<M>(arg, &mut storage) }?;
     let second = kind == Kind::AdjointJacobian;
     // The weights of `jac_adj1_f` only (none for `jac_f`).
     let mut array;
     let weights: &[f64] = if second {
         // Copied: the compiled code writes into CasADi's outputs while it reads them.
         // SAFETY: the caller's contract.
-        let given = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?) }?;
+        let mut sum = FiniteSum::new();
+        let given = unsafe { weights::<M>(arg, ZEROS.get(..s.nx)?, &mut sum) };
+        if !sum.finite() {
+            return None;
+        }
         array = M::array(0.0f64);
         let weights = &mut array.as_mut()[..s.nx];
         weights.copy_from_slice(given);
@@ -507,9 +541,9 @@ pub unsafe fn sparse<M: Model>(
         // the scratch buffer, which holds any output.
         unsafe {
             if second {
-                M::compiled_second(Which::Rhs, prepared, &z, weights, parameters, &to)
+                M::compiled_second(Which::Rhs, prepared, z, weights, parameters, &to)
             } else {
-                M::compiled_jacobian(Which::Rhs, prepared, &z, parameters, &to)
+                M::compiled_jacobian(Which::Rhs, prepared, z, parameters, &to)
             }
         }
     });
