@@ -49,7 +49,7 @@ pub use primal::Which;
 /// What the macros' expansions name, from the crate that uses them.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::cache::Cache;
+    pub use crate::cache::{Cache, First};
     pub use crate::casadi::sparsity::CasadiInt;
     pub use core::ffi::{c_char, c_int};
     pub use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};

@@ -336,6 +336,15 @@ macro_rules! __model_compiled {
             let Ok(p) = <&[f64; <$marker>::NP]>::try_from(p) else {
                 return then(&prepare(&[0.0; <$marker>::NP]));
             };
+            // The first parameter set, shared by every thread (see `First`), then this
+            // thread's last.
+            static FIRST: $crate::__private::First<
+                { <$marker>::NP },
+                { <$system>::__HAMEL_EXPORT_PREPARED },
+            > = $crate::__private::First::new();
+            if let ::core::option::Option::Some(prepared) = FIRST.get(p, prepare) {
+                return then(prepared);
+            }
             // This thread's cache by its address: `LocalKey::with` around the whole call
             // was not inlined (a call with a frame of its own and the result copied, on
             // every call of every function); around the address it is.

@@ -746,3 +746,30 @@ fn what_the_fast_calls_leave_is_refused_or_computed_as_by_the_general_path() {
         assert!(message.contains("alpha = 0.25"), "{message}");
     }
 }
+
+/// Threads calling at once, each with its own parameters and a set they share (the
+/// parameters' prepared values are kept for the first set any thread gives, shared, and
+/// per thread for the last): each call's values are the model's for its parameters.
+#[test]
+fn threads_calling_at_once_get_the_values_of_their_own_parameters() {
+    let base = parameters();
+    let sets: Vec<Vec<f64>> = (0..4)
+        .map(|k| base.iter().map(|v| v * (1.0 + 0.1 * k as f64)).collect())
+        .collect();
+    let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let expected: Vec<Vec<u64>> = sets.iter().map(|p| bits(&rhs(p, &X, &U))).collect();
+    std::thread::scope(|scope| {
+        for own in 0..sets.len() {
+            let (sets, expected) = (&sets, &expected);
+            scope.spawn(move || {
+                for round in 0..500 {
+                    let k = if round % 3 == 0 { 0 } else { own };
+                    let mut out = vec![vec![0.0; 8]];
+                    let args = [X.as_ptr(), U.as_ptr(), sets[k].as_ptr()];
+                    assert_eq!(call(robot_f, &args, &mut out), 0);
+                    assert_eq!(bits(&out[0]), expected[k], "thread {own}, set {k}");
+                }
+            });
+        }
+    });
+}
