@@ -49,7 +49,7 @@ pub use primal::Which;
 /// What the macros' expansions name, from the crate that uses them.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::cache::Cache;
+    pub use crate::cache::{Cache, First};
     pub use crate::casadi::sparsity::CasadiInt;
     pub use core::ffi::{c_char, c_int};
     pub use hamel_runtime::{HamelSystem, Parameters, Scalar, Singularity};
@@ -144,6 +144,25 @@ pub mod __private {
         if a > b { a } else { b }
     }
 
+    /// Whether `read` holds every position `0..n` (each parameter read by the generated
+    /// code).
+    pub const fn reads_all(read: &[usize], n: usize) -> bool {
+        let mut i = 0;
+        while i < n {
+            let mut found = false;
+            let mut k = 0;
+            while k < read.len() {
+                found |= read[k] == i;
+                k += 1;
+            }
+            if !found {
+                return false;
+            }
+            i += 1;
+        }
+        true
+    }
+
     /// The first `N` values of `values` as an array; `None` when there are fewer.
     #[inline(always)]
     pub fn array<const N: usize>(values: &[f64]) -> Option<&[f64; N]> {
@@ -181,6 +200,16 @@ mod tests {
         assert_eq!(positions::<3>(&names, &["r", "m0", "b"]), Ok([2, 0, 3]));
         assert_eq!(positions::<0>(&names, &[]), Ok([]));
         assert_eq!(positions::<3>(&names, &["r", "l", "g"]), Err("l"));
+    }
+
+    #[test]
+    fn reads_all_is_every_position_read() {
+        use super::__private::reads_all;
+        assert!(reads_all(&[2, 0, 1], 3));
+        assert!(reads_all(&[], 0));
+        assert!(!reads_all(&[0, 2], 3));
+        assert!(!reads_all(&[0, 0, 1], 3));
+        assert!(reads_all(&[1, 0], 2));
     }
 
     #[test]

@@ -106,12 +106,25 @@ macro_rules! model {
             const OUTPUT_PARAMETERS: &'static [&'static [&'static str]] =
                 <$system>::__HAMEL_OUTPUT_PARAMETERS;
             const READ: &'static [usize] = &<$marker>::READ;
+            const READS_ALL: bool = $crate::__private::reads_all(
+                &<$marker>::READ,
+                <$system as $crate::__private::Parameters>::NAMES.len(),
+            );
 
             // Always inlined: `fwd8_f` fills two arrays of 8-value rows a call, which a call
             // of this function fills value by value and, inlined, a `memset` does.
             #[inline(always)]
             fn array<S: ::core::marker::Copy>(fill: S) -> [S; <$marker>::LEN] {
                 [fill; <$marker>::LEN]
+            }
+
+            #[inline(always)]
+            unsafe fn assume_init_ref(
+                a: &[::core::mem::MaybeUninit<f64>; <$marker>::LEN],
+            ) -> &[f64; <$marker>::LEN] {
+                // SAFETY: every value is initialized (the caller's contract), and an array
+                // of `MaybeUninit<f64>` has the layout of one of `f64`.
+                unsafe { &*::core::ptr::from_ref(a).cast::<[f64; <$marker>::LEN]>() }
             }
 
             #[inline]
@@ -183,6 +196,7 @@ macro_rules! __model_compiled {
         type Prepared = ();
         type Scratch = [::core::mem::MaybeUninit<f64>; 0];
         const LIE: usize = 0;
+        const COMPILED: bool = false;
 
         #[inline(always)]
         fn scratch() -> [::core::mem::MaybeUninit<f64>; 0] {
@@ -241,7 +255,7 @@ macro_rules! __model_compiled {
             _z: &[f64; <$marker>::LEN],
             _weights: &[f64],
             _parameters: bool,
-            _out: &mut [f64],
+            _out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             ::core::option::Option::None
         }
@@ -270,6 +284,7 @@ macro_rules! __model_compiled {
         type Prepared = [f64; <$system>::__HAMEL_EXPORT_PREPARED];
         type Scratch = [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH];
         const LIE: usize = <$system>::__HAMEL_EXPORT_LIE_DEPENDS.len();
+        const COMPILED: bool = true;
 
         #[inline(always)]
         fn scratch() -> [::core::mem::MaybeUninit<f64>; <$marker>::SCRATCH] {
@@ -321,6 +336,15 @@ macro_rules! __model_compiled {
             let Ok(p) = <&[f64; <$marker>::NP]>::try_from(p) else {
                 return then(&prepare(&[0.0; <$marker>::NP]));
             };
+            // The first parameter set, shared by every thread (see `First`), then this
+            // thread's last.
+            static FIRST: $crate::__private::First<
+                { <$marker>::NP },
+                { <$system>::__HAMEL_EXPORT_PREPARED },
+            > = $crate::__private::First::new();
+            if let ::core::option::Option::Some(prepared) = FIRST.get(p, prepare) {
+                return then(prepared);
+            }
             // This thread's cache by its address: `LocalKey::with` around the whole call
             // was not inlined (a call with a frame of its own and the result copied, on
             // every call of every function); around the address it is.
@@ -389,6 +413,34 @@ macro_rules! __model_compiled {
         }
 
         #[inline]
+        unsafe fn products_of<const N: usize>(
+            prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
+            z: &[f64; <$marker>::LEN],
+            directions: &[::core::mem::MaybeUninit<[f64; N]>; <$marker>::LEN],
+            out: &mut [::core::mem::MaybeUninit<[f64; N]>; <$marker>::LEN],
+        ) -> ::core::option::Option<::core::result::Result<bool, $crate::__private::Singularity>> {
+            let (x, u, p, t) = <$marker>::split_f64(z);
+            let p = &p;
+            // Each entry times its column's directions, added to its row's: `k`, the row
+            // and the column are constants once the compiled code is inlined here.
+            let put = &mut |k: usize, v: f64| {
+                let (r, c) = <$system>::__HAMEL_EXPORT_RHS_JACOBIAN[k];
+                // SAFETY: row `c` of the directions and row `r` of `out` are initialized
+                // (the caller's contract).
+                unsafe {
+                    $crate::casadi::plan::add_scaled(
+                        v,
+                        directions[c].assume_init_ref(),
+                        out[r].assume_init_mut(),
+                    )
+                };
+            };
+            ::core::option::Option::Some(<$system>::__hamel_export_rhs_jacobian::<(), _>(
+                prepared, p, t, x, u, false, put,
+            ))
+        }
+
+        #[inline]
         fn forward_of<const W: u8>(
             prepared: &[f64; <$system>::__HAMEL_EXPORT_PREPARED],
             z: &[f64; <$marker>::LEN],
@@ -425,7 +477,7 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64],
+            out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split_f64(z);
             let p = &p;
@@ -445,7 +497,7 @@ macro_rules! __model_compiled {
                     u,
                     $crate::__private::array(weights)?,
                     parameters,
-                    $crate::__private::array_mut(out)?,
+                    $crate::__private::array_mut(&mut out[..])?,
                 )
             ))
         }
@@ -564,7 +616,7 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64],
+            out: &mut [f64; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             use $crate::units::{LIE, OUTPUTS, RHS, adjoint::call};
             match which {
@@ -798,16 +850,17 @@ macro_rules! __casadi_family {
             fn family() -> &'static $crate::casadi::Family {
                 FAMILY.get_or_init(|| $crate::casadi::Family::new::<$marker>($which))
             }
-            $crate::__casadi_function!($marker, family, Value, "", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Jacobian, "jac_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward, "fwd1_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward2, "fwd2_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward4, "fwd4_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Forward8, "fwd8_", $name, $suffix);
-            $crate::__casadi_function!($marker, family, Adjoint, "adj1_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Value, "", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Jacobian, "jac_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward, "fwd1_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward2, "fwd2_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward4, "fwd4_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Forward8, "fwd8_", $name, $suffix);
+            $crate::__casadi_function!($marker, family, $which, Adjoint, "adj1_", $name, $suffix);
             $crate::__casadi_function!(
                 $marker,
                 family,
+                $which,
                 AdjointJacobian,
                 "jac_adj1_",
                 $name,
@@ -820,7 +873,8 @@ macro_rules! __casadi_family {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __casadi_function {
-    ($marker:ty, $family:ident, $kind:ident, $prefix:literal, $name:literal, $suffix:literal) => {
+    ($marker:ty, $family:ident, $which:expr, $kind:ident, $prefix:literal, $name:literal,
+        $suffix:literal) => {
         const _: () = {
             use $crate::__private::{CasadiInt, c_char, c_int};
             use $crate::casadi::{Kind, symbols};
@@ -834,7 +888,7 @@ macro_rules! __casadi_function {
                 _mem: c_int,
             ) -> c_int {
                 $crate::abi::guard(concat!($prefix, $name, $suffix), || unsafe {
-                    $crate::casadi::eval::<$marker>($family(), Kind::$kind, arg, res)
+                    $crate::casadi::call::<$marker>($which, $family, Kind::$kind, arg, res)
                 })
             }
 

@@ -47,6 +47,9 @@ pub trait Model: 'static {
     /// all the same: at least as long as any output of `jac_f` and `jac_adj1_f`.
     type Scratch: AsMut<[core::mem::MaybeUninit<f64>]>;
 
+    /// Whether the model has the compiled derivative code (feature `compiled`): then every
+    /// family has its [`crate::casadi::plan::Plans`].
+    const COMPILED: bool;
     /// Whether the right-hand side depends on the time explicitly (then the exported
     /// functions take it as their last argument).
     const TIME_DEPENDENT: bool;
@@ -64,12 +67,21 @@ pub trait Model: 'static {
     /// The parameters the generated code reads, as positions in `Parameters::NAMES`: the
     /// compiled code's parameter columns.
     const READ: &'static [usize];
+    /// Whether [`Model::READ`] holds every parameter (then the derivatives by the
+    /// parameters have no entry the compiled code leaves out).
+    const READS_ALL: bool;
     /// How many Lie derivatives (L_f^k h for k = 0 … order, then L_{g_j} L_f^k h for
     /// k < order); zero without compiled code or `control(..)`.
     const LIE: usize;
 
     /// An array every entry `fill`.
     fn array<S: Copy>(fill: S) -> Self::Array<S>;
+
+    /// An array whose values are all written: `a` as values.
+    ///
+    /// # Safety
+    /// Every value of `a` is initialized.
+    unsafe fn assume_init_ref(a: &Self::Array<core::mem::MaybeUninit<f64>>) -> &Self::Array<f64>;
 
     /// A scratch buffer, not initialized.
     fn scratch() -> Self::Scratch;
@@ -118,6 +130,25 @@ pub trait Model: 'static {
         None
     }
 
+    /// The right-hand side's `N` forward derivatives by x, u and t as products of its
+    /// compiled Jacobian (the stage by x, u and t) with the directions, each entry
+    /// multiplied as the compiled code gives it, not stored: `out[r] += J[r][c] ·
+    /// directions[c]` over the compiled code's columns (x, u, the parameters it reads, t).
+    /// `None` without compiled code; `Some(Ok(false))` if that stage is not compiled.
+    ///
+    /// # Safety
+    /// Every row of `directions` below the compiled code's number of columns, and every row
+    /// of `out` below the number of outputs, is initialized (the rows the entries read and
+    /// add to: [`crate::casadi::plan::Products`] checks the tables against those bounds).
+    unsafe fn products_of<const N: usize>(
+        _prepared: &Self::Prepared,
+        _z: &Self::Array<f64>,
+        _directions: &Self::Array<core::mem::MaybeUninit<[f64; N]>>,
+        _out: &mut Self::Array<core::mem::MaybeUninit<[f64; N]>>,
+    ) -> Option<Result<bool, Singularity>> {
+        None
+    }
+
     /// The derivative along `direction` into `out`.
     fn forward_of<const W: u8>(
         _prepared: &Self::Prepared,
@@ -135,7 +166,7 @@ pub trait Model: 'static {
         _z: &Self::Array<f64>,
         _weights: &[f64],
         _parameters: bool,
-        _out: &mut [f64],
+        _out: &mut Self::Array<f64>,
     ) -> Option<Result<(), Singularity>> {
         None
     }
@@ -197,7 +228,7 @@ pub trait Model: 'static {
         z: &Self::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut [f64],
+        out: &mut Self::Array<f64>,
     ) -> Option<Result<(), Singularity>>;
 
     /// The weighted second derivatives and the transposed Jacobian into `jac_adj1_f`'s

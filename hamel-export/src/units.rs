@@ -13,6 +13,7 @@
 
 use crate::layout::Destinations;
 use crate::model::Model;
+use core::mem::MaybeUninit;
 use hamel_runtime::{Scalar, Singularity};
 
 /// The right-hand side's family.
@@ -21,6 +22,44 @@ pub const RHS: u8 = 0;
 pub const OUTPUTS: u8 = 1;
 /// The Lie derivatives' family.
 pub const LIE: u8 = 2;
+
+/// A compiled call's result in a register: an `Option<Result<(), Singularity>>` is
+/// returned through memory, written by the callee and read back by the caller (4
+/// instructions of `adj1_f`, `hamel-export/bench/instructions.sh`); the singularity, when
+/// there is one, is written where the caller says.
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Outcome {
+    Done,
+    Singular,
+    NotCompiled,
+}
+
+impl Outcome {
+    #[inline(always)]
+    fn of(result: Option<Result<(), Singularity>>, error: &mut MaybeUninit<Singularity>) -> Self {
+        match result {
+            Some(Ok(())) => Outcome::Done,
+            Some(Err(e)) => {
+                error.write(e);
+                Outcome::Singular
+            }
+            None => Outcome::NotCompiled,
+        }
+    }
+
+    /// # Safety
+    /// `error` is written if `self` is `Singular`.
+    #[inline(always)]
+    unsafe fn result(self, error: MaybeUninit<Singularity>) -> Option<Result<(), Singularity>> {
+        match self {
+            Outcome::Done => Some(Ok(())),
+            // SAFETY: the caller's contract.
+            Outcome::Singular => Some(Err(unsafe { error.assume_init() })),
+            Outcome::NotCompiled => None,
+        }
+    }
+}
 
 /// The compiled values.
 pub mod value {
@@ -54,6 +93,25 @@ pub mod jacobian {
     }
 }
 
+/// The right-hand side's forward derivatives as products of its compiled Jacobian.
+pub mod products {
+    use super::*;
+    use core::mem::MaybeUninit;
+
+    /// # Safety
+    /// As [`Model::products_of`].
+    #[inline(never)]
+    pub unsafe fn call<M: Model, const N: usize>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        directions: &M::Array<MaybeUninit<[f64; N]>>,
+        out: &mut M::Array<MaybeUninit<[f64; N]>>,
+    ) -> Option<Result<bool, Singularity>> {
+        // SAFETY: the caller's contract.
+        unsafe { M::products_of::<N>(prepared, z, directions, out) }
+    }
+}
+
 /// The compiled forward derivative.
 pub mod forward {
     use super::*;
@@ -74,15 +132,33 @@ pub mod forward {
 pub mod adjoint {
     use super::*;
 
-    #[inline(never)]
+    #[inline(always)]
     pub fn call<M: Model, const W: u8>(
         prepared: &M::Prepared,
         z: &M::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut [f64],
+        out: &mut M::Array<f64>,
     ) -> Option<Result<(), Singularity>> {
-        M::adjoint_of::<W>(prepared, z, weights, parameters, out)
+        let mut error = MaybeUninit::uninit();
+        let outcome = compiled::<M, W>(prepared, z, weights, parameters, out, &mut error);
+        // SAFETY: `compiled` wrote the singularity if it says so.
+        unsafe { outcome.result(error) }
+    }
+
+    #[inline(never)]
+    fn compiled<M: Model, const W: u8>(
+        prepared: &M::Prepared,
+        z: &M::Array<f64>,
+        weights: &[f64],
+        parameters: bool,
+        out: &mut M::Array<f64>,
+        error: &mut MaybeUninit<Singularity>,
+    ) -> Outcome {
+        Outcome::of(
+            M::adjoint_of::<W>(prepared, z, weights, parameters, out),
+            error,
+        )
     }
 }
 

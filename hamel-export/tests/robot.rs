@@ -664,3 +664,112 @@ fn bad_arguments_are_refused_with_a_status_and_a_message() {
     let name = unsafe { CStr::from_ptr(robot_f_name_in(2)) };
     assert_eq!(name.to_str().unwrap(), "p");
 }
+
+/// `f`, `fwd1_f` and `adj1_f` at a finite point are taken by a fast path (with compiled
+/// code) that checks the point and the weights by their sums and leaves every call it does
+/// not take to the general one. Whatever path takes them: a value that is not finite in x,
+/// u, p or an adjoint's weights is refused, named; finite values whose sum overflows are
+/// computed (the same bits as the model's right-hand side); a singularity is refused, the
+/// state named.
+#[test]
+fn what_the_fast_calls_leave_is_refused_or_computed_as_by_the_general_path() {
+    let p = parameters();
+    let weights = [0.3, -0.1, 0.7, 0.2, -0.5, 1.1, 0.4, -0.9];
+    let adjoint = |x: &[f64; 8], u: &[f64; 2], p: &[f64], w: &[f64; 8]| {
+        let mut out = vec![vec![0.0; 8], vec![0.0; 2], vec![0.0; 9]];
+        let null = core::ptr::null();
+        let args = [x.as_ptr(), u.as_ptr(), p.as_ptr(), null, w.as_ptr()];
+        (call(adj1_robot_f, &args, &mut out), last_error())
+    };
+    let value = |f: Eval, x: &[f64; 8], u: &[f64; 2], p: &[f64]| {
+        let mut out = vec![vec![0.0; 8]];
+        let seed = [0.5; 8];
+        let args = [
+            x.as_ptr(),
+            u.as_ptr(),
+            p.as_ptr(),
+            core::ptr::null(),
+            seed.as_ptr(),
+        ];
+        (call(f, &args, &mut out), last_error(), out.remove(0))
+    };
+    let refusal = |(status, message, _): (c_int, String, Vec<f64>)| (status, message);
+    let (inputs, names) = (MobileRobot::INPUTS, MobileRobot::NAMES);
+    let mut u = U;
+    u[1] = f64::INFINITY;
+    let expected = format!("robot_f: u[1] ({}) = inf is not a finite number", inputs[1]);
+    assert_eq!(refusal(value(robot_f, &X, &u, &p)), (3, expected));
+    let mut q = p.clone();
+    q[8] = f64::NEG_INFINITY;
+    let expected = format!("robot_f: p[8] ({}) = -inf is not a finite number", names[8]);
+    assert_eq!(refusal(value(robot_f, &X, &U, &q)), (3, expected));
+    let mut x = X;
+    x[7] = f64::NAN;
+    let (status, message, _) = value(fwd1_robot_f, &x, &U, &p);
+    assert_eq!(
+        (status, message.as_str()),
+        (3, "fwd1_robot_f: x[7] (w5) = NaN is not a finite number")
+    );
+    q = p.clone();
+    q[0] = f64::NAN;
+    let expected = format!(
+        "adj1_robot_f: p[0] ({}) = NaN is not a finite number",
+        names[0]
+    );
+    assert_eq!(adjoint(&X, &U, &q, &weights), (3, expected));
+    let mut w = weights;
+    w[3] = -f64::INFINITY;
+    assert_eq!(
+        adjoint(&X, &U, &p, &w),
+        (
+            3,
+            "adj1_robot_f: adj_xdot[3] = -inf is not a finite number".to_string()
+        )
+    );
+    // The position does not enter ẋ: at the largest finite coordinates the sum of the point
+    // overflows, and the call is computed all the same.
+    x = X;
+    x[0] = f64::MAX;
+    x[1] = f64::MAX;
+    let (status, _, xdot) = value(robot_f, &x, &U, &p);
+    assert_eq!(status, 0);
+    let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&xdot), bits(&rhs(&p, &x, &U)));
+    assert_eq!(adjoint(&x, &U, &p, &weights).0, 0);
+    // No mass: the reduced mass matrix is singular.
+    let massless = vec![0.0; 9];
+    for (status, message) in [
+        refusal(value(robot_f, &X, &U, &massless)),
+        adjoint(&X, &U, &massless, &weights),
+    ] {
+        assert_eq!(status, 4, "{message}");
+        assert!(message.contains("alpha = 0.25"), "{message}");
+    }
+}
+
+/// Threads calling at once, each with its own parameters and a set they share (the
+/// parameters' prepared values are kept for the first set any thread gives, shared, and
+/// per thread for the last): each call's values are the model's for its parameters.
+#[test]
+fn threads_calling_at_once_get_the_values_of_their_own_parameters() {
+    let base = parameters();
+    let sets: Vec<Vec<f64>> = (0..4)
+        .map(|k| base.iter().map(|v| v * (1.0 + 0.1 * k as f64)).collect())
+        .collect();
+    let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let expected: Vec<Vec<u64>> = sets.iter().map(|p| bits(&rhs(p, &X, &U))).collect();
+    std::thread::scope(|scope| {
+        for own in 0..sets.len() {
+            let (sets, expected) = (&sets, &expected);
+            scope.spawn(move || {
+                for round in 0..500 {
+                    let k = if round % 3 == 0 { 0 } else { own };
+                    let mut out = vec![vec![0.0; 8]];
+                    let args = [X.as_ptr(), U.as_ptr(), sets[k].as_ptr()];
+                    assert_eq!(call(robot_f, &args, &mut out), 0);
+                    assert_eq!(bits(&out[0]), expected[k], "thread {own}, set {k}");
+                }
+            });
+        }
+    });
+}

@@ -15,6 +15,59 @@ use crate::passes::{self, singular};
 use crate::primal::{Block, Primal, Which};
 use hamel_runtime::{HamelSystem, Parameters, Singularity};
 
+/// Evaluate `kind` of the family of `which` for CasADi, as [`eval`], the family described
+/// by `family` (on first use). The calls of the right-hand side that need none of its
+/// description (`f`, `fwd1_f`, `adj1_f` at a finite point: the model's sizes are constants)
+/// are taken first without it: its first-use check and the loads of what [`eval`] asks of
+/// it cost as much as their point's finite check.
+///
+/// # Safety
+/// As [`eval`].
+#[inline(always)]
+pub unsafe fn call<M: Model>(
+    which: Which,
+    family: fn() -> &'static Family,
+    kind: Kind,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Result<(), Failure> {
+    if arg.is_null() || res.is_null() {
+        return Err(null_arrays());
+    }
+    // With compiled code every family has its plans, which is what `eval` asks before the
+    // same calls.
+    let fast = which == Which::Rhs && M::COMPILED;
+    // SAFETY (each call below): the caller's contract, which is `fast`'s and `eval`'s.
+    let result = match kind {
+        Kind::Value | Kind::Forward if fast => unsafe { fast::rhs::<M>(kind, arg, res) },
+        Kind::Adjoint if fast => unsafe { fast::adjoint::<M>(arg, res) },
+        // The other calls need the family: `eval` inlined, for this `kind` alone.
+        _ => return unsafe { eval::<M>(family(), kind, arg, res) },
+    };
+    match result {
+        Some(Ok(())) => Ok(()),
+        Some(Err(e)) => Err(unsafe { fast::singular_at::<M>(e, arg) }),
+        // Declined (a null block, a value that is not finite): the general path.
+        None => unsafe { general::<M>(family(), kind, arg, res) },
+    }
+}
+
+/// [`eval`] out of line, for the calls [`call`] declines (rare): inlined, its code
+/// made the fast calls' frame larger (registers saved and restored on every call).
+///
+/// # Safety
+/// As [`eval`].
+#[inline(never)]
+unsafe fn general<M: Model>(
+    family: &Family,
+    kind: Kind,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Result<(), Failure> {
+    // SAFETY: the caller's contract.
+    unsafe { eval::<M>(family, kind, arg, res) }
+}
+
 /// Evaluate `kind` of `family` for CasADi: 0 on success; otherwise the failure.
 ///
 /// # Safety
@@ -35,11 +88,13 @@ pub unsafe fn eval<M: Model>(
     if family.primal.which == Which::Rhs && family.plans.is_some() {
         // SAFETY: the caller's contract, which is `fast`'s.
         let fast = match kind {
-            Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) },
+            Kind::Value | Kind::Forward => unsafe { fast::rhs::<M>(kind, arg, res) }
+                .map(|r| r.map_err(|e| unsafe { fast::singular_at::<M>(e, arg) })),
             Kind::Forward2 => unsafe { fast::forwards::<M, 2>(family, arg, res) },
             Kind::Forward4 => unsafe { fast::forwards::<M, 4>(family, arg, res) },
             Kind::Forward8 => unsafe { fast::forwards::<M, 8>(family, arg, res) },
-            Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) },
+            Kind::Adjoint => unsafe { fast::adjoint::<M>(arg, res) }
+                .map(|r| r.map_err(|e| unsafe { fast::singular_at::<M>(e, arg) })),
             Kind::Jacobian | Kind::AdjointJacobian => unsafe {
                 fast::sparse::<M>(family, kind, arg, res)
             },
@@ -437,14 +492,13 @@ impl<M: Model> Run<'_, M> {
                 .enumerate()
                 .any(|(k, b)| b.name == "p" && outputs.wanted(k));
             let mut local = M::array(0.0f64);
-            let n = plans.local.len();
             let written = M::compiled_adjoint(
                 primal.which,
                 self.prepared,
                 self.z,
                 weights,
                 parameters,
-                &mut local.as_mut()[..n],
+                &mut local,
             );
             if let Some(result) = written {
                 result.map_err(|e| self.singular(e))?;

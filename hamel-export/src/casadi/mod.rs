@@ -21,7 +21,7 @@ pub mod plan;
 pub mod sparsity;
 pub mod symbols;
 
-pub use eval::eval;
+pub use eval::{call, eval};
 use plan::{Plans, Structure};
 use sparsity::Pattern;
 

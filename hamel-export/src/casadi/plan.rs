@@ -311,6 +311,11 @@ pub struct Plans {
     pub adjoint: Vec<Vec<(usize, usize)>>,
     /// `fwd<N>_f`'s products of the Jacobian with the directions.
     pub products: Products,
+    /// Whether `fwd<N>_f`'s products can be fused into the compiled Jacobian
+    /// ([`crate::model::Model::products_of`], the right-hand side's): its stage by x, u and
+    /// t is compiled, and each of its entries lies within the outputs and the compiled
+    /// code's columns (the rows the fused products read and write).
+    pub fused: bool,
     /// Where each of `jac_f`'s outputs starts in one array holding them all (for the
     /// products), and the end of the last.
     pub offsets: Vec<usize>,
@@ -462,8 +467,9 @@ impl Products {
 /// exported crate is built at opt-level 2, without the SLP vectorizer that paired these
 /// products at opt-level 3 (`examples/export.rs` says why), and `fwd8_f` spent a third more
 /// instructions on them unpaired. The same products and sums as the plain loop, bit for bit.
+#[doc(hidden)]
 #[inline(always)]
-fn add_scaled<const N: usize>(a: f64, x: &[f64; N], y: &mut [f64; N]) {
+pub fn add_scaled<const N: usize>(a: f64, x: &[f64; N], y: &mut [f64; N]) {
     #[cfg(target_arch = "x86_64")]
     if N % 2 == 0 {
         use core::arch::x86_64::{
@@ -554,7 +560,13 @@ impl Plans {
                 _ => runs.push((block, within, column, 1)),
             }
         }
+        let fused = primal.which == crate::primal::Which::Rhs
+            && tables.compiled[0]
+            && tables.jacobian[..tables.states[0].min(tables.jacobian.len())]
+                .iter()
+                .all(|&(r, c)| r < primal.output.1 && c < local.len());
         Some(Plans {
+            fused,
             local: local.clone(),
             runs,
             parameters: first..last,
