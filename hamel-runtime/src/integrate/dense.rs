@@ -18,7 +18,8 @@
 //! times the multipliers, an `axpy`; where that entry is 0 the update adds ±0 to each entry,
 //! which changes nothing but the sign of a zero entry. So `Factors::eliminate` is
 //! nalgebra's step, its `axpy` and all (for a complex entry the `axpy` without its products
-//! by 1 + 0i, see `subtract_multiple`), with the columns of a zero pivot-row entry left out:
+//! by 1 + 0i, see `subtract_multiple`), with the columns of a zero pivot-row entry left out
+//! (and for a complex entry the rows of a zero multiplier, which likewise subtract ±0):
 //! the factors (and so the solutions) are nalgebra's to the bit up to signs of zeros, wherever
 //! the skipped products are finite (an infinite multiplier times 0 would have made NaN; the
 //! Jacobians factored here are checked finite before). Fill-in under partial pivoting limits
@@ -108,6 +109,9 @@ where
     /// real one): the denominators of the back substitution's divisions, formed once for
     /// all the solves of a factorization.
     squares: OVector<f64, D>,
+    /// The rows below a Gauss step's pivot whose multipliers are non-zero, gathered for the
+    /// step (capacity n, allocated once with the storage).
+    rows: Vec<usize>,
     dim: D,
 }
 
@@ -120,6 +124,7 @@ where
             lu: OMatrix::zeros_generic(dim, dim),
             p: PermutationSequence::identity_generic(dim),
             squares: OVector::zeros_generic(dim, U1),
+            rows: Vec::with_capacity(dim.value()),
             dim,
         }
     }
@@ -181,7 +186,11 @@ where
     /// `gauss_step_swap` (`gauss_step` for `piv == i`), the multipliers below the pivot
     /// scaled by 1/`diag` and every column right of the pivot, rows swapped, less its
     /// pivot-row entry times them, by the same `axpy`; but a column whose pivot-row entry is 0
-    /// is left as it is (the `axpy` would add ±0 to each of its entries).
+    /// is left as it is (the `axpy` would add ±0 to each of its entries), and so is each row
+    /// whose multiplier is 0 (likewise: the entry less ±0). For a complex entry, where some
+    /// multipliers are 0 the update runs over the rows of the others alone: 6 % fewer of the
+    /// complex factorization's instructions on POLLU (Radau5 at rtol 1e-10, under callgrind).
+    /// A real entry's update costs too little for the listing to pay: 40 % more there.
     fn eliminate(&mut self, diag: T, i: usize, piv: usize) {
         let piv = piv - i;
         let mut submatrix = self.lu.view_range_mut(i.., i..);
@@ -189,14 +198,30 @@ where
         multipliers.swap((0, 0), (piv, 0));
         let mut multipliers = multipliers.rows_range_mut(1..);
         multipliers *= T::one() / diag;
+        let rows = &mut self.rows;
+        rows.clear();
+        if T::COMPLEX {
+            rows.extend((0..multipliers.nrows()).filter(|&r| !multipliers[r].is_zero()));
+        }
+        // Every multiplier non-zero: the contiguous `axpy` costs less than the rows listed.
+        let dense = !T::COMPLEX || rows.len() == multipliers.nrows();
         let (mut pivot_row, mut below) = right.rows_range_pair_mut(0, 1..);
         for k in 0..pivot_row.ncols() {
             if piv != 0 {
                 std::mem::swap(&mut pivot_row[k], &mut below[(piv - 1, k)]);
             }
             let entry = pivot_row[k];
-            if !entry.is_zero() {
-                subtract_multiple(&mut below.column_mut(k), entry, &multipliers);
+            if entry.is_zero() {
+                continue;
+            }
+            let mut column = below.column_mut(k);
+            if dense {
+                subtract_multiple(&mut column, entry, &multipliers);
+            } else {
+                // `subtract_multiple`'s operation on each entry.
+                for &r in rows.iter() {
+                    column[r] -= entry * multipliers[r];
+                }
             }
         }
     }
@@ -435,7 +460,8 @@ mod tests {
     }
 
     /// The skipped updates leave the factors and solutions nalgebra's, on a sparse matrix
-    /// with row interchanges, real and complex, solved for right-hand sides with zeros.
+    /// with row interchanges, real and complex (whose steps, with zero multipliers among
+    /// non-zero ones, update the listed rows alone), solved for right-hand sides with zeros.
     fn sparse_same_as_nalgebra<const N: usize>() {
         let e = sparse(N);
         let zeros = (0..N * N).filter(|&k| e(k % N, k / N) == 0.0).count();
