@@ -47,6 +47,11 @@ pub const FIXED_LIMIT: usize = 32;
 /// with Radau5 (`benches/work_precision.rs`, under callgrind).
 const SKIP_FROM: usize = 4;
 
+/// The smallest n whose complex Gauss steps update only the rows of non-zero multipliers
+/// (`Factors::eliminate`): listing them cost 1.4 % more of HIRES's whole Radau5 run (n = 8)
+/// and saved 1.6 % of POLLU's (n = 20).
+const LIST_FROM: usize = 12;
+
 /// A matrix entry: `f64`, or `Complex<f64>` for Radau5's complex system.
 pub trait Entry: ComplexField<RealField = f64> + Copy {
     /// Whether nalgebra's `axpy` pays for its factors 1 (see `subtract_multiple`), and a
@@ -187,8 +192,9 @@ where
     /// scaled by 1/`diag` and every column right of the pivot, rows swapped, less its
     /// pivot-row entry times them, by the same `axpy`; but a column whose pivot-row entry is 0
     /// is left as it is (the `axpy` would add ±0 to each of its entries), and so is each row
-    /// whose multiplier is 0 (likewise: the entry less ±0). For a complex entry, where some
-    /// multipliers are 0 the update runs over the rows of the others alone: 6 % fewer of the
+    /// whose multiplier is 0 (likewise: the entry less ±0). For a complex entry (n from
+    /// [`LIST_FROM`]), where some multipliers are 0 the update runs over the rows of the
+    /// others alone: 6 % fewer of the
     /// complex factorization's instructions on POLLU (Radau5 at rtol 1e-10, under callgrind).
     /// A real entry's update costs too little for the listing to pay: 40 % more there.
     fn eliminate(&mut self, diag: T, i: usize, piv: usize) {
@@ -200,11 +206,12 @@ where
         multipliers *= T::one() / diag;
         let rows = &mut self.rows;
         rows.clear();
-        if T::COMPLEX {
+        let listed = T::COMPLEX && self.dim.value() >= LIST_FROM;
+        if listed {
             rows.extend((0..multipliers.nrows()).filter(|&r| !multipliers[r].is_zero()));
         }
         // Every multiplier non-zero: the contiguous `axpy` costs less than the rows listed.
-        let dense = !T::COMPLEX || rows.len() == multipliers.nrows();
+        let dense = !listed || rows.len() == multipliers.nrows();
         let (mut pivot_row, mut below) = right.rows_range_pair_mut(0, 1..);
         for k in 0..pivot_row.ncols() {
             if piv != 0 {
