@@ -156,8 +156,10 @@ where
                 } else {
                     gauss_step(&mut self.lu, diag, i);
                 }
+            } else if T::COMPLEX && n >= LIST_FROM {
+                self.eliminate::<true>(diag, i, piv);
             } else {
-                self.eliminate(diag, i, piv);
+                self.eliminate::<false>(diag, i, piv);
             }
         }
         if T::COMPLEX {
@@ -192,12 +194,12 @@ where
     /// scaled by 1/`diag` and every column right of the pivot, rows swapped, less its
     /// pivot-row entry times them, by the same `axpy`; but a column whose pivot-row entry is 0
     /// is left as it is (the `axpy` would add ±0 to each of its entries), and so is each row
-    /// whose multiplier is 0 (likewise: the entry less ±0). For a complex entry (n from
-    /// [`LIST_FROM`]), where some multipliers are 0 the update runs over the rows of the
-    /// others alone: 6 % fewer of the
-    /// complex factorization's instructions on POLLU (Radau5 at rtol 1e-10, under callgrind).
-    /// A real entry's update costs too little for the listing to pay: 40 % more there.
-    fn eliminate(&mut self, diag: T, i: usize, piv: usize) {
+    /// whose multiplier is 0 (likewise: the entry less ±0). `LISTED` (for a complex entry
+    /// from n = [`LIST_FROM`]): where some multipliers are 0 the update runs over the rows of
+    /// the others alone, 6 % fewer of the complex factorization's instructions on POLLU
+    /// (Radau5 at rtol 1e-10, under callgrind). A real entry's update costs too little for
+    /// the listing to pay: 40 % more there. Without it, the step's code is as it was.
+    fn eliminate<const LISTED: bool>(&mut self, diag: T, i: usize, piv: usize) {
         let piv = piv - i;
         let mut submatrix = self.lu.view_range_mut(i.., i..);
         let (mut multipliers, mut right) = submatrix.columns_range_pair_mut(0, 1..);
@@ -205,13 +207,12 @@ where
         let mut multipliers = multipliers.rows_range_mut(1..);
         multipliers *= T::one() / diag;
         let rows = &mut self.rows;
-        rows.clear();
-        let listed = T::COMPLEX && self.dim.value() >= LIST_FROM;
-        if listed {
+        if LISTED {
+            rows.clear();
             rows.extend((0..multipliers.nrows()).filter(|&r| !multipliers[r].is_zero()));
         }
         // Every multiplier non-zero: the contiguous `axpy` costs less than the rows listed.
-        let dense = !listed || rows.len() == multipliers.nrows();
+        let dense = !LISTED || rows.len() == multipliers.nrows();
         let (mut pivot_row, mut below) = right.rows_range_pair_mut(0, 1..);
         for k in 0..pivot_row.ncols() {
             if piv != 0 {
