@@ -202,7 +202,8 @@ pub mod __private {
         let mut c = 0;
         while c <= states + parameters {
             let parameter = c >= states && c < states + parameters;
-            if !contains(always, c) && !(parameter && contains(also, c)) {
+            let written = contains(always, c) || (parameter && contains(also, c));
+            if !written {
                 return false;
             }
             c += 1;
