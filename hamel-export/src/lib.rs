@@ -188,6 +188,39 @@ pub mod __private {
         }
         true
     }
+
+    /// Whether a compiled adjoint that writes the columns `writes[0]` always and
+    /// `writes[1]` with `parameters` writes every one of its `states + parameters + 1`
+    /// columns (x and u, the parameters read, t): those of x, u and t always, the
+    /// parameters' at least with `parameters`.
+    pub const fn writes_every_column(
+        writes: [&[usize]; 2],
+        states: usize,
+        parameters: usize,
+    ) -> bool {
+        let [always, also] = writes;
+        let mut c = 0;
+        while c <= states + parameters {
+            let parameter = c >= states && c < states + parameters;
+            let written = contains(always, c) || (parameter && contains(also, c));
+            if !written {
+                return false;
+            }
+            c += 1;
+        }
+        true
+    }
+
+    const fn contains(list: &[usize], value: usize) -> bool {
+        let mut k = 0;
+        while k < list.len() {
+            if list[k] == value {
+                return true;
+            }
+            k += 1;
+        }
+        false
+    }
 }
 
 #[cfg(test)]
@@ -210,6 +243,20 @@ mod tests {
         assert!(!reads_all(&[0, 2], 3));
         assert!(!reads_all(&[0, 0, 1], 3));
         assert!(reads_all(&[1, 0], 2));
+    }
+
+    #[test]
+    fn every_column_written_is_x_u_t_always_and_the_parameters_with_them() {
+        use super::__private::writes_every_column;
+        // x, u: 0..3; parameters: 3..5; t: 5.
+        assert!(writes_every_column([&[0, 1, 2, 5], &[3, 4]], 3, 2));
+        assert!(writes_every_column([&[5, 2, 1, 0, 4, 3], &[]], 3, 2));
+        assert!(writes_every_column([&[0, 1], &[]], 1, 0));
+        // A column of x, the parameters' one, t missing; t only with `parameters`.
+        assert!(!writes_every_column([&[0, 2, 5], &[3, 4]], 3, 2));
+        assert!(!writes_every_column([&[0, 1, 2, 5], &[3]], 3, 2));
+        assert!(!writes_every_column([&[0, 1, 2], &[3, 4]], 3, 2));
+        assert!(!writes_every_column([&[0, 1, 2], &[3, 4, 5]], 3, 2));
     }
 
     #[test]

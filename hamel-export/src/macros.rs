@@ -255,7 +255,7 @@ macro_rules! __model_compiled {
             _z: &[f64; <$marker>::LEN],
             _weights: &[f64],
             _parameters: bool,
-            _out: &mut [f64; <$marker>::LEN],
+            _out: &mut [::core::mem::MaybeUninit<f64>; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             ::core::option::Option::None
         }
@@ -477,10 +477,28 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64; <$marker>::LEN],
+            out: &mut [::core::mem::MaybeUninit<f64>; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             let (x, u, p, t) = <$marker>::split_f64(z);
             let p = &p;
+            // `Model::compiled_adjoint`'s promise: the generated code writes every local
+            // column of x, u and t, and with `parameters` those of the parameters it reads,
+            // as the tables it states beside it say; checked here when the model is
+            // exported.
+            const {
+                use $crate::__private::writes_every_column as every;
+                let (states, read) = (<$marker>::NX + <$marker>::NU, <$marker>::NPL);
+                assert!(
+                    every(<$system>::__HAMEL_EXPORT_RHS_ADJOINT_WRITES, states, read)
+                        && every(
+                            <$system>::__HAMEL_EXPORT_OUTPUTS_ADJOINT_WRITES,
+                            states,
+                            read
+                        )
+                        && every(<$system>::__HAMEL_EXPORT_LIE_ADJOINT_WRITES, states, read),
+                    "hamel internal error: the compiled adjoint does not write every column"
+                )
+            };
             ::core::option::Option::Some($crate::__by_family!(
                 W,
                 $system,
@@ -497,7 +515,7 @@ macro_rules! __model_compiled {
                     u,
                     $crate::__private::array(weights)?,
                     parameters,
-                    $crate::__private::array_mut(&mut out[..])?,
+                    out.first_chunk_mut()?,
                 )
             ))
         }
@@ -616,7 +634,7 @@ macro_rules! __model_compiled {
             z: &[f64; <$marker>::LEN],
             weights: &[f64],
             parameters: bool,
-            out: &mut [f64; <$marker>::LEN],
+            out: &mut [::core::mem::MaybeUninit<f64>; <$marker>::LEN],
         ) -> ::core::option::Option<::core::result::Result<(), $crate::__private::Singularity>> {
             use $crate::units::{LIE, OUTPUTS, RHS, adjoint::call};
             match which {

@@ -160,13 +160,15 @@ pub trait Model: 'static {
         None
     }
 
-    /// The adjoint derivative into `out`.
+    /// The adjoint derivative into `out`: on `Some(Ok(()))`, every one of its first
+    /// `Sizes::p() + READ.len() + 1` values (the local columns) is written, the
+    /// parameters' only if `parameters`.
     fn adjoint_of<const W: u8>(
         _prepared: &Self::Prepared,
         _z: &Self::Array<f64>,
         _weights: &[f64],
         _parameters: bool,
-        _out: &mut Self::Array<f64>,
+        _out: &mut Self::Array<core::mem::MaybeUninit<f64>>,
     ) -> Option<Result<(), Singularity>> {
         None
     }
@@ -220,15 +222,19 @@ pub trait Model: 'static {
         out: &mut [f64],
     ) -> Option<Result<(), Singularity>>;
 
-    /// The adjoint derivative with `weights` into `out` (over the local columns; the
-    /// parameters' only if `parameters`).
+    /// The adjoint derivative with `weights` into `out` (over the local columns): on
+    /// `Some(Ok(()))`, every one of the first `Sizes::p() + READ.len() + 1` values of
+    /// `out` (the local columns) is written, the parameters' only if `parameters`, as the
+    /// tables the generated code states beside it say (`__HAMEL_EXPORT_*_ADJOINT_WRITES`,
+    /// checked at compile time by `model!`; the test `compiled_adjoint_writes_every_column`
+    /// checks the code against them).
     fn compiled_adjoint(
         which: Which,
         prepared: &Self::Prepared,
         z: &Self::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut Self::Array<f64>,
+        out: &mut Self::Array<core::mem::MaybeUninit<f64>>,
     ) -> Option<Result<(), Singularity>>;
 
     /// The weighted second derivatives and the transposed Jacobian into `jac_adj1_f`'s

@@ -138,7 +138,7 @@ pub mod adjoint {
         z: &M::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut M::Array<f64>,
+        out: &mut M::Array<MaybeUninit<f64>>,
     ) -> Option<Result<(), Singularity>> {
         let mut error = MaybeUninit::uninit();
         let outcome = compiled::<M, W>(prepared, z, weights, parameters, out, &mut error);
@@ -152,7 +152,7 @@ pub mod adjoint {
         z: &M::Array<f64>,
         weights: &[f64],
         parameters: bool,
-        out: &mut M::Array<f64>,
+        out: &mut M::Array<MaybeUninit<f64>>,
         error: &mut MaybeUninit<Singularity>,
     ) -> Outcome {
         Outcome::of(

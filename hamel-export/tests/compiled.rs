@@ -23,6 +23,7 @@ use hamel_export::{Model, Sizes, Which, passes};
 use hamel_runtime::{HamelSystem, Parameters, Vector};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 hamel_export::model!(Robot => hamel_models::MobileRobot);
@@ -462,6 +463,63 @@ fn train() {
     let tables = Train::tables(Which::Rhs).unwrap();
     assert_eq!(tables.compiled, [false; 4]);
     check::<Train>(Which::Rhs, 9);
+}
+
+/// The compiled adjoint writes every one of its local columns (x, u, the parameters the
+/// code reads, t), the parameters' with `parameters`: what `adj1_f` relies on to read
+/// them from an array it does not zero. Each column is first a NaN whose payload the code
+/// never makes, and must not be that NaN after the call.
+fn adjoint_writes_every_column<M: Model>(which: Which, seed: u64) {
+    const UNWRITTEN: u64 = 0x7ff8_dead_beef_0001;
+    let s = Sizes::of::<M>();
+    let columns = hamel_export::model::local_columns::<M>();
+    let outputs = match which {
+        Which::Rhs => s.nx,
+        Which::Outputs => s.ny,
+        Which::Lie => M::LIE,
+    };
+    let mut random = Random(seed);
+    let z = point::<M>(&mut random);
+    let mut point = M::array(0.0);
+    point.as_mut()[..z.len()].copy_from_slice(&z);
+    let weights: Vec<f64> = (0..outputs).map(|_| random.within(1.0)).collect();
+    let adjoint = |parameters: bool| {
+        let mut local = M::array(MaybeUninit::new(f64::from_bits(UNWRITTEN)));
+        let written = M::with_prepared(&z[s.p()..s.t()], |prepared| {
+            M::compiled_adjoint(which, prepared, &point, &weights, parameters, &mut local)
+        });
+        assert!(
+            matches!(written, Some(Ok(()))),
+            "{which:?}: the compiled adjoint did not run"
+        );
+        // SAFETY: every value was initialized (to UNWRITTEN) before the call.
+        let local = unsafe { M::assume_init_ref(&local) };
+        local.as_ref()[..columns.len()].to_vec()
+    };
+    let (all, states) = (adjoint(true), adjoint(false));
+    for (c, &column) in columns.iter().enumerate() {
+        assert_ne!(
+            all[c].to_bits(),
+            UNWRITTEN,
+            "{which:?}: column {c} not written"
+        );
+        if !(s.p()..s.t()).contains(&column) {
+            assert_eq!(
+                states[c].to_bits(),
+                all[c].to_bits(),
+                "{which:?}: column {c}"
+            );
+        }
+    }
+}
+
+#[test]
+fn compiled_adjoint_writes_every_column() {
+    adjoint_writes_every_column::<Robot>(Which::Rhs, 11);
+    adjoint_writes_every_column::<Robot>(Which::Outputs, 12);
+    adjoint_writes_every_column::<Robot>(Which::Lie, 13);
+    adjoint_writes_every_column::<Turntable>(Which::Rhs, 14);
+    adjoint_writes_every_column::<Bicycle>(Which::Rhs, 15);
 }
 
 /// Counts the heap allocations of the threads that ask for it (the tests run in parallel).

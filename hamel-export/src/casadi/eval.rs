@@ -491,7 +491,7 @@ impl<M: Model> Run<'_, M> {
                 .iter()
                 .enumerate()
                 .any(|(k, b)| b.name == "p" && outputs.wanted(k));
-            let mut local = M::array(0.0f64);
+            let mut local = M::array(core::mem::MaybeUninit::<f64>::uninit());
             let written = M::compiled_adjoint(
                 primal.which,
                 self.prepared,
@@ -506,7 +506,10 @@ impl<M: Model> Run<'_, M> {
                     if let Some(out) = outputs.get(k)? {
                         out.fill(0.0);
                         for &(c, w) in columns {
-                            out[w] = local.as_ref()[c];
+                            // SAFETY: `c` is a local column (the plans' columns), all of
+                            // which `compiled_adjoint` wrote (the parameters' too: their
+                            // block is wanted, so `parameters`).
+                            out[w] = unsafe { local.as_ref()[c].assume_init() };
                         }
                     }
                 }

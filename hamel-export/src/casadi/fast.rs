@@ -440,7 +440,10 @@ pub unsafe fn adjoint<M: Model>(
     let out = |k: usize| unsafe { *res.add(k) };
     let parameters = s.np > 0 && !out(2).is_null();
     let columns = s.p() + M::READ.len() + 1;
-    let mut local = M::array(0.0f64);
+    // Not zeroed first (11 instructions of `adj1_f` for the robot,
+    // `hamel-export/bench/instructions.sh`): the compiled adjoint writes every one of the
+    // first `columns` values (the parameters' with `parameters`), all that is read below.
+    let mut local = M::array(MaybeUninit::<f64>::uninit());
     let written = M::with_prepared(&z.as_ref()[s.p()..s.t()], |prepared| {
         M::compiled_adjoint(Which::Rhs, prepared, z, weights, parameters, &mut local)
     });
@@ -451,11 +454,17 @@ pub unsafe fn adjoint<M: Model>(
     // `columns`: their bounds were checked at run time, value by value, about 20
     // instructions of `adj1_f` for the robot; `hamel-export/bench/instructions.sh`).
     let local = local.as_ref();
+    // SAFETY (each read below): values among the first `columns`, every one of which
+    // `compiled_adjoint` wrote on `Some(Ok(()))` (the parameters' read only with
+    // `parameters`); `MaybeUninit<f64>` has the layout of `f64`.
+    let values = |range: core::ops::Range<usize>| unsafe {
+        &*(core::ptr::from_ref(&local[range]) as *const [f64])
+    };
     // SAFETY (each block below): a non-null output points to its port's nonzeros, dense.
     for (k, (start, len)) in [(0, s.nx), (s.nx, s.nu)].into_iter().enumerate() {
         if len > 0 && !out(k).is_null() {
             unsafe { core::slice::from_raw_parts_mut(out(k), len) }
-                .copy_from_slice(&local[start..start + len]);
+                .copy_from_slice(values(start..start + len));
         }
     }
     if parameters {
@@ -465,11 +474,11 @@ pub unsafe fn adjoint<M: Model>(
             adj_p.fill(0.0);
         }
         for (column, &read) in M::READ.iter().enumerate() {
-            adj_p[read] = local[s.p() + column];
+            adj_p[read] = values(s.p() + column..s.p() + column + 1)[0];
         }
     }
     if M::TIME_DEPENDENT && !out(3).is_null() {
-        unsafe { *out(3) = local[columns - 1] };
+        unsafe { *out(3) = values(columns - 1..columns)[0] };
     }
     Some(Ok(()))
 }
