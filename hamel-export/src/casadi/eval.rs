@@ -52,8 +52,9 @@ pub unsafe fn call<M: Model>(
     }
 }
 
-/// [`eval`] out of line, for the calls [`call`] declines (rare): inlined, its code
-/// made the fast calls' frame larger (registers saved and restored on every call).
+/// [`eval`]'s general path out of line, for the calls [`call`] declines (rare): inlined,
+/// its code made the fast calls' frame larger (registers saved and restored on every call).
+/// Not `eval` itself: its fast path would only decline the same call again.
 ///
 /// # Safety
 /// As [`eval`].
@@ -65,7 +66,7 @@ unsafe fn general<M: Model>(
     res: *const *mut f64,
 ) -> Result<(), Failure> {
     // SAFETY: the caller's contract.
-    unsafe { eval::<M>(family, kind, arg, res) }
+    unsafe { general_path::<M>(family, kind, arg, res) }
 }
 
 /// Evaluate `kind` of `family` for CasADi: 0 on success; otherwise the failure.
@@ -103,6 +104,22 @@ pub unsafe fn eval<M: Model>(
             return result;
         }
     }
+    // SAFETY: the caller's contract.
+    unsafe { general_path::<M>(family, kind, arg, res) }
+}
+
+/// [`eval`] by the family's description and dual numbers: any call, read port by port, every
+/// value checked (what the fast paths decline comes here).
+///
+/// # Safety
+/// As [`eval`], with `arg` and `res` not null.
+#[inline(always)]
+unsafe fn general_path<M: Model>(
+    family: &Family,
+    kind: Kind,
+    arg: *const *const f64,
+    res: *const *mut f64,
+) -> Result<(), Failure> {
     let f = family.function(kind);
     let primal = &family.primal;
     // SAFETY: CasADi's arrays hold a pointer per port (the caller's contract).
